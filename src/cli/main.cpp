@@ -1,0 +1,33 @@
+// quadfdi: thin executable over the libraries; all errors end here as one line.
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "cli/simulate_command.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"quadfdi — detect, isolate and size motor faults on quadrotors (Garg & Fan, dynamic symmetry)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "quadfdi 0.1.0");
+  quadfdi::cli::SimulateOptions simulate;
+  CLI::App* simulate_cmd = quadfdi::cli::addSimulateCommand(app, simulate);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "quadfdi: error: " << e.what() << " (see --help)\n";
+    return 2;
+  }
+  try {
+    if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate);
+  } catch (const std::exception& e) {
+    std::cerr << "quadfdi: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,185 @@
+#include "cli/simulate_command.h"
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "control/controller_factory.h"
+#include "io/atomic_file.h"
+#include "io/params_file.h"
+#include "io/telemetry_csv.h"
+#include "simulation/closed_loop.h"
+#include "simulation/sampling.h"
+
+namespace quadfdi::cli {
+
+CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "simulate",
+      "Fly one closed-loop flight of the simulated Crazyflie, optionally with a motor fault,\n"
+      "and write its telemetry CSV (t,x,y,z,roll,pitch,yaw,u1..u4; SI units, z up, ZYX Euler angles,\n"
+      "u = commanded thrust per motor [N]). A summary goes to standard error.");
+  cmd->add_option("--controller", o.controller, "Controller: lqr or cbf (LQR filtered by the CBF-QP safety filter)")
+      ->check(CLI::IsMember({"lqr", "cbf"}))
+      ->capture_default_str();
+  cmd->add_option("--params", o.params,
+                  "Plant parameters: nominal, perturbed, perturbed-strong, or a parameter FILE "
+                  "(see configs/vehicle-example.toml)")
+      ->capture_default_str();
+  cmd->add_option("--controller-params", o.controller_params,
+                  "Model the controller is designed on (same forms as --params); default: the plant's");
+  cmd->add_option("--lqr-weights", o.lqr_weights,
+                  "LQR weights: bryson (documented default) or authors (Q = I, R = I, Euler discretisation)")
+      ->check(CLI::IsMember({"bryson", "authors"}))
+      ->capture_default_str();
+  cmd->add_option("--motor", o.motor, "Faulty motor 1..4 (Crazyflie numbering: 1 front-right, 2 back-right, "
+                                      "3 back-left, 4 front-left); omit for a healthy flight")
+      ->check(CLI::Range(1, 4));
+  cmd->add_option("--theta", o.theta, "Effectiveness of the faulty motor from the fault step on, in [0, 1] "
+                                      "(0 = complete failure)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--fault-step", o.fault_step, "Step at which the fault starts (t = step·dt)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--steps", o.steps, "Number of control steps (dt = 0.002 s)")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Seed of the initial condition and goal draw (SPEC §3 safe set)")
+      ->capture_default_str();
+  cmd->add_option("--integrator", o.integrator, "Integrator: rk4 or euler (parity with the authors' code)")
+      ->check(CLI::IsMember({"rk4", "euler"}))
+      ->capture_default_str();
+  cmd->add_option("--output,-o", o.output, "Telemetry CSV to write; - for standard output")->capture_default_str();
+  cmd->add_flag("--full-state", o.full_state,
+                "Append body velocity, body rates, applied thrusts and controller status columns");
+  cmd->add_option("--goal", o.goal, "Override the sampled goal position: X Y Z [m]")->expected(3);
+  cmd->add_option("--start", o.start,
+                  "Override the sampled initial state: 12 values x y z vx vy vz roll pitch yaw p q r "
+                  "(body velocity [m/s], angles [rad], body rates [rad/s])")
+      ->expected(12);
+  cmd->add_option("--position-noise", o.position_noise, "Std. dev. of additive noise on logged position [m]")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--attitude-noise", o.attitude_noise, "Std. dev. of additive noise on logged Euler angles [rad]")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--cbf-min-altitude", o.cbf_min_altitude, "CBF altitude floor [m] (cbf only)")->capture_default_str();
+  cmd->add_option("--cbf-max-tilt", o.cbf_max_tilt, "CBF tilt limit, angle of the body z axis to vertical [rad] "
+                                                    "(cbf only)")
+      ->check(CLI::Range(0.05, 1.4))
+      ->capture_default_str();
+  cmd->add_flag("--quiet,-q", o.quiet, "No summary on standard error");
+  return cmd;
+}
+
+namespace {
+
+double maxTilt(const FlightLog& log) {
+  double m = 0.0;
+  for (const State& x : log.states) m = std::max(m, std::acos(std::cos(x(idx::kRoll)) * std::cos(x(idx::kPitch))));
+  return m;
+}
+
+std::string vec3(const Vec3& v) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(3);
+  s << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return s.str();
+}
+
+}  // namespace
+
+int runSimulate(const SimulateOptions& o) {
+  const VehicleParams plant = loadVehicleParams(o.params);
+  const VehicleParams design =
+      o.controller_params.empty() ? plant : loadVehicleParams(o.controller_params);
+
+  ControllerConfig cc;
+  parseControllerKind(o.controller, cc.kind);
+  cc.lqr = o.lqr_weights == "authors" ? LqrConfig::authors() : LqrConfig::bryson();
+  cc.cbf.min_altitude = o.cbf_min_altitude;
+  cc.cbf.max_tilt = o.cbf_max_tilt;
+
+  SimulationSettings settings;
+  settings.steps = o.steps;
+  settings.integrator = o.integrator == "euler" ? Integrator::kEuler : Integrator::kRk4;
+  settings.noise.position_std = o.position_noise;
+  settings.noise.attitude_std = o.attitude_noise;
+  settings.noise.seed = o.seed;
+  if (o.motor != 0) {
+    settings.fault.theta(o.motor - 1) = o.theta;
+    settings.fault.fault_step = o.fault_step;
+  }
+  if (const std::string problem = validate(settings); !problem.empty())
+    throw std::runtime_error("invalid simulation settings: " + problem);
+
+  Rng rng(o.seed, 0);
+  Scenario scenario = sampleScenario(SamplingRanges{}, rng);
+  if (!o.goal.empty()) scenario.goal = Vec3(o.goal[0], o.goal[1], o.goal[2]);
+  if (!o.start.empty())
+    for (int i = 0; i < kStateDim; ++i) scenario.initial_state(i) = o.start[static_cast<std::size_t>(i)];
+  if (!scenario.initial_state.allFinite() || !scenario.goal.allFinite())
+    throw std::runtime_error("--start and --goal need finite numbers");
+  if (const StepStatus s = checkState(scenario.initial_state, settings.bounds); s != StepStatus::kOk)
+    throw std::runtime_error(std::string("--start is not a valid flight state: ") + toString(s));
+
+  ControllerBuild build = makeController(design, cc, settings.dt);
+  if (!build.controller) throw std::runtime_error(build.error);
+  build.controller->setGoal(scenario.goal);
+
+  const ClosedLoopSimulator sim(plant, settings);
+  FlightLog log;
+  const FlightSummary summary = sim.run(*build.controller, scenario.initial_state, &log);
+
+  TelemetryCsvOptions csv;
+  csv.dt = settings.dt;
+  csv.full_state = o.full_state;
+  if (o.output == "-") {
+    writeTelemetryCsv(std::cout, log, csv);
+    std::cout.flush();
+    if (!std::cout) throw std::runtime_error("standard output: write failed");
+  } else {
+    AtomicFileWriter writer(o.output);
+    writeTelemetryCsv(writer.stream(), log, csv);
+    writer.commit();
+  }
+
+  if (!o.quiet) {
+    const double dt = settings.dt;
+    const int n = summary.steps_completed;
+    auto pct = [&](int k) { return n > 0 ? 100.0 * k / n : 0.0; };
+    std::fprintf(stderr, "quadfdi simulate: %s controller, %s plant, %s, dt %.3f s, seed %llu\n",
+                 toString(cc.kind), o.params.c_str(), toString(settings.integrator), dt, o.seed);
+    std::fprintf(stderr, "  start %s m, goal %s m\n",
+                 vec3(scenario.initial_state.head<3>()).c_str(), vec3(scenario.goal).c_str());
+    if (o.motor != 0)
+      std::fprintf(stderr, "  fault: motor %d at theta %.3f from step %d (t = %.3f s)\n", o.motor, o.theta,
+                   o.fault_step, o.fault_step * dt);
+    else
+      std::fprintf(stderr, "  fault: none (healthy flight)\n");
+    if (summary.cut())
+      std::fprintf(stderr, "  result: CUT after %d of %d steps (t = %.3f s): %s\n", n, o.steps, n * dt,
+                   toString(summary.end_status));
+    else
+      std::fprintf(stderr, "  result: completed %d steps (%.3f s)\n", n, n * dt);
+    std::fprintf(stderr, "  final position error %.4f m, max tilt %.3f rad, min altitude %.3f m\n",
+                 (summary.final_state.head<3>() - scenario.goal).norm(), maxTilt(log),
+                 log.states.empty() ? 0.0 : [&] {
+                   double z = log.states.front()(idx::kPz);
+                   for (const State& x : log.states) z = std::min(z, x(idx::kPz));
+                   return z;
+                 }());
+    std::fprintf(stderr, "  controller: saturated %.1f%% of steps", pct(summary.saturated_steps));
+    if (cc.kind == ControllerKind::kCbfQp)
+      std::fprintf(stderr, ", CBF filtered %.1f%% (altitude floor active %.1f%%, tilt limit active %.1f%%), "
+                           "infeasible %d",
+                   pct(summary.filtered_steps), pct(summary.altitude_active_steps), pct(summary.tilt_active_steps),
+                   summary.infeasible_steps);
+    std::fprintf(stderr, "\n  wrote %d rows to %s\n", n, o.output == "-" ? "standard output" : o.output.c_str());
+  }
+  return 0;
+}
+
+}  // namespace quadfdi::cli

@@ -1,0 +1,44 @@
+// The interface every closed-loop controller implements.
+#pragma once
+
+#include <cstdint>
+
+#include "model/state.h"
+
+namespace quadfdi {
+
+// Per-step outcome of a controller (status enum, no exceptions in the loop).
+enum class ControlStatus : std::uint8_t {
+  kOk,            // command inside the motor bounds, no safety filter intervention needed
+  kSaturated,     // LQR command clipped to the motor bounds
+  kFiltered,      // CBF-QP solved and changed the command (a constraint was active)
+  kQpInfeasible,  // CBF constraints + motor bounds infeasible: fell back to the clipped LQR command
+  kQpFailed,      // solver failed (iteration limit, bad data): fell back to the clipped LQR command
+};
+const char* toString(ControlStatus s);
+
+// Bits of ControlStep::active_constraints.
+enum ConstraintBit : std::uint8_t {
+  kAltitudeFloorActive = 1u << 0,
+  kTiltLimitActive = 1u << 1,
+  kMotorBoundActive = 1u << 2,
+};
+
+struct ControlStep {
+  Input u_cmd = Input::Zero();      // [N] the command sent to the motors (what the detector sees)
+  Input u_nominal = Input::Zero();  // [N] the LQR command before saturation and filtering
+  ControlStatus status = ControlStatus::kOk;
+  std::uint8_t active_constraints = 0;  // ConstraintBit mask
+};
+
+class Controller {
+ public:
+  virtual ~Controller() = default;
+  // Target hover position [m], yaw 0. Must be called before compute().
+  virtual void setGoal(const Vec3& goal_position) = 0;
+  virtual const Vec3& goal() const = 0;
+  // One control step from the measured state. Does not allocate.
+  virtual void compute(const State& x, ControlStep& out) = 0;
+};
+
+}  // namespace quadfdi

@@ -1,0 +1,31 @@
+// Builds a controller from its configuration (setup only: solves the Riccati equation).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "control/cbf_qp.h"
+#include "control/lqr.h"
+
+namespace quadfdi {
+
+enum class ControllerKind { kLqr, kCbfQp };
+const char* toString(ControllerKind k);
+bool parseControllerKind(const std::string& text, ControllerKind& kind);  // "lqr" | "cbf"
+
+struct ControllerConfig {
+  ControllerKind kind = ControllerKind::kLqr;
+  LqrConfig lqr = LqrConfig::bryson();
+  CbfConfig cbf;
+};
+
+struct ControllerBuild {
+  std::unique_ptr<Controller> controller;  // null on failure
+  LqrDesign lqr;                           // the design behind it
+  std::string error;                       // empty on success
+};
+
+// `design_params`: the vehicle model the controller is designed for; dt [s].
+ControllerBuild makeController(const VehicleParams& design_params, const ControllerConfig& config, double dt);
+
+}  // namespace quadfdi

@@ -1,0 +1,156 @@
+#include "control/lqr.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "control/riccati.h"
+#include "model/dynamics.h"
+#include "symmetry/symmetry.h"
+
+namespace quadfdi {
+
+LqrConfig LqrConfig::bryson() {
+  // Largest deviations we are willing to see (Bryson's rule, Q_ii = 1/x_max²).
+  const double pos = 0.2;     // [m]
+  const double vel = 0.6;     // [m/s]
+  const double tilt = 0.25;   // [rad] roll, pitch
+  const double yaw = 0.3;     // [rad]
+  const double rate = 2.0;    // [rad/s] p, q
+  const double yaw_rate = 2.0;  // [rad/s] r
+  const double thrust = 0.03;   // [N] per-motor deviation from hover (hover ≈ 0.073 N)
+  LqrConfig c;
+  StateWeights x_max;
+  x_max << pos, pos, pos, vel, vel, vel, tilt, tilt, yaw, rate, rate, yaw_rate;
+  c.q_diag = x_max.cwiseAbs2().cwiseInverse();
+  c.r_diag = Input::Constant(1.0 / (thrust * thrust));
+  c.discretization = Discretization::kZeroOrderHold;
+  return c;
+}
+
+LqrConfig LqrConfig::authors() {
+  LqrConfig c;
+  c.q_diag = StateWeights::Ones();
+  c.r_diag = Input::Ones();
+  c.discretization = Discretization::kForwardEuler;
+  return c;
+}
+
+LinearModel linearizeAtHover(const VehicleParams& params) {
+  const RigidBodyModel m = RigidBodyModel::fromParams(params);
+  LinearModel lin;
+  auto& A = lin.A;
+  auto& B = lin.B;
+  // ṗ = R v → I at hover.
+  A.block<3, 3>(idx::kPos, idx::kVel).setIdentity();
+  // v̇: gravity through the tilt, and linear drag.
+  A(idx::kVx, idx::kPitch) = m.gravity;
+  A(idx::kVy, idx::kRoll) = -m.gravity;
+  for (int i = 0; i < 3; ++i) A(idx::kVel + i, idx::kVel + i) = -m.linear_drag_per_mass;
+  // η̇ = W ω → I at hover.
+  A.block<3, 3>(idx::kAtt, idx::kRate).setIdentity();
+  // ω̇: rotational drag (the gyroscopic term is quadratic in ω and vanishes).
+  for (int i = 0; i < 3; ++i) A(idx::kRate + i, idx::kRate + i) = -m.rotational_drag * m.inv_inertia(i);
+  for (int j = 0; j < kInputDim; ++j) {
+    B(idx::kVz, j) = m.inv_mass;
+    B(idx::kP, j) = m.lever * kRollSign[j] * m.inv_inertia.x();
+    B(idx::kQ, j) = m.lever * kPitchSign[j] * m.inv_inertia.y();
+    B(idx::kR, j) = m.yaw_coeff * kYawSign[j] * m.inv_inertia.z();
+  }
+  return lin;
+}
+
+LinearModel discretize(const LinearModel& c, double dt, Discretization method) {
+  LinearModel d;
+  if (method == Discretization::kForwardEuler) {
+    d.A = StateMatrix::Identity() + dt * c.A;
+    d.B = dt * c.B;
+    return d;
+  }
+  // Exact ZOH: exp([[A, B], [0, 0]] dt) = [[Ad, Bd], [0, I]].
+  constexpr int n = kStateDim + kInputDim;
+  Eigen::Matrix<double, n, n> aug = Eigen::Matrix<double, n, n>::Zero();
+  aug.topLeftCorner<kStateDim, kStateDim>() = c.A * dt;
+  aug.topRightCorner<kStateDim, kInputDim>() = c.B * dt;
+  const Eigen::Matrix<double, n, n> e = aug.exp();
+  d.A = e.topLeftCorner<kStateDim, kStateDim>();
+  d.B = e.topRightCorner<kStateDim, kInputDim>();
+  return d;
+}
+
+LqrDesign designLqr(const VehicleParams& params, const LqrConfig& config, double dt) {
+  LqrDesign design;
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    design.error = "time step must be finite and > 0";
+    return design;
+  }
+  if ((config.q_diag.array() < 0.0).any() || !config.q_diag.allFinite() ||
+      (config.r_diag.array() <= 0.0).any() || !config.r_diag.allFinite()) {
+    design.error = "LQR weights must be finite, Q ⪰ 0 and R ≻ 0";
+    return design;
+  }
+  design.discrete = discretize(linearizeAtHover(params), dt, config.discretization);
+  const Eigen::MatrixXd A = design.discrete.A, B = design.discrete.B;
+  const Eigen::MatrixXd Q = config.q_diag.asDiagonal();
+  const Eigen::MatrixXd R = config.r_diag.asDiagonal();
+  const RiccatiResult ric = solveDiscreteRiccati(A, B, Q, R);
+  if (!ric.ok()) {
+    design.error = "Riccati equation: " + ric.message;
+    return design;
+  }
+  design.riccati_solution = ric.X;
+  design.riccati_residual = discreteRiccatiResidual(A, B, Q, R, ric.X);
+  const auto& X = design.riccati_solution;
+  const auto& Bd = design.discrete.B;
+  const Eigen::Matrix<double, kInputDim, kInputDim> gram =
+      config.r_diag.asDiagonal().toDenseMatrix() + Bd.transpose() * X * Bd;
+  design.raw_gain = gram.lu().solve(Bd.transpose() * X * design.discrete.A);
+
+  // Equivariance K·G_k = P_k·K for the exact group (G_k state signs, P_k motor permutation)
+  // holds for the exact Riccati solution when Q and R are invariant (diagonal Q, R ∝ I).
+  // Average over the group, then build every row from motor 2's so the identity holds to
+  // the last bit: row k = row 2 ∘ signs of g_k.
+  const bool r_invariant = (config.r_diag.array() == config.r_diag(0)).all();
+  GainMatrix k = design.raw_gain;
+  if (r_invariant) {
+    GainMatrix avg = GainMatrix::Zero();
+    for (int motor = 1; motor <= 4; ++motor) {
+      const SymmetryMap g = mapMotorToMotor2(motor, SymmetryMode::kExactGroup);
+      avg += g.input_map.transpose() * design.raw_gain * g.state_map;
+    }
+    avg *= 0.25;
+    const auto signs = exactGroupStateSigns();
+    for (int motor = 1; motor <= 4; ++motor)
+      k.row(motor - 1) = avg.row(1).cwiseProduct(signs[static_cast<std::size_t>(motor - 1)].transpose());
+  }
+  design.gain = k;
+  return design;
+}
+
+double wrapAngle(double angle) {
+  double a = std::remainder(angle, 2.0 * M_PI);  // in [−π, π]
+  if (a <= -M_PI) a += 2.0 * M_PI;
+  return a;
+}
+
+LqrController::LqrController(const VehicleParams& params, const GainMatrix& gain)
+    : gain_(gain),
+      hover_thrust_(params.hoverThrust()),
+      min_thrust_(params.min_thrust),
+      max_thrust_(params.max_thrust) {}
+
+void LqrController::setGoal(const Vec3& goal_position) { goal_ = goal_position; }
+
+void LqrController::compute(const State& x, ControlStep& out) {
+  State err = x;
+  err.segment<3>(idx::kPos) -= goal_;
+  err(idx::kYaw) = wrapAngle(err(idx::kYaw));
+  out.u_nominal = Input::Constant(hover_thrust_) - gain_ * err;
+  out.u_cmd = out.u_nominal.cwiseMax(min_thrust_).cwiseMin(max_thrust_);
+  const bool saturated = (out.u_cmd.array() != out.u_nominal.array()).any();
+  out.status = saturated ? ControlStatus::kSaturated : ControlStatus::kOk;
+  out.active_constraints = saturated ? kMotorBoundActive : 0;
+}
+
+}  // namespace quadfdi

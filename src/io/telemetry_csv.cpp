@@ -1,0 +1,40 @@
+#include "io/telemetry_csv.h"
+
+#include <array>
+#include <charconv>
+
+namespace quadfdi {
+namespace {
+
+void put(std::ostream& out, double v) {
+  std::array<char, 32> buf;
+  const auto res = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  out.write(buf.data(), res.ptr - buf.data());
+}
+
+}  // namespace
+
+void writeTelemetryCsv(std::ostream& out, const FlightLog& log, const TelemetryCsvOptions& options) {
+  out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4";
+  if (options.full_state) out << ",vx,vy,vz,p,q,r,f1,f2,f3,f4,status";
+  out << '\n';
+  for (int k = 0; k < log.size(); ++k) {
+    const auto ku = static_cast<std::size_t>(k);
+    put(out, k * options.dt);
+    const Output& y = log.outputs[ku];
+    for (int i = 0; i < kOutputDim; ++i) { out << ','; put(out, y(i)); }
+    const Input& u = log.controls[ku].u_cmd;
+    for (int i = 0; i < kInputDim; ++i) { out << ','; put(out, u(i)); }
+    if (options.full_state) {
+      const State& x = log.states[ku];
+      for (int i = idx::kVel; i < idx::kVel + 3; ++i) { out << ','; put(out, x(i)); }
+      for (int i = idx::kRate; i < idx::kRate + 3; ++i) { out << ','; put(out, x(i)); }
+      const Input& f = log.applied[ku];
+      for (int i = 0; i < kInputDim; ++i) { out << ','; put(out, f(i)); }
+      out << ',' << toString(log.controls[ku].status);
+    }
+    out << '\n';
+  }
+}
+
+}  // namespace quadfdi

@@ -1,0 +1,20 @@
+// Telemetry CSV (SPEC §8): header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4; SI units, the
+// conventions of model/state.h; u_i is the commanded thrust [N] (before the fault).
+#pragma once
+
+#include <ostream>
+
+#include "simulation/closed_loop.h"
+
+namespace quadfdi {
+
+struct TelemetryCsvOptions {
+  double dt = 0.002;        // [s] sample period; t = k·dt
+  bool full_state = false;  // append vx,vy,vz (body) [m/s], p,q,r [rad/s], f1..f4 applied thrust [N], status
+};
+
+// Writes the header and one row per logged step. Numbers use the shortest text that
+// reads back to the same double.
+void writeTelemetryCsv(std::ostream& out, const FlightLog& log, const TelemetryCsvOptions& options);
+
+}  // namespace quadfdi

@@ -1,0 +1,71 @@
+// One zero-order-hold step of the plant (SPEC §2): RK4 (default) or forward Euler
+// (parity with the authors' code), with an optional first-order motor lag.
+#pragma once
+
+#include <cmath>
+
+#include "model/dynamics.h"
+
+namespace quadfdi {
+
+enum class Integrator { kRk4, kEuler };
+
+// The plant's full internal state: the 12-state rigid body plus the thrust the
+// rotors actually produce (differs from the command only with a motor lag).
+struct PlantState {
+  State x = State::Zero();
+  Input rotor_thrust = Input::Zero();  // [N]
+};
+
+// Why a step was cut (SPEC §2): a trajectory that leaves these bounds is flagged, never kept.
+enum class StepStatus { kOk, kNonFinite, kAttitudeLimit, kBelowGround };
+
+const char* toString(StepStatus s);
+const char* toString(Integrator i);
+
+// Physical bounds of a valid state (SPEC §2).
+struct StateBounds {
+  double max_tilt_angle = 1.5;  // [rad] bound on |φ| and |θ|
+  double min_altitude = 0.0;    // [m] z below this is a crash
+};
+
+inline StepStatus checkState(const State& x, const StateBounds& bounds) {
+  if (!x.allFinite()) return StepStatus::kNonFinite;
+  if (std::abs(x(idx::kRoll)) > bounds.max_tilt_angle || std::abs(x(idx::kPitch)) > bounds.max_tilt_angle)
+    return StepStatus::kAttitudeLimit;
+  if (x(idx::kPz) < bounds.min_altitude) return StepStatus::kBelowGround;
+  return StepStatus::kOk;
+}
+
+// Advances `plant` by dt under the thrust command `applied` (after the fault), held constant.
+// motor_time_constant > 0: rotor thrust follows f(t) = a + (f0 − a) e^{−t/τ}, evaluated exactly
+// at the RK4 stage times, so the lag costs no extra states.
+inline void stepPlant(const RigidBodyModel& model, Integrator integrator, double dt,
+                      double motor_time_constant, const Input& applied, PlantState& plant) {
+  Input f0 = applied, f_mid = applied, f1 = applied;
+  if (motor_time_constant > 0.0) {
+    const Input gap = plant.rotor_thrust - applied;
+    f0 = plant.rotor_thrust;
+    f_mid = applied + gap * std::exp(-0.5 * dt / motor_time_constant);
+    f1 = applied + gap * std::exp(-dt / motor_time_constant);
+  }
+  State& x = plant.x;
+  if (integrator == Integrator::kEuler) {
+    State k1;
+    stateDerivative(model, x, f0, k1);
+    x += dt * k1;
+  } else {
+    State k1, k2, k3, k4, tmp;
+    stateDerivative(model, x, f0, k1);
+    tmp = x + (0.5 * dt) * k1;
+    stateDerivative(model, tmp, f_mid, k2);
+    tmp = x + (0.5 * dt) * k2;
+    stateDerivative(model, tmp, f_mid, k3);
+    tmp = x + dt * k3;
+    stateDerivative(model, tmp, f1, k4);
+    x += (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+  }
+  plant.rotor_thrust = f1;
+}
+
+}  // namespace quadfdi

@@ -1,0 +1,82 @@
+#include "model/vehicle_params.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace quadfdi {
+
+double VehicleParams::lever() const { return std::sqrt(2.0) * arm_length; }
+double VehicleParams::yawCoeff() const { return drag_coeff / thrust_coeff; }
+double VehicleParams::hoverThrust() const { return mass * gravity / 4.0; }
+
+VehicleParams nominalParams() { return VehicleParams{}; }
+
+VehicleParams perturbedParams() {
+  VehicleParams p;
+  p.mass = 0.02;  // the code's value; the paper's table prints 0.015 (SPEC §10)
+  p.inertia_xx = 2.0e-5;
+  p.inertia_yy = 1.0e-5;
+  p.inertia_zz = 3.0e-5;
+  p.thrust_coeff = 2.5e-10;
+  p.drag_coeff = 9.0e-12;
+  p.arm_length = 0.05;
+  return p;
+}
+
+VehicleParams perturbedStrongParams() {
+  VehicleParams p;
+  p.mass = 0.015;
+  p.inertia_xx = 1.0e-5;
+  p.inertia_yy = 1.0e-5;
+  p.inertia_zz = 1.0e-5;
+  p.thrust_coeff = 2.0e-10;
+  p.drag_coeff = 5.0e-12;
+  p.arm_length = 0.02;
+  return p;
+}
+
+bool isNamedParamSet(const std::string& name) {
+  return name == "nominal" || name == "perturbed" || name == "perturbed-strong";
+}
+
+VehicleParams namedParams(const std::string& name) {
+  if (name == "nominal") return nominalParams();
+  if (name == "perturbed") return perturbedParams();
+  if (name == "perturbed-strong") return perturbedStrongParams();
+  throw std::invalid_argument("unknown parameter set '" + name +
+                              "' (expected nominal, perturbed, perturbed-strong or a file)");
+}
+
+std::string validate(const VehicleParams& p) {
+  std::ostringstream msg;
+  auto positive = [&](double v, const char* name) {
+    if (!(std::isfinite(v) && v > 0.0) && msg.tellp() == 0) msg << name << " must be finite and > 0, got " << v;
+  };
+  auto nonNegative = [&](double v, const char* name) {
+    if (!(std::isfinite(v) && v >= 0.0) && msg.tellp() == 0) msg << name << " must be finite and >= 0, got " << v;
+  };
+  positive(p.mass, "mass");
+  positive(p.inertia_xx, "inertia_xx");
+  positive(p.inertia_yy, "inertia_yy");
+  positive(p.inertia_zz, "inertia_zz");
+  positive(p.thrust_coeff, "thrust_coeff");
+  nonNegative(p.drag_coeff, "drag_coeff");
+  positive(p.arm_length, "arm_length");
+  positive(p.gravity, "gravity");
+  nonNegative(p.min_thrust, "min_thrust");
+  positive(p.max_thrust, "max_thrust");
+  nonNegative(p.motor_time_constant, "motor_time_constant");
+  nonNegative(p.linear_drag, "linear_drag");
+  nonNegative(p.rotational_drag, "rotational_drag");
+  if (msg.tellp() != 0) return msg.str();
+  if (p.min_thrust >= p.max_thrust)
+    return "min_thrust (" + std::to_string(p.min_thrust) + ") must be below max_thrust (" +
+           std::to_string(p.max_thrust) + ")";
+  if (p.hoverThrust() >= p.max_thrust || p.hoverThrust() <= p.min_thrust)
+    return "hover thrust m·g/4 = " + std::to_string(p.hoverThrust()) +
+           " N must lie strictly inside [min_thrust, max_thrust]";
+  return {};
+}
+
+}  // namespace quadfdi

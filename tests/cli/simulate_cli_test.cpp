@@ -1,0 +1,103 @@
+// Runs the real executable: options, one-line errors, exit codes, files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+struct CommandResult {
+  int exit_code;
+  std::string out;  // stdout and stderr together when merged
+};
+
+CommandResult run(const std::string& args, bool merge_stderr = true) {
+  const std::string cmd = std::string(QUADFDI_EXE) + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  std::size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string tempPath(const std::string& name) { return ::testing::TempDir() + "quadfdi_cli_" + name; }
+
+int countLines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(SimulateCli, HelpDocumentsEveryOption) {
+  const CommandResult r = run("simulate --help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* opt : {"--controller", "--params", "--controller-params", "--lqr-weights", "--motor", "--theta",
+                          "--fault-step", "--steps", "--seed", "--integrator", "--output", "--full-state", "--goal",
+                          "--start", "--position-noise", "--attitude-noise", "--cbf-min-altitude", "--cbf-max-tilt",
+                          "--quiet"})
+    EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
+}
+
+TEST(SimulateCli, FaultyFlightToStdoutAndSummaryToStderr) {
+  const CommandResult r = run("simulate --motor 3 --theta 0.4 --fault-step 100 --steps 200 --seed 4 --output -", false);
+  ASSERT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out.rfind("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n", 0), 0u);
+  EXPECT_EQ(countLines(r.out), 201);
+  const CommandResult s = run("simulate --motor 3 --theta 0.4 --fault-step 100 --steps 200 --seed 4 --output /dev/null");
+  EXPECT_NE(s.out.find("fault: motor 3 at theta 0.400 from step 100"), std::string::npos) << s.out;
+  // Same seed, same bytes.
+  EXPECT_EQ(run("simulate --motor 3 --theta 0.4 --fault-step 100 --steps 200 --seed 4 --output -", false).out, r.out);
+}
+
+TEST(SimulateCli, CbfAndFileParamsAndFullState) {
+  const std::string path = tempPath("cbf.csv");
+  const CommandResult r = run("simulate --controller cbf --params " + std::string(QUADFDI_SOURCE_DIR) +
+                    "/configs/vehicle-example.toml --steps 50 --full-state --output " + path);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("CBF filtered"), std::string::npos);
+  std::ifstream f(path);
+  std::string header;
+  std::getline(f, header);
+  EXPECT_EQ(header, "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,vx,vy,vz,p,q,r,f1,f2,f3,f4,status");
+}
+
+TEST(SimulateCli, BadArgumentsGiveOneLineErrorsAndNonZeroExit) {
+  const std::string missing_params = tempPath("missing.toml");
+  for (const std::string& args :
+       {std::string("simulate --motor 5"), std::string("simulate --theta 1.5 --motor 1"),
+        std::string("simulate --controller pid"), std::string("simulate --steps 0"),
+        std::string("simulate --steps ten"), std::string("simulate --integrator rk45"),
+        std::string("simulate --params ") + missing_params, std::string("simulate --bogus"),
+        std::string("simulate --start 0 0 1"), std::string("simulate --start 0 0 1 0 0 0 2 0 0 0 0 0 -o /dev/null"),
+        std::string("simulate --output /nonexistent-dir/x.csv"), std::string("")}) {
+    const CommandResult r = run(args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(countLines(r.out), 1) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find("error"), std::string::npos) << args << "\n" << r.out;
+  }
+  const CommandResult r = run("simulate --params " + missing_params);
+  EXPECT_NE(r.out.find(missing_params + ": cannot open for reading"), std::string::npos) << r.out;
+}
+
+TEST(SimulateCli, BadParameterFileNamesFileAndLine) {
+  const std::string path = tempPath("bad.toml");
+  std::ofstream(path) << "base = \"nominal\"\nmass = 0.03\ninertia_xx = lots\n";
+  const CommandResult r = run("simulate --params " + path + " -o /dev/null");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.out.find(path + ":3: 'inertia_xx' needs a finite number, got 'lots'"), std::string::npos) << r.out;
+}
+
+TEST(SimulateCli, FailedRunLeavesTheExistingOutputIntact) {
+  const std::string path = tempPath("keep.csv");
+  std::ofstream(path) << "precious\n";
+  const CommandResult r = run("simulate --params /nonexistent.toml --output " + path);
+  EXPECT_NE(r.exit_code, 0);
+  std::ifstream f(path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  EXPECT_EQ(ss.str(), "precious\n");
+}
+
+}  // namespace
