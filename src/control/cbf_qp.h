@@ -17,8 +17,11 @@ struct CbfConfig {
   double altitude_alpha2 = 3.0;   // [1/s]
   bool tilt_limit_enabled = true;
   double max_tilt = 0.5;          // [rad] h = cos φ cos θ − cos(max_tilt): angle of body z to vertical
-  double tilt_alpha1 = 8.0;       // [1/s]
-  double tilt_alpha2 = 8.0;       // [1/s]
+  // Large gains for the tilt: its barrier is flat at zero tilt, so small gains let the LQR
+  // build rates that the motors cannot stop later (infeasible QPs); 30/s keeps every sampled
+  // flight feasible while α·dt = 0.06 stays small for the 500 Hz discretisation.
+  double tilt_alpha1 = 30.0;      // [1/s]
+  double tilt_alpha2 = 30.0;      // [1/s]
   // A constraint counts as active when its slack at the solution is below this.
   double active_tolerance = 1e-9;  // [constraint units]
 };

@@ -15,11 +15,11 @@ LqrConfig LqrConfig::bryson() {
   // Largest deviations we are willing to see (Bryson's rule, Q_ii = 1/x_max²).
   const double pos = 0.2;     // [m]
   const double vel = 0.6;     // [m/s]
-  const double tilt = 0.25;   // [rad] roll, pitch
+  const double tilt = 0.5;    // [rad] roll, pitch
   const double yaw = 0.3;     // [rad]
-  const double rate = 2.0;    // [rad/s] p, q
-  const double yaw_rate = 2.0;  // [rad/s] r
-  const double thrust = 0.03;   // [N] per-motor deviation from hover (hover ≈ 0.073 N)
+  const double rate = 1.5;    // [rad/s] p, q
+  const double yaw_rate = 1.5;  // [rad/s] r
+  const double thrust = 0.02;   // [N] per-motor deviation from hover (hover ≈ 0.073 N)
   LqrConfig c;
   StateWeights x_max;
   x_max << pos, pos, pos, vel, vel, vel, tilt, tilt, yaw, rate, rate, yaw_rate;

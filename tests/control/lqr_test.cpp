@@ -58,7 +58,12 @@ TEST_P(LqrDesignTest, SymmetrisedGainIsExactlyEquivariantAndEqualsRawGainToRound
 
 INSTANTIATE_TEST_SUITE_P(ParamSets, LqrDesignTest,
                          ::testing::Values(Case{"nominal", false}, Case{"nominal", true}, Case{"perturbed", false},
-                                           Case{"perturbed-strong", false}));
+                                           Case{"perturbed-strong", false}),
+                         [](const ::testing::TestParamInfo<Case>& param_info) {
+                           std::string name = std::string(param_info.param.params) + (param_info.param.authors ? "_authors" : "_bryson");
+                           for (char& ch : name) if (ch == '-') ch = '_';
+                           return name;
+                         });
 
 TEST(Lqr, ZeroOrderHoldMatchesFineIntegrationOfTheLinearModel) {
   const LinearModel c = linearizeAtHover(nominalParams());
@@ -111,10 +116,10 @@ TEST(Lqr, SettlesFromSampledInitialConditionsWithoutFault) {
     FlightLog log;
     const FlightSummary sum = sim.run(*ctrl, sc.initial_state, &log);
     ASSERT_FALSE(sum.cut()) << "seed " << seed << ": " << toString(sum.end_status);
-    // Position within 5 cm of the goal at t = 2 s and 1 cm at 2.5 s.
+    // Position within 5 cm of the goal at t = 2 s and 2 cm at 2.5 s.
     EXPECT_LT((log.states[1000].head<3>() - sc.goal).norm(), 0.05) << "seed " << seed;
     const double final_err = (sum.final_state.head<3>() - sc.goal).norm();
-    EXPECT_LT(final_err, 0.01) << "seed " << seed;
+    EXPECT_LT(final_err, 0.02) << "seed " << seed;
     worst = std::max(worst, final_err);
     worst_saturated = std::max(worst_saturated, sum.saturated_steps);
   }

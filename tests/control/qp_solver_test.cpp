@@ -43,8 +43,10 @@ void* operator new(std::size_t size) {
   if (void* ptr = std::malloc(size == 0 ? 1 : size)) return ptr;
   throw std::bad_alloc();
 }
-void operator delete(void* ptr) noexcept { std::free(ptr); }
-void operator delete(void* ptr, std::size_t) noexcept { std::free(ptr); }
+// Not inlined: GCC's -Wmismatched-new-delete would otherwise see free() on a
+// pointer from operator new at the call site.
+[[gnu::noinline]] void operator delete(void* ptr) noexcept { std::free(ptr); }
+[[gnu::noinline]] void operator delete(void* ptr, std::size_t) noexcept { std::free(ptr); }
 
 namespace quadfdi {
 namespace {
@@ -102,15 +104,17 @@ double objective(const QpProblem<N, M>& p, const Vec<N>& x) {
 
 // ---------------------------------------------------------------------------
 // Brute-force reference. For every subset S of at most N constraints, solve
-//   [ H    −N_Sᵀ ] [x]   [−g ]
-//   [ N_S    0   ] [λ] = [c_S]
-// The optimum x* lies in the relative interior of some face, and the minimiser
-// over that face's affine hull is x* itself, so the best objective among the
-// feasible candidates is the optimum (filtering by λ >= 0 would select the
-// same point; without the filter ties between dependent subsets cannot bite).
-// The smallest maximum violation over all candidates also decides feasibility:
-// an infeasible problem has every point, so every candidate, violate some
-// constraint by at least its infeasibility margin.
+//   [ H/σ   −N_Sᵀ ] [x]   [−g/σ]
+//   [ N_S     0   ] [μ] = [ c_S ]        (unit-normal rows, σ = max|H|, λ = σμ)
+// with full-pivot LU; the scaling keeps both blocks O(1) so that LU stays
+// accurate when the multipliers are large. The optimum x* lies in the relative
+// interior of some face, and the minimiser over that face's affine hull is x*
+// itself, so the best objective among the feasible candidates is the optimum
+// (filtering by λ >= 0 would select the same point; leaving it out means ties
+// between dependent subsets cannot bite). The smallest maximum violation over
+// all candidates also decides feasibility: in an infeasible problem every
+// point, so every candidate, violates some constraint by at least the
+// problem's infeasibility margin.
 
 template <int N>
 struct Reference {
@@ -121,12 +125,22 @@ struct Reference {
 };
 
 template <int N, int M>
-Reference<N> bruteForce(const QpProblem<N, M>& p, double feasibility_tol = 1e-9) {
-  constexpr int kDimMax = 2 * N;
-  using KktMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kDimMax, kDimMax>;
-  using KktVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kDimMax, 1>;
+Reference<N> bruteForce(const QpProblem<N, M>& p, double feasibility_tol = 1e-12) {
+  // Dynamic types: one LU instantiation for every N keeps compile time down.
+  using KktMat = Eigen::MatrixXd;
+  using KktVec = Eigen::VectorXd;
 
   const ConstraintList<N, M> cl = constraintsOf(p);
+  Eigen::Matrix<double, ConstraintList<N, M>::kMax, N> unit_n = cl.n;
+  Vec<ConstraintList<N, M>::kMax> unit_c = cl.c;
+  for (int k = 0; k < cl.count; ++k) {
+    const double norm = cl.n.row(k).norm();
+    if (norm == 0.0) continue;  // never part of a nonsingular KKT matrix
+    unit_n.row(k) /= norm;
+    unit_c(k) /= norm;
+  }
+  const double sigma = p.H.cwiseAbs().maxCoeff();
+
   Reference<N> ref;
   const std::uint32_t num_masks = std::uint32_t{1} << cl.count;
   for (std::uint32_t mask = 0; mask < num_masks; ++mask) {
@@ -135,20 +149,19 @@ Reference<N> bruteForce(const QpProblem<N, M>& p, double feasibility_tol = 1e-9)
     const int dim = N + size;
     KktMat kkt = KktMat::Zero(dim, dim);
     KktVec rhs(dim);
-    kkt.topLeftCorner(N, N) = p.H;
-    rhs.head(N) = -p.g;
+    kkt.topLeftCorner(N, N) = p.H / sigma;
+    rhs.head(N) = -p.g / sigma;
     int col = N;
     for (int k = 0; k < cl.count; ++k) {
       if (!(mask & (std::uint32_t{1} << k))) continue;
-      kkt.block(0, col, N, 1) = -cl.n.row(k).transpose();
-      kkt.block(col, 0, 1, N) = cl.n.row(k);
-      rhs(col) = cl.c(k);
+      kkt.block(0, col, N, 1) = -unit_n.row(k).transpose();
+      kkt.block(col, 0, 1, N) = unit_n.row(k);
+      rhs(col) = unit_c(k);
       ++col;
     }
     const Eigen::FullPivLU<KktMat> lu(kkt);
     if (!lu.isInvertible()) continue;  // dependent normals: covered by a smaller subset
     const KktVec sol = lu.solve(rhs);
-    if (!((kkt * sol - rhs).norm() <= 1e-9 * (1.0 + rhs.norm()))) continue;
     const Vec<N> x = sol.head(N);
     double worst = 0.0;
     for (int k = 0; k < cl.count; ++k) {

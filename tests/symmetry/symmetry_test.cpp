@@ -37,7 +37,8 @@ TEST_P(SymmetryModeTest, EachMapSendsItsMotorToMotor2AndMovesArmsConsistently) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Modes, SymmetryModeTest,
-                         ::testing::Values(SymmetryMode::kExactGroup, SymmetryMode::kPaperRotation));
+                         ::testing::Values(SymmetryMode::kExactGroup, SymmetryMode::kPaperRotation),
+                         [](const ::testing::TestParamInfo<SymmetryMode>& param_info) { return std::string(toString(param_info.param)); });
 
 TEST(ExactGroup, IsAGroupOfInvolutionsAndMatchesTheSpecsEulerRules) {
   const State x = State::LinSpaced(1.0, 12.0);
@@ -187,7 +188,10 @@ INSTANTIATE_TEST_SUITE_P(Controllers, ClosedLoopEquivariance,
                          ::testing::Values(EquivarianceCase{"nominal", ControllerKind::kLqr},
                                            EquivarianceCase{"nominal", ControllerKind::kCbfQp},
                                            EquivarianceCase{"perturbed", ControllerKind::kLqr},
-                                           EquivarianceCase{"perturbed", ControllerKind::kCbfQp}));
+                                           EquivarianceCase{"perturbed", ControllerKind::kCbfQp}),
+                         [](const ::testing::TestParamInfo<EquivarianceCase>& param_info) {
+                           return std::string(param_info.param.params) + "_" + toString(param_info.param.kind);
+                         });
 
 }  // namespace
 }  // namespace quadfdi
