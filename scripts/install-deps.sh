@@ -10,6 +10,7 @@ packages=(
   liblapack-dev libblas-dev
   libcli11-dev           # command line
   nlohmann-json3-dev     # JSON (detector output, metadata)
+  libhdf5-dev            # datasets
   libgtest-dev libgmock-dev   # tests
   libbenchmark-dev       # benchmarks
 )

@@ -3,6 +3,7 @@
 #include <exception>
 #include <iostream>
 
+#include "cli/generate_command.h"
 #include "cli/simulate_command.h"
 
 int main(int argc, char** argv) {
@@ -11,6 +12,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "quadfdi 0.1.0");
   quadfdi::cli::SimulateOptions simulate;
   CLI::App* simulate_cmd = quadfdi::cli::addSimulateCommand(app, simulate);
+  quadfdi::cli::GenerateOptions generate;
+  CLI::App* generate_cmd = quadfdi::cli::addGenerateCommand(app, generate);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -25,6 +28,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate);
+    if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate, *generate_cmd);
   } catch (const std::exception& e) {
     std::cerr << "quadfdi: error: " << e.what() << "\n";
     return 1;

@@ -30,6 +30,29 @@ std::string tempPath(const std::string& name) { return ::testing::TempDir() + "q
 
 int countLines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
+TEST(GenerateCli, TinyDatasetAndOneLineErrors) {
+  const std::string path = tempPath("tiny.h5");
+  const CommandResult ok = run("generate --scale tiny --seed 2 --threads 2 --output " + path);
+  ASSERT_EQ(ok.exit_code, 0) << ok.out;
+  EXPECT_NE(ok.out.find("44 trajectories (4 initial conditions x 1 motors x 11 thetas)"), std::string::npos) << ok.out;
+  std::ifstream f(path, std::ios::binary);
+  char magic[8] = {};
+  f.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "HDF");
+
+  const std::string cfg = tempPath("gen.toml");
+  std::ofstream(cfg) << "scale = \"tiny\"\nthetas = [0, 1]\nwindow = 10\nbogus = 3\n";
+  for (const std::string& args :
+       {std::string("generate --thetas 1.5 -o ") + path, std::string("generate --motors 5 -o ") + path,
+        std::string("generate --scale huge -o ") + path, std::string("generate --window 0 -o ") + path,
+        std::string("generate --config ") + cfg + " -o " + path, std::string("generate --scale tiny")}) {
+    const CommandResult r = run(args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(countLines(r.out), 1) << args << "\n" << r.out;
+  }
+  EXPECT_NE(run("generate --config " + cfg + " -o " + path).out.find(cfg + ":4: unknown key 'bogus'"), std::string::npos);
+}
+
 TEST(SimulateCli, HelpDocumentsEveryOption) {
   const CommandResult r = run("simulate --help");
   EXPECT_EQ(r.exit_code, 0);

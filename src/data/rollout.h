@@ -1,0 +1,81 @@
+// Batched, parallel generation of fault trajectories (SPEC §5, Algorithm 1's data side).
+// Each trajectory is a pure function of (seed, scenario index, job), so the output is
+// byte-identical whatever the thread count.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "control/controller_factory.h"
+#include "data/trajectory_batch.h"
+#include "simulation/sampling.h"
+
+namespace quadfdi {
+
+struct RolloutConfig {
+  VehicleParams plant = nominalParams();             // the vehicle flown
+  VehicleParams controller_model = nominalParams();  // what the controller is designed on
+  // The model behind the residual ỹ; SPEC §5: always the nominal parameters, which is what
+  // makes model-based FDI fragile when the plant is perturbed.
+  VehicleParams residual_model = nominalParams();
+  ControllerConfig controller;
+  SamplingRanges ranges;
+  Integrator integrator = Integrator::kRk4;
+  double dt = 0.002;        // [s] sample period (SPEC §2)
+  int window = 100;         // T [samples]; trajectories hold 2T + 1 samples, fault at step T
+  OutputKind output = OutputKind::kPositionEuler;
+  // Random pre-roll: fly healthy for U{0 … preroll_max_steps} steps before sample 0, so that
+  // windows also come from settled flight (SPEC §5). 0 = the paper's distribution.
+  int preroll_max_steps = 0;
+  std::uint64_t seed = 0;
+
+  int samplesPerTrajectory() const { return 2 * window + 1; }
+  int faultStep() const { return window; }
+};
+
+// Empty when valid, else a one-line description of the first problem.
+std::string validate(const RolloutConfig& config);
+
+struct TrajectoryJob {
+  std::uint64_t scenario_index = 0;  // RNG stream of the initial condition and goal
+  int faulty_motor = 2;              // 1..4
+  double theta = 1.0;                // effectiveness of that motor after the fault, [0, 1]
+};
+
+// Algorithm 1's jobs for one outer iteration: `initial_conditions` scenarios starting at
+// `first_scenario`, each flown once per value in `thetas` on each motor in `motors`.
+std::vector<TrajectoryJob> algorithm1Jobs(std::uint64_t first_scenario, int initial_conditions,
+                                          const std::vector<double>& thetas, const std::vector<int>& motors);
+
+// Called from worker threads with the number of trajectories finished so far.
+using ProgressCallback = std::function<void(int done, int total)>;
+
+class RolloutEngine {
+ public:
+  // setup: designs the controller once (throws nothing; check error()).
+  explicit RolloutEngine(const RolloutConfig& config);
+  const std::string& error() const { return error_; }
+  const RolloutConfig& config() const { return config_; }
+
+  // Fills `batch` (resized here) with one trajectory per job, using `threads` workers (0 = all
+  // cores). Returns false only if the engine is not set up.
+  bool run(const std::vector<TrajectoryJob>& jobs, int threads, TrajectoryBatch& batch,
+           const ProgressCallback& progress = {}) const;
+
+  // One trajectory into slot `slot` of an already sized batch; `controller` is the calling
+  // thread's own controller instance (controllers hold per-step state).
+  void rolloutOne(const TrajectoryJob& job, Controller& controller, TrajectoryBatch& batch, int slot) const;
+  std::unique_ptr<Controller> makeWorkerController() const;
+
+ private:
+  RolloutConfig config_;
+  RigidBodyModel plant_model_;
+  RigidBodyModel residual_model_;
+  bool residual_is_plant_ = false;  // same parameters and no lag: prediction = plant step when healthy
+  LqrDesign lqr_;
+  std::string error_;
+};
+
+}  // namespace quadfdi

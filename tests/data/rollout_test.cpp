@@ -1,0 +1,169 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "data/residual.h"
+#include "data/rollout.h"
+#include "data/window_buffer.h"
+#include "simulation/closed_loop.h"
+
+namespace quadfdi {
+namespace {
+
+RolloutConfig smallConfig(int window = 20) {
+  RolloutConfig c;
+  c.window = window;
+  c.seed = 17;
+  return c;
+}
+
+TEST(Residual, ExactlyZeroForTheNominalModelsOwnStep) {
+  std::mt19937_64 gen(1);
+  std::uniform_real_distribution<double> d(-0.5, 0.5);
+  const RigidBodyModel m = RigidBodyModel::fromParams(nominalParams());
+  for (Integrator integ : {Integrator::kRk4, Integrator::kEuler}) {
+    for (int t = 0; t < 100; ++t) {
+      PlantState p;
+      for (int i = 0; i < kStateDim; ++i) p.x(i) = d(gen);
+      const Input u = Input::Constant(0.07) + 0.02 * Input(d(gen), d(gen), d(gen), d(gen));
+      const State prev = p.x;
+      stepPlant(m, integ, 0.002, 0.0, u, p);
+      EXPECT_EQ(oneStepResidual(m, integ, 0.002, prev, u, p.x, OutputKind::kPositionEuler), Output::Zero());
+      // A weaker motor shows up in the residual within one RK4 step. (One Euler step moves only
+      // velocities and rates, so y sees the fault one step later there.)
+      if (integ == Integrator::kEuler) continue;
+      PlantState faulty;
+      faulty.x = prev;
+      stepPlant(m, integ, 0.002, 0.0, Input(u(0), 0.5 * u(1), u(2), u(3)), faulty);
+      EXPECT_GT(oneStepResidual(m, integ, 0.002, prev, u, faulty.x, OutputKind::kPositionEuler).norm(), 1e-9);
+    }
+  }
+}
+
+TEST(Rollout, ResidualZeroBeforeTheFaultAndNonZeroAfter) {
+  const RolloutEngine engine(smallConfig());
+  ASSERT_EQ(engine.error(), "");
+  TrajectoryBatch b;
+  engine.run(algorithm1Jobs(0, 3, {1.0, 0.5, 0.0}, {2}), 1, b);
+  ASSERT_EQ(b.count, 9);
+  ASSERT_EQ(b.samples, 41);
+  for (int i = 0; i < b.count; ++i) {
+    const float theta2 = b.theta[static_cast<std::size_t>(i) * 4 + 1];
+    ASSERT_EQ(b.length[static_cast<std::size_t>(i)], 41) << "no crash expected in 0.08 s";
+    for (int k = 0; k < b.samples; ++k) {
+      double norm = 0;
+      for (int c = 0; c < kOutputDim; ++c) norm += std::abs(static_cast<double>(b.residuals[b.sampleOffset(i, k) * kOutputDim + static_cast<std::size_t>(c)]));
+      if (k <= 20 || theta2 == 1.0f)
+        EXPECT_EQ(norm, 0.0) << "trajectory " << i << " sample " << k;
+      else
+        EXPECT_GT(norm, 0.0) << "trajectory " << i << " sample " << k;
+    }
+  }
+}
+
+TEST(Rollout, MatchesTheReferenceSimulator) {
+  RolloutConfig c = smallConfig(50);
+  for (ControllerKind kind : {ControllerKind::kLqr, ControllerKind::kCbfQp}) {
+    c.controller.kind = kind;
+    const RolloutEngine engine(c);
+    TrajectoryBatch b;
+    engine.run({TrajectoryJob{5, 3, 0.3}}, 1, b);
+    Rng rng(c.seed, 5);
+    const Scenario sc = sampleScenario(c.ranges, rng);
+    auto ctrl = makeController(c.plant, c.controller, c.dt).controller;
+    ctrl->setGoal(sc.goal);
+    SimulationSettings s;
+    s.steps = b.samples;
+    s.fault.theta(2) = 0.3;
+    s.fault.fault_step = 50;
+    FlightLog log;
+    ClosedLoopSimulator(c.plant, s).run(*ctrl, sc.initial_state, &log);
+    for (int k = 0; k < b.samples; ++k) {
+      for (int i = 0; i < kStateDim; ++i)
+        EXPECT_EQ(b.states[b.sampleOffset(0, k) * kStateDim + static_cast<std::size_t>(i)],
+                  static_cast<float>(log.states[static_cast<std::size_t>(k)](i)));
+      for (int j = 0; j < kInputDim; ++j)
+        EXPECT_EQ(b.inputs[b.sampleOffset(0, k) * kInputDim + static_cast<std::size_t>(j)],
+                  static_cast<float>(log.controls[static_cast<std::size_t>(k)].u_cmd(j)));
+    }
+  }
+}
+
+TEST(Rollout, OutputIsIndependentOfThreadCount) {
+  RolloutConfig c = smallConfig();
+  c.preroll_max_steps = 100;
+  const RolloutEngine engine(c);
+  const auto jobs = algorithm1Jobs(0, 20, {0.0, 0.3, 1.0}, {1, 2});
+  TrajectoryBatch one, two;
+  engine.run(jobs, 1, one);
+  engine.run(jobs, 2, two);
+  EXPECT_EQ(one.states, two.states);
+  EXPECT_EQ(one.residuals, two.residuals);
+  EXPECT_EQ(one.inputs, two.inputs);
+  EXPECT_EQ(one.outputs, two.outputs);
+  EXPECT_EQ(one.length, two.length);
+  EXPECT_EQ(one.initial_state, two.initial_state);
+}
+
+TEST(Rollout, InvalidConfigIsReported) {
+  RolloutConfig c = smallConfig();
+  c.window = 0;
+  EXPECT_NE(RolloutEngine(c).error(), "");
+  c = smallConfig();
+  c.plant.mass = -1;
+  EXPECT_NE(RolloutEngine(c).error().find("mass"), std::string::npos);
+}
+
+// Hand-checked: T = 3, 7 samples (0…6), F = 3, Θ₂ = 0.4.
+TEST(Windows, EndsFaultyLengthsAndLabels) {
+  TrajectoryBatch b;
+  b.resize(2, 7);
+  for (int i = 0; i < 2; ++i) {
+    b.fault_step[static_cast<std::size_t>(i)] = 3;
+    b.theta[static_cast<std::size_t>(i) * 4 + 1] = 0.4f;
+  }
+  b.length[0] = 7;
+  b.length[1] = 5;  // cut after sample 4
+  std::vector<WindowRef> w;
+  enumerateWindows(b, 3, w);
+  ASSERT_EQ(w.size(), 6u);  // trajectory 0: ends 3,4,5,6; trajectory 1: ends 3,4
+  const int ends[] = {3, 4, 5, 6, 3, 4};
+  const int traj[] = {0, 0, 0, 0, 1, 1};
+  const int faulty[] = {0, 1, 2, 3, 0, 1};
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    EXPECT_EQ(w[i].end_sample, ends[i]);
+    EXPECT_EQ(w[i].trajectory, traj[i]);
+    EXPECT_EQ(faultyLength(b, w[i]), faulty[i]);
+    const Input label = windowLabel(b, w[i]);
+    EXPECT_EQ(label, faulty[i] == 0 ? Input(1, 1, 1, 1) : Input(1, 0.4f, 1, 1)) << i;
+  }
+}
+
+TEST(WindowBuffer, KeepsTheNewestWindowsFifo) {
+  auto make = [](int count, int tag) {
+    auto b = std::make_shared<TrajectoryBatch>();
+    b->resize(count, 7);
+    for (int i = 0; i < count; ++i) {
+      b->fault_step[static_cast<std::size_t>(i)] = 3;
+      b->length[static_cast<std::size_t>(i)] = 7;
+      b->scenario_index[static_cast<std::size_t>(i)] = static_cast<std::uint64_t>(tag * 100 + i);
+    }
+    return b;
+  };
+  WindowBuffer buf(10, 3);  // 4 windows per trajectory
+  buf.add(make(2, 0));      // 8 windows
+  EXPECT_EQ(buf.size(), 8u);
+  buf.add(make(1, 1));      // 12 → trims the 2 oldest
+  EXPECT_EQ(buf.size(), 10u);
+  EXPECT_EQ(buf.at(0).ref.end_sample, 5);  // trajectory 0's windows ending at 3, 4 are gone
+  EXPECT_EQ(buf.at(0).batch->scenario_index[0], 0u);
+  buf.add(make(2, 2));  // 18 → the first batch is released entirely
+  EXPECT_EQ(buf.size(), 10u);
+  EXPECT_EQ(buf.batchCount(), 2u);
+  EXPECT_EQ(buf.at(9).batch->scenario_index[1], 201u);
+  EXPECT_EQ(buf.at(9).ref.end_sample, 6);
+  EXPECT_THROW(buf.at(10), std::out_of_range);
+}
+
+}  // namespace
+}  // namespace quadfdi
