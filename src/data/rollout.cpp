@@ -123,6 +123,14 @@ void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller,
                                                             control.u_cmd, plant.x, config_.output);
     }
   }
+  // Samples after a crash hold zeros, so the batch's bytes depend only on the job.
+  if (length < samples) {
+    const std::size_t from = b.sampleOffset(slot, length), to = b.sampleOffset(slot, samples);
+    std::fill(b.outputs.begin() + static_cast<std::ptrdiff_t>(from * kOutputDim), b.outputs.begin() + static_cast<std::ptrdiff_t>(to * kOutputDim), 0.0f);
+    std::fill(b.inputs.begin() + static_cast<std::ptrdiff_t>(from * kInputDim), b.inputs.begin() + static_cast<std::ptrdiff_t>(to * kInputDim), 0.0f);
+    std::fill(b.states.begin() + static_cast<std::ptrdiff_t>(from * kStateDim), b.states.begin() + static_cast<std::ptrdiff_t>(to * kStateDim), 0.0f);
+    std::fill(b.residuals.begin() + static_cast<std::ptrdiff_t>(from * kOutputDim), b.residuals.begin() + static_cast<std::ptrdiff_t>(to * kOutputDim), 0.0f);
+  }
   b.length[s] = length;
   b.end_status[s] = static_cast<std::uint8_t>(status);
 }

@@ -9,10 +9,12 @@ void TrajectoryBatch::resize(int n, int samples_per_trajectory) {
   samples = samples_per_trajectory;
   const std::size_t ns = static_cast<std::size_t>(n) * static_cast<std::size_t>(samples_per_trajectory);
   const auto un = static_cast<std::size_t>(n);
-  outputs.assign(ns * kOutputDim, 0.0f);
-  inputs.assign(ns * kInputDim, 0.0f);
-  states.assign(ns * kStateDim, 0.0f);
-  residuals.assign(ns * kOutputDim, 0.0f);
+  // Per-sample arrays are only resized, not cleared: every sample is written by the rollout
+  // (samples after a crash are zeroed there), so a reused batch costs no extra memory pass.
+  outputs.resize(ns * kOutputDim);
+  inputs.resize(ns * kInputDim);
+  states.resize(ns * kStateDim);
+  residuals.resize(ns * kOutputDim);
   theta.assign(un * kInputDim, 1.0f);
   fault_step.assign(un, 0);
   length.assign(un, 0);

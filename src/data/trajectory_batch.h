@@ -30,7 +30,8 @@ struct TrajectoryBatch {
   std::vector<double> goal;                  // [count][3]
   std::vector<std::uint64_t> scenario_index; // RNG stream of the initial condition
 
-  // setup: allocates for `n` trajectories of `samples_per_trajectory` samples.
+  // setup: allocates for `n` trajectories of `samples_per_trajectory` samples. Per-sample
+  // contents are left for the writer (RolloutEngine writes every sample).
   void resize(int n, int samples_per_trajectory);
   std::size_t sampleOffset(int trajectory, int sample) const {
     return static_cast<std::size_t>(trajectory) * static_cast<std::size_t>(samples) + static_cast<std::size_t>(sample);

@@ -96,6 +96,7 @@ TEST(Rollout, OutputIsIndependentOfThreadCount) {
   const auto jobs = algorithm1Jobs(0, 20, {0.0, 0.3, 1.0}, {1, 2});
   TrajectoryBatch one, two;
   engine.run(jobs, 1, one);
+  engine.run(algorithm1Jobs(500, 20, {0.0}, {4, 1, 3}), 2, two);  // reuse: no stale samples
   engine.run(jobs, 2, two);
   EXPECT_EQ(one.states, two.states);
   EXPECT_EQ(one.residuals, two.residuals);
