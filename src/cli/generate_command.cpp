@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "cli/progress.h"
-#include "data/rollout.h"
+#include "data/algorithm1.h"
 #include "io/hdf5_dataset.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
@@ -15,10 +15,8 @@
 namespace quadfdi::cli {
 
 int scaleInitialConditions(const std::string& scale) {
-  if (scale == "tiny") return 4;        // 44 trajectories: tests
-  if (scale == "default") return 40;    // 440 trajectories: a CPU-sized iteration
-  if (scale == "paper") return 100;     // 1 100 trajectories: the authors' code (SPEC §5)
-  return -1;
+  const auto s = dataScale(scale);
+  return s ? s->initial_conditions : -1;
 }
 
 CLI::App* addGenerateCommand(CLI::App& app, GenerateOptions& o) {

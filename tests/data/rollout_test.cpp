@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "data/algorithm1.h"
 #include "data/residual.h"
 #include "data/rollout.h"
 #include "data/window_buffer.h"
@@ -164,6 +165,44 @@ TEST(WindowBuffer, KeepsTheNewestWindowsFifo) {
   EXPECT_EQ(buf.at(9).batch->scenario_index[1], 201u);
   EXPECT_EQ(buf.at(9).ref.end_sample, 6);
   EXPECT_THROW(buf.at(10), std::out_of_range);
+}
+
+}  // namespace
+}  // namespace quadfdi
+
+namespace quadfdi {
+namespace {
+
+TEST(Algorithm1Data, IterationsAreFreshDisjointAndCapped) {
+  Algorithm1DataConfig c;
+  c.rollout.window = 10;
+  c.rollout.seed = 4;
+  c.scale = {"test", 3, 100};  // 3 × 11 trajectories × 11 windows = 363 per iteration > 100
+  c.threads = 2;
+  Algorithm1Data data(c);
+  ASSERT_EQ(data.error(), "");
+  data.nextIteration();
+  EXPECT_EQ(data.buffer().size(), 100u);
+  data.nextIteration();
+  EXPECT_EQ(data.iteration(), 2);
+  EXPECT_EQ(data.buffer().size(), 100u);
+  // Only the newest iteration's windows remain; its scenarios are 3, 4, 5.
+  for (std::size_t i = 0; i < data.buffer().size(); ++i) {
+    const auto e = data.buffer().at(i);
+    EXPECT_GE(e.batch->scenario_index[static_cast<std::size_t>(e.ref.trajectory)], 3u);
+  }
+  // Resuming regenerates exactly the same buffer.
+  Algorithm1Data resumed(c);
+  resumed.restoreTo(2);
+  ASSERT_EQ(resumed.buffer().size(), data.buffer().size());
+  for (std::size_t i = 0; i < data.buffer().size(); i += 7) {
+    const auto a = data.buffer().at(i), b = resumed.buffer().at(i);
+    EXPECT_EQ(a.ref.end_sample, b.ref.end_sample);
+    EXPECT_EQ(a.batch->states, b.batch->states);
+  }
+  EXPECT_TRUE(dataScale("paper").has_value());
+  EXPECT_EQ(dataScale("paper")->initial_conditions * 11, 1100);
+  EXPECT_FALSE(dataScale("huge").has_value());
 }
 
 }  // namespace
