@@ -151,26 +151,17 @@ class Reader {
       fail("cannot read dataset '" + full + "' (truncated or corrupt file?)");
   }
 
-  hsize_t leadingDim(const char* name) {
+  // Shape of a dataset in the trajectories group.
+  std::vector<hsize_t> shape(const char* name) {
     const std::string full = std::string("trajectories/") + name;
     Handle ds(H5Dopen2(file_, full.c_str(), H5P_DEFAULT), H5Dclose);
     if (!ds.valid()) fail("missing dataset '" + full + "'");
     Handle space(H5Dget_space(ds.get()), H5Sclose);
-    hsize_t dims[8] = {0};
-    if (H5Sget_simple_extent_ndims(space.get()) < 1 || H5Sget_simple_extent_ndims(space.get()) > 8)
-      fail("dataset '" + full + "' has an unexpected rank");
-    H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-    return dims[0];
-  }
-  hsize_t secondDim(const char* name) {
-    const std::string full = std::string("trajectories/") + name;
-    Handle ds(H5Dopen2(file_, full.c_str(), H5P_DEFAULT), H5Dclose);
-    if (!ds.valid()) fail("missing dataset '" + full + "'");
-    Handle space(H5Dget_space(ds.get()), H5Sclose);
-    hsize_t dims[8] = {0};
-    if (H5Sget_simple_extent_ndims(space.get()) != 3) fail("dataset '" + full + "' must have rank 3");
-    H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-    return dims[1];
+    const int rank = H5Sget_simple_extent_ndims(space.get());
+    if (rank < 1 || rank > 8) fail("dataset '" + full + "' has an unexpected rank");
+    std::vector<hsize_t> dims(static_cast<std::size_t>(rank));
+    H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+    return dims;
   }
 
   [[noreturn]] void fail(const std::string& problem) const { throw DatasetError(path_ + ": " + problem); }
@@ -250,9 +241,10 @@ TrajectoryBatch readDataset(const std::string& path, DatasetMetadata* meta_out) 
   if (meta.window < 1 || samples < meta.window + 1 || samples > 10000000) r.fail("inconsistent window / samples_per_trajectory");
   if (meta.output != "position-euler" && meta.output != "position-rates") r.fail("unknown output kind '" + meta.output + "'");
 
-  const hsize_t n = r.leadingDim("outputs");
+  const std::vector<hsize_t> outputs_shape = r.shape("outputs");
+  if (outputs_shape.size() != 3) r.fail("dataset 'trajectories/outputs' must have rank 3");
+  const hsize_t n = outputs_shape[0];
   if (n > (1u << 30)) r.fail("implausible trajectory count");
-  if (r.secondDim("outputs") != static_cast<hsize_t>(samples)) r.fail("outputs do not have samples_per_trajectory samples");
   TrajectoryBatch b;
   b.count = static_cast<int>(n);
   b.samples = samples;
