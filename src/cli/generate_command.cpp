@@ -8,6 +8,7 @@
 
 #include "cli/progress.h"
 #include "data/algorithm1.h"
+#include "io/controller_config.h"
 #include "io/hdf5_dataset.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
@@ -31,6 +32,7 @@ CLI::App* addGenerateCommand(CLI::App& app, GenerateOptions& o) {
                                       "trajectories, as the authors' code)")
       ->capture_default_str();
   cmd->add_option("--controller", o.controller, "lqr or cbf")->capture_default_str();
+  cmd->add_option("--controller-config", o.controller_config, "Controller FILE (configs/controller-example.toml)");
   cmd->add_option("--params", o.params, "Plant: nominal, perturbed, perturbed-strong or a FILE")->capture_default_str();
   cmd->add_option("--motors", o.motors, "Faulty motors (1..4); the paper trains on motor 2 only")->capture_default_str();
   cmd->add_option("--thetas", o.thetas, "Effectiveness values after the fault, each in [0, 1]")->capture_default_str();
@@ -60,7 +62,11 @@ void applyConfig(GenerateOptions& o, const CLI::App& cmd) {
   for (const KeyValueEntry& e : doc.entries) {
     const std::string& k = e.key;
     if (k == "scale") { if (!given("--scale")) o.scale = doc.string(e); }
-    else if (k == "controller") { if (!given("--controller")) o.controller = doc.string(e); }
+    else if (k == "controller") {
+      if (!given("--controller")) o.controller = doc.string(e);
+      o.controller_given = true;
+    }
+    else if (k == "controller_config") { if (!given("--controller-config")) o.controller_config = doc.string(e); }
     else if (k == "params") { if (!given("--params")) o.params = doc.string(e); }
     else if (k == "output_kind") { if (!given("--output-kind")) o.output_kind = doc.string(e); }
     else if (k == "integrator") { if (!given("--integrator")) o.integrator = doc.string(e); }
@@ -112,7 +118,9 @@ int runGenerate(GenerateOptions o, const CLI::App& command) {
   RolloutConfig rc;
   rc.plant = loadVehicleParams(o.params);
   rc.controller_model = rc.plant;
-  require(parseControllerKind(o.controller, rc.controller.kind), "--controller must be lqr or cbf, got '" + o.controller + "'");
+  if (!o.controller_config.empty()) rc.controller = loadControllerConfig(o.controller_config, rc.controller);
+  if (o.controller_config.empty() || o.controller_given || command.count("--controller"))
+    require(parseControllerKind(o.controller, rc.controller.kind), "--controller must be lqr or cbf, got '" + o.controller + "'");
   rc.integrator = o.integrator == "euler" ? Integrator::kEuler : Integrator::kRk4;
   rc.window = o.window;
   rc.output = o.output_kind == "position-rates" ? OutputKind::kPositionRates : OutputKind::kPositionEuler;

@@ -10,6 +10,8 @@ struct GenerateOptions {
   std::string config;            // key = value file; flags given on the command line win
   std::string scale = "default";  // tiny | default | paper: initial conditions per iteration
   std::string controller = "lqr";
+  std::string controller_config;
+  bool controller_given = false;  // --controller or the config's `controller` key: wins over the controller file
   std::string params = "nominal";
   std::string output_kind = "position-euler";
   std::string integrator = "rk4";

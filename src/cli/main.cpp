@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate);
+    if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate, *simulate_cmd);
     if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate, *generate_cmd);
   } catch (const std::exception& e) {
     std::cerr << "quadfdi: error: " << e.what() << "\n";

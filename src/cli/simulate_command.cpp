@@ -8,6 +8,7 @@
 
 #include "control/controller_factory.h"
 #include "io/atomic_file.h"
+#include "io/controller_config.h"
 #include "io/params_file.h"
 #include "io/telemetry_csv.h"
 #include "simulation/closed_loop.h"
@@ -34,6 +35,9 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
                   "LQR weights: bryson (documented default) or authors (Q = I, R = I, Euler discretisation)")
       ->check(CLI::IsMember({"bryson", "authors"}))
       ->capture_default_str();
+  cmd->add_option("--controller-config", o.controller_config,
+                  "Controller FILE: LQR weights and CBF safe set (configs/controller-example.toml); "
+                  "--controller, --lqr-weights and --cbf-* flags given explicitly win");
   cmd->add_option("--motor", o.motor, "Faulty motor 1..4 (Crazyflie numbering: 1 front-right, 2 back-right, "
                                       "3 back-left, 4 front-left); omit for a healthy flight")
       ->check(CLI::Range(1, 4));
@@ -91,16 +95,18 @@ std::string vec3(const Vec3& v) {
 
 }  // namespace
 
-int runSimulate(const SimulateOptions& o) {
+int runSimulate(const SimulateOptions& o, const CLI::App& command) {
   const VehicleParams plant = loadVehicleParams(o.params);
   const VehicleParams design =
       o.controller_params.empty() ? plant : loadVehicleParams(o.controller_params);
 
   ControllerConfig cc;
-  parseControllerKind(o.controller, cc.kind);
-  cc.lqr = o.lqr_weights == "authors" ? LqrConfig::authors() : LqrConfig::bryson();
-  cc.cbf.min_altitude = o.cbf_min_altitude;
-  cc.cbf.max_tilt = o.cbf_max_tilt;
+  if (!o.controller_config.empty()) cc = loadControllerConfig(o.controller_config, cc);
+  if (o.controller_config.empty() || command.count("--controller")) parseControllerKind(o.controller, cc.kind);
+  if (o.controller_config.empty() || command.count("--lqr-weights"))
+    cc.lqr = o.lqr_weights == "authors" ? LqrConfig::authors() : LqrConfig::bryson();
+  if (o.controller_config.empty() || command.count("--cbf-min-altitude")) cc.cbf.min_altitude = o.cbf_min_altitude;
+  if (o.controller_config.empty() || command.count("--cbf-max-tilt")) cc.cbf.max_tilt = o.cbf_max_tilt;
 
   SimulationSettings settings;
   settings.steps = o.steps;

@@ -10,6 +10,7 @@ struct SimulateOptions {
   std::string params = "nominal";
   std::string controller_params;  // empty: same as params
   std::string lqr_weights = "bryson";
+  std::string controller_config;  // optional file
   int motor = 0;                  // 0: healthy
   double theta = 0.0;
   int fault_step = 500;
@@ -29,6 +30,6 @@ struct SimulateOptions {
 
 CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& options);
 // Runs the command; throws std::runtime_error / ConfigError with a one-line message on bad input.
-int runSimulate(const SimulateOptions& options);
+int runSimulate(const SimulateOptions& options, const CLI::App& command);
 
 }  // namespace quadfdi::cli

@@ -51,12 +51,16 @@ TEST(GenerateCli, TinyDatasetAndOneLineErrors) {
     EXPECT_EQ(countLines(r.out), 1) << args << "\n" << r.out;
   }
   EXPECT_NE(run("generate --config " + cfg + " -o " + path).out.find(cfg + ":4: unknown key 'bogus'"), std::string::npos);
+  // The shipped config works (scale overridden on the command line).
+  const CommandResult shipped = run("generate --config " + std::string(QUADFDI_SOURCE_DIR) +
+                                    "/configs/generate-default.toml --scale tiny -o " + path);
+  EXPECT_EQ(shipped.exit_code, 0) << shipped.out;
 }
 
 TEST(SimulateCli, HelpDocumentsEveryOption) {
   const CommandResult r = run("simulate --help");
   EXPECT_EQ(r.exit_code, 0);
-  for (const char* opt : {"--controller", "--params", "--controller-params", "--lqr-weights", "--motor", "--theta",
+  for (const char* opt : {"--controller", "--controller-config", "--params", "--controller-params", "--lqr-weights", "--motor", "--theta",
                           "--fault-step", "--steps", "--seed", "--integrator", "--output", "--full-state", "--goal",
                           "--start", "--position-noise", "--attitude-noise", "--cbf-min-altitude", "--cbf-max-tilt",
                           "--quiet"})
@@ -77,7 +81,8 @@ TEST(SimulateCli, FaultyFlightToStdoutAndSummaryToStderr) {
 TEST(SimulateCli, CbfAndFileParamsAndFullState) {
   const std::string path = tempPath("cbf.csv");
   const CommandResult r = run("simulate --controller cbf --params " + std::string(QUADFDI_SOURCE_DIR) +
-                    "/configs/vehicle-example.toml --steps 50 --full-state --output " + path);
+                    "/configs/vehicle-example.toml --controller-config " + std::string(QUADFDI_SOURCE_DIR) +
+                    "/configs/controller-example.toml --steps 50 --full-state --output " + path);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("CBF filtered"), std::string::npos);
   std::ifstream f(path);

@@ -1,0 +1,50 @@
+#include <gtest/gtest.h>
+
+#include "io/controller_config.h"
+#include "io/key_value.h"
+
+namespace quadfdi {
+namespace {
+
+std::string errorOf(const std::string& text) {
+  try {
+    controllerConfigFromText(text, "c.toml", ControllerConfig{});
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ControllerConfig, PresetThenOverridesAndCbfValues) {
+  const ControllerConfig c = controllerConfigFromText(
+      "controller = \"cbf\"\n[lqr]\nr_diag = [1, 1, 1, 1]\nweights = \"authors\"\n[cbf]\nmax_tilt = 0.4\ntilt_limit = false\n",
+      "c.toml", ControllerConfig{});
+  EXPECT_EQ(c.kind, ControllerKind::kCbfQp);
+  EXPECT_EQ(c.lqr.discretization, Discretization::kForwardEuler);  // from the preset
+  EXPECT_EQ(c.lqr.q_diag, StateWeights::Ones());
+  EXPECT_EQ(c.cbf.max_tilt, 0.4);
+  EXPECT_FALSE(c.cbf.tilt_limit_enabled);
+  EXPECT_TRUE(c.cbf.altitude_floor_enabled);
+}
+
+TEST(ControllerConfig, ShippedExampleEqualsTheDefaults) {
+  const ControllerConfig c = loadControllerConfig(std::string(QUADFDI_SOURCE_DIR) + "/configs/controller-example.toml",
+                                                  ControllerConfig{});
+  const ControllerConfig d;
+  EXPECT_LT((c.lqr.q_diag - d.lqr.q_diag).cwiseQuotient(d.lqr.q_diag).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_EQ(c.lqr.r_diag, d.lqr.r_diag);
+  EXPECT_EQ(c.cbf.tilt_alpha1, d.cbf.tilt_alpha1);
+  EXPECT_EQ(c.cbf.min_altitude, d.cbf.min_altitude);
+}
+
+TEST(ControllerConfig, BadValuesNameFileAndLine) {
+  EXPECT_EQ(errorOf("[lqr]\nq_diag = [1, 2]\n"), "c.toml:2: lqr.q_diag needs 12 values (state.h order), got 2");
+  EXPECT_EQ(errorOf("[lqr]\nr_diag = [1, 0, 1, 1]\n"), "c.toml:2: lqr.r_diag values must be > 0");
+  EXPECT_EQ(errorOf("[cbf]\nmax_tilt = 2\n"), "c.toml:2: cbf.max_tilt must be in (0, 1.5) rad");
+  EXPECT_EQ(errorOf("[cbf]\ntilt_alpha1 = -1\n"), "c.toml:2: 'cbf.tilt_alpha1' must be > 0");
+  EXPECT_EQ(errorOf("\n[lqr]\nweights = \"fast\"\n"), "c.toml:3: lqr.weights must be \"bryson\" or \"authors\", got 'fast'");
+  EXPECT_EQ(errorOf("gains = 3\n"), "c.toml:1: unknown key 'gains'");
+}
+
+}  // namespace
+}  // namespace quadfdi
