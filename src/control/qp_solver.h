@@ -8,9 +8,10 @@
 // Algorithm: the dual active-set method of
 //   D. Goldfarb, A. Idnani, "A numerically stable dual method for solving
 //   strictly convex quadratic programs", Math. Programming 27 (1983) 1-33,
-// in its Cholesky/QR form (the paper's Section 4: J = L⁻ᵀQ and R, updated by
-// Givens rotations). It was chosen over a primal active-set or first-order
-// method because
+// in its numerically stable product form: with H = L Lᵀ, the matrices
+// J = L⁻ᵀQ and R (Q R the QR factorisation of L⁻¹ times the active normals)
+// are updated by Givens rotations as constraints enter and leave. It was
+// chosen over a primal active-set or first-order method because
 //   * it needs no feasible starting point (no phase 1): it starts at the
 //     unconstrained minimiser and adds violated constraints one at a time, each
 //     iterate being the exact optimum over the constraints active so far;
@@ -71,7 +72,7 @@ struct QpProblem {
 template <int N, int M>
 struct QpSolution {
   Eigen::Matrix<double, N, 1> x = Eigen::Matrix<double, N, 1>::Zero();
-  Eigen::Matrix<double, M, 1> row_multipliers = Eigen::Matrix<double, M, 1>::Zero();  // >= 0, for A x >= b
+  Eigen::Matrix<double, M, 1> row_multipliers = Eigen::Matrix<double, M, 1>::Zero();    // >= 0, for A x >= b
   Eigen::Matrix<double, N, 1> lower_multipliers = Eigen::Matrix<double, N, 1>::Zero();  // >= 0
   Eigen::Matrix<double, N, 1> upper_multipliers = Eigen::Matrix<double, N, 1>::Zero();  // >= 0
   int iterations = 0;  // add + drop steps of the active set
@@ -148,11 +149,8 @@ class DenseQpSolver {
   bool validate(const Problem& p) const;
   static void addConstraint(ActiveSet& as, int k, double multiplier, VecN& d);
   static void dropConstraint(ActiveSet& as, int position);
-  void writeSolution(const Constraints& c, const ActiveSet& as, const VecN& x,
-                     Solution& solution) const;
-  double violationTol(double rhs) const {
-    return settings_.feasibility_tol * std::max(1.0, std::abs(rhs));
-  }
+  static void writeSolution(const Constraints& c, const ActiveSet& as, const VecN& x, Solution& solution);
+  double violationTol(double rhs) const { return settings_.feasibility_tol * std::max(1.0, std::abs(rhs)); }
 
   Settings settings_;
 };
@@ -257,7 +255,7 @@ void DenseQpSolver<N, M>::dropConstraint(ActiveSet& as, int position) {
 
 template <int N, int M>
 void DenseQpSolver<N, M>::writeSolution(const Constraints& c, const ActiveSet& as, const VecN& x,
-                                         Solution& solution) const {
+                                        Solution& solution) {
   solution.x = x;
   solution.row_multipliers.setZero();
   solution.lower_multipliers.setZero();

@@ -10,9 +10,7 @@
 // (y >= 0, Σ y_i n_i = 0, Σ y_i c_i > 0), which the tests verify on the data,
 // so "infeasible" is proved, not assumed.
 //
-// Random problems use std::mt19937_64 with fixed seeds. The standard
-// distributions are implementation-defined, so the exact problems differ
-// between standard libraries, but each run on one platform is deterministic.
+// Random problems come from std::mt19937_64 with fixed seeds (see Rng).
 #include "control/qp_solver.h"
 
 #include <gtest/gtest.h>
@@ -32,8 +30,9 @@
 #include <string>
 
 // Counts every global operator new in this test binary, so a test can assert
-// that solve() does not touch the heap. Eigen's fixed-size types live on the
-// stack; this catches regressions such as a std::vector creeping in.
+// that solve() does not touch the heap (a std::vector creeping in, say).
+// Eigen allocates dynamic-size matrices with malloc, which this does not see;
+// the solver uses fixed-size Eigen types only, which live on the stack.
 namespace {
 std::atomic<long> g_heap_allocations{0};
 }  // namespace
@@ -56,126 +55,203 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 template <int N>
 using Vec = Eigen::Matrix<double, N, 1>;
-template <int N>
-using Mat = Eigen::Matrix<double, N, N>;
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
 
 // ---------------------------------------------------------------------------
-// Problem data as one list of constraints nᵀx >= c (general rows, then finite
-// bounds), shared by the residual checks and the reference.
+// The test-side helpers (residuals, reference, certificates) work on this
+// dynamic-size copy of a problem: written once instead of per (N, M), which
+// also keeps this file's compile time reasonable. Every constraint becomes one
+// row nᵀx >= c: the general rows first, then the finite bounds.
 
-template <int N, int M>
-struct ConstraintList {
-  static constexpr int kMax = M + 2 * N;
-  Eigen::Matrix<double, kMax, N> n = Eigen::Matrix<double, kMax, N>::Zero();
-  Vec<kMax> c = Vec<kMax>::Zero();
-  int count = 0;
-
-  void add(const Vec<N>& normal, double rhs) {
-    n.row(count) = normal.transpose();
-    c(count) = rhs;
-    ++count;
-  }
+struct DenseQp {
+  MatrixXd H;
+  VectorXd g;
+  MatrixXd n;  // constraint normals, one per row
+  VectorXd c;
 };
 
 template <int N, int M>
-ConstraintList<N, M> constraintsOf(const QpProblem<N, M>& p) {
-  ConstraintList<N, M> list;
-  for (int i = 0; i < p.num_rows; ++i) list.add(p.A.row(i).transpose(), p.b(i));
-  for (int j = 0; j < N; ++j) {
-    if (std::isfinite(p.lower(j))) list.add(Vec<N>::Unit(j), p.lower(j));
-    if (std::isfinite(p.upper(j))) list.add(-Vec<N>::Unit(j), -p.upper(j));
+DenseQp denseOf(const QpProblem<N, M>& p) {
+  DenseQp q;
+  q.H = p.H;
+  q.g = p.g;
+  int count = p.num_rows;
+  for (int j = 0; j < N; ++j) count += int{std::isfinite(p.lower(j))} + int{std::isfinite(p.upper(j))};
+  q.n = MatrixXd::Zero(count, N);
+  q.c = VectorXd::Zero(count);
+  int k = 0;
+  for (int i = 0; i < p.num_rows; ++i, ++k) {
+    q.n.row(k) = p.A.row(i);
+    q.c(k) = p.b(i);
   }
-  return list;
+  for (int j = 0; j < N; ++j) {
+    if (std::isfinite(p.lower(j))) {
+      q.n(k, j) = 1.0;
+      q.c(k++) = p.lower(j);
+    }
+    if (std::isfinite(p.upper(j))) {
+      q.n(k, j) = -1.0;
+      q.c(k++) = -p.upper(j);
+    }
+  }
+  return q;
 }
 
-// Violation of nᵀx >= c as a distance in x, relative once |c|/‖n‖ exceeds 1
-// (the same scale-aware measure the solver's tolerance uses).
-template <int N>
-double scaledViolation(const Vec<N>& n, double c, const Vec<N>& x) {
+// The solution's multipliers in DenseQp order.
+template <int N, int M>
+VectorXd multipliersOf(const QpProblem<N, M>& p, const QpSolution<N, M>& s) {
+  VectorXd lambda(denseOf(p).c.size());
+  int k = 0;
+  for (int i = 0; i < p.num_rows; ++i) lambda(k++) = s.row_multipliers(i);
+  for (int j = 0; j < N; ++j) {
+    if (std::isfinite(p.lower(j))) lambda(k++) = s.lower_multipliers(j);
+    if (std::isfinite(p.upper(j))) lambda(k++) = s.upper_multipliers(j);
+  }
+  return lambda;
+}
+
+// Multipliers of things that are not constraints (rows past num_rows,
+// infinite bounds) must be exactly zero.
+template <int N, int M>
+double strayMultipliers(const QpProblem<N, M>& p, const QpSolution<N, M>& s) {
+  double stray = 0.0;
+  for (int i = p.num_rows; i < M; ++i) stray = std::max(stray, std::abs(s.row_multipliers(i)));
+  for (int j = 0; j < N; ++j) {
+    if (!std::isfinite(p.lower(j))) stray = std::max(stray, std::abs(s.lower_multipliers(j)));
+    if (!std::isfinite(p.upper(j))) stray = std::max(stray, std::abs(s.upper_multipliers(j)));
+  }
+  return stray;
+}
+
+// Violation of nᵀx >= c as a distance in x, relative once |c|/‖n‖ exceeds 1:
+// the same scale-aware measure as the solver's feasibility_tol.
+double scaledViolation(const VectorXd& n, double c, const VectorXd& x) {
   const double norm = n.norm();
   if (norm == 0.0) return std::max(0.0, c) / std::max(1.0, std::abs(c));
   return std::max(0.0, (c - n.dot(x)) / norm) / std::max(1.0, std::abs(c) / norm);
 }
 
-template <int N, int M>
-double objective(const QpProblem<N, M>& p, const Vec<N>& x) {
-  return 0.5 * x.dot(p.H * x) + p.g.dot(x);
+double maxViolation(const DenseQp& q, const VectorXd& x) {
+  double worst = 0.0;
+  for (int k = 0; k < q.c.size(); ++k) {
+    worst = std::max(worst, scaledViolation(q.n.row(k).transpose(), q.c(k), x));
+  }
+  return worst;
 }
+
+double objective(const DenseQp& q, const VectorXd& x) { return 0.5 * x.dot(q.H * x) + q.g.dot(x); }
 
 // ---------------------------------------------------------------------------
 // Brute-force reference. For every subset S of at most N constraints, solve
-//   [ H/σ   −N_Sᵀ ] [x]   [−g/σ]
-//   [ N_S     0   ] [μ] = [ c_S ]        (unit-normal rows, σ = max|H|, λ = σμ)
-// with full-pivot LU; the scaling keeps both blocks O(1) so that LU stays
-// accurate when the multipliers are large. The optimum x* lies in the relative
-// interior of some face, and the minimiser over that face's affine hull is x*
-// itself, so the best objective among the feasible candidates is the optimum
-// (filtering by λ >= 0 would select the same point; leaving it out means ties
-// between dependent subsets cannot bite). The smallest maximum violation over
-// all candidates also decides feasibility: in an infeasible problem every
-// point, so every candidate, violates some constraint by at least the
-// problem's infeasibility margin.
+//   [ H/σ   −D N_Sᵀ ] [x]   [ −g/σ  ]
+//   [ D N_S     0   ] [μ] = [ D c_S ]      (λ_S = σ D μ)
+// with full-pivot LU and iterative refinement on an extended-precision
+// residual. σ ≈ max|H| and D ≈ diag(1/‖n_k‖) are powers of two, so the scaled
+// system is exactly the problem's, both blocks are O(1), and the refined
+// candidate is accurate to working precision even when the system is very
+// ill-conditioned (near-degenerate random problems reach condition numbers
+// around 1e12). A candidate is a KKT point, hence THE optimum of the strictly
+// convex problem, iff it is feasible and μ >= 0; the optimum has such a
+// candidate (its active constraints contain a linearly independent subset
+// carrying the multipliers). In floating point, candidates are accepted within
+// a loose tolerance and the one that meets it best is kept; choosing the
+// lowest objective instead would favour slightly infeasible candidates. The
+// smallest maximum violation over all candidates decides feasibility: in an
+// infeasible problem every point, so every candidate, violates some
+// constraint by at least the infeasibility margin.
 
-template <int N>
 struct Reference {
-  bool feasible = false;
-  double least_violation = kInf;
-  Vec<N> x = Vec<N>::Zero();
+  bool found = false;             // a KKT candidate within the tolerance exists
+  double least_violation = kInf;  // over all candidates; ~0 iff feasible
+  VectorXd x;
+  VectorXd lambda;  // multipliers of the chosen candidate, DenseQp order
   double objective = kInf;
+  double kkt_error = kInf;  // max(violation, relative negativity of μ)
+  double sigma_min = 1.0;   // smallest singular value of its unit normals
 };
 
-template <int N, int M>
-Reference<N> bruteForce(const QpProblem<N, M>& p, double feasibility_tol = 1e-12) {
-  // Dynamic types: one LU instantiation for every N keeps compile time down.
-  using KktMat = Eigen::MatrixXd;
-  using KktVec = Eigen::VectorXd;
+// The power of two nearest below v > 0: scaling by it is exact.
+double powerOfTwoBelow(double v) {
+  int exponent = 0;
+  std::frexp(v, &exponent);
+  return std::ldexp(1.0, exponent - 1);
+}
 
-  const ConstraintList<N, M> cl = constraintsOf(p);
-  Eigen::Matrix<double, ConstraintList<N, M>::kMax, N> unit_n = cl.n;
-  Vec<ConstraintList<N, M>::kMax> unit_c = cl.c;
-  for (int k = 0; k < cl.count; ++k) {
-    const double norm = cl.n.row(k).norm();
-    if (norm == 0.0) continue;  // never part of a nonsingular KKT matrix
-    unit_n.row(k) /= norm;
-    unit_c(k) /= norm;
+Reference bruteForce(const DenseQp& q, double kkt_tol = 1e-6) {
+  const int n = static_cast<int>(q.g.size());
+  const int count = static_cast<int>(q.c.size());
+  MatrixXd scaled_n = q.n;
+  VectorXd scaled_c = q.c;
+  VectorXd scale(count);
+  for (int k = 0; k < count; ++k) {
+    const double norm = q.n.row(k).norm();
+    scale(k) = norm == 0.0 ? 1.0 : 1.0 / powerOfTwoBelow(norm);  // zero rows never form a nonsingular system
+    scaled_n.row(k) *= scale(k);
+    scaled_c(k) *= scale(k);
   }
-  const double sigma = p.H.cwiseAbs().maxCoeff();
+  const double sigma = powerOfTwoBelow(q.H.cwiseAbs().maxCoeff());
 
-  Reference<N> ref;
-  const std::uint32_t num_masks = std::uint32_t{1} << cl.count;
+  Reference ref;
+  std::uint32_t best_mask = 0;
+  const std::uint32_t num_masks = std::uint32_t{1} << count;
   for (std::uint32_t mask = 0; mask < num_masks; ++mask) {
     const int size = static_cast<int>(std::bitset<32>(mask).count());
-    if (size > N) continue;
-    const int dim = N + size;
-    KktMat kkt = KktMat::Zero(dim, dim);
-    KktVec rhs(dim);
-    kkt.topLeftCorner(N, N) = p.H / sigma;
-    rhs.head(N) = -p.g / sigma;
-    int col = N;
-    for (int k = 0; k < cl.count; ++k) {
+    if (size > n) continue;
+    MatrixXd kkt = MatrixXd::Zero(n + size, n + size);
+    VectorXd rhs(n + size);
+    kkt.topLeftCorner(n, n) = q.H / sigma;
+    rhs.head(n) = -q.g / sigma;
+    int col = n;
+    for (int k = 0; k < count; ++k) {
       if (!(mask & (std::uint32_t{1} << k))) continue;
-      kkt.block(0, col, N, 1) = -unit_n.row(k).transpose();
-      kkt.block(col, 0, 1, N) = unit_n.row(k);
-      rhs(col) = unit_c(k);
+      kkt.block(0, col, n, 1) = -scaled_n.row(k).transpose();
+      kkt.block(col, 0, 1, n) = scaled_n.row(k);
+      rhs(col) = scaled_c(k);
       ++col;
     }
-    const Eigen::FullPivLU<KktMat> lu(kkt);
+    const Eigen::FullPivLU<MatrixXd> lu(kkt);
     if (!lu.isInvertible()) continue;  // dependent normals: covered by a smaller subset
-    const KktVec sol = lu.solve(rhs);
-    const Vec<N> x = sol.head(N);
-    double worst = 0.0;
-    for (int k = 0; k < cl.count; ++k) {
-      worst = std::max(worst, scaledViolation<N>(cl.n.row(k).transpose(), cl.c(k), x));
-    }
-    ref.least_violation = std::min(ref.least_violation, worst);
-    if (worst <= feasibility_tol) {
-      const double f = objective(p, x);
-      if (!ref.feasible || f < ref.objective) {
-        ref.feasible = true;
-        ref.objective = f;
-        ref.x = x;
+    VectorXd sol = lu.solve(rhs);
+    for (int refinement = 0; refinement < 2; ++refinement) {
+      VectorXd residual(n + size);
+      for (int i = 0; i < n + size; ++i) {
+        auto acc = static_cast<long double>(rhs(i));
+        for (int j = 0; j < n + size; ++j) {
+          acc -= static_cast<long double>(kkt(i, j)) * static_cast<long double>(sol(j));
+        }
+        residual(i) = static_cast<double>(acc);
       }
+      sol += lu.solve(residual);
     }
+    const VectorXd x = sol.head(n);
+    const double violation = maxViolation(q, x);
+    ref.least_violation = std::min(ref.least_violation, violation);
+    double kkt_error = violation;
+    if (size > 0) {
+      const VectorXd mu = sol.tail(size);
+      kkt_error = std::max(kkt_error, -mu.minCoeff() / (1.0 + mu.lpNorm<Eigen::Infinity>()));
+    }
+    if (kkt_error <= kkt_tol && kkt_error < ref.kkt_error) {
+      ref.found = true;
+      ref.kkt_error = kkt_error;
+      ref.x = x;
+      ref.objective = objective(q, x);
+      ref.lambda = VectorXd::Zero(count);
+      for (int k = 0, j = n; k < count; ++k) {
+        if (mask & (std::uint32_t{1} << k)) ref.lambda(k) = sigma * scale(k) * sol(j++);
+      }
+      best_mask = mask;
+    }
+  }
+  const int size = static_cast<int>(std::bitset<32>(best_mask).count());
+  if (ref.found && size > 0) {
+    MatrixXd active(n, size);
+    for (int k = 0, j = 0; k < count; ++k) {
+      if (best_mask & (std::uint32_t{1} << k)) active.col(j++) = q.n.row(k).normalized().transpose();
+    }
+    ref.sigma_min = Eigen::JacobiSVD<MatrixXd>(active).singularValues()(size - 1);
   }
   return ref;
 }
@@ -184,10 +260,10 @@ Reference<N> bruteForce(const QpProblem<N, M>& p, double feasibility_tol = 1e-12
 // KKT residuals of a returned solution.
 
 struct KktResiduals {
-  double primal = 0.0;           // scaled violation, see scaledViolation()
-  double dual = 0.0;             // most negative multiplier, or a nonzero one that must be 0
+  double primal = 0.0;           // max scaled violation, see scaledViolation()
+  double dual = 0.0;             // most negative multiplier, or a stray nonzero one
   double complementarity = 0.0;  // max |λ_i · slack_i| / (1 + max |λ|), unit-normal scaling
-  double stationarity = 0.0;     // ‖Hx + g − Aᵀλ − λ_lo + λ_up‖∞ / (1 + ‖g‖∞ + ‖Hx‖∞)
+  double stationarity = 0.0;  // ‖Hx + g − Σ λ_i n_i‖∞ / (1 + ‖g‖∞ + ‖Hx‖∞ + ‖Σ |λ_i n_i|‖∞)
 
   void merge(const KktResiduals& o) {
     primal = std::max(primal, o.primal);
@@ -197,65 +273,48 @@ struct KktResiduals {
   }
 };
 
-template <int N, int M>
-KktResiduals kktResiduals(const QpProblem<N, M>& p, const QpSolution<N, M>& s) {
+// For the bounds, Σ λ_i n_i is exactly +λ_lower − λ_upper, so the stationarity
+// here is the one of the interface: H x + g − Aᵀλ − λ_lower + λ_upper = 0.
+KktResiduals kktResiduals(const DenseQp& q, const VectorXd& x, const VectorXd& lambda) {
   KktResiduals r;
-  const Vec<N> hx = p.H * s.x;
-  Vec<N> residual = hx + p.g - s.lower_multipliers + s.upper_multipliers;
-  auto check = [&r](double multiplier, double slack) {
-    r.dual = std::max(r.dual, -multiplier);
-    r.complementarity = std::max(r.complementarity, std::abs(multiplier * slack));
-  };
-  for (int i = 0; i < M; ++i) {
-    const double lambda = s.row_multipliers(i);
-    if (i >= p.num_rows) {  // not a constraint: multiplier must be exactly zero
-      r.dual = std::max(r.dual, std::abs(lambda));
-      continue;
-    }
-    const Vec<N> a = p.A.row(i).transpose();
-    const double norm = a.norm();
-    r.primal = std::max(r.primal, scaledViolation<N>(a, p.b(i), s.x));
-    check(lambda * norm, (a.dot(s.x) - p.b(i)) / norm);  // unit-normal scaling
-    residual -= a * lambda;
-  }
-  for (int j = 0; j < N; ++j) {
-    const double lo = s.lower_multipliers(j);
-    const double up = s.upper_multipliers(j);
-    if (std::isfinite(p.lower(j))) {
-      r.primal = std::max(r.primal, scaledViolation<N>(Vec<N>::Unit(j), p.lower(j), s.x));
-      check(lo, s.x(j) - p.lower(j));
-    } else {
-      r.dual = std::max(r.dual, std::abs(lo));
-    }
-    if (std::isfinite(p.upper(j))) {
-      r.primal = std::max(r.primal, scaledViolation<N>(-Vec<N>::Unit(j), -p.upper(j), s.x));
-      check(up, p.upper(j) - s.x(j));
-    } else {
-      r.dual = std::max(r.dual, std::abs(up));
-    }
-  }
-  // Slacks of active constraints are rounding-level relative to the data, so
-  // their product with λ is judged relative to the multipliers' size.
+  const VectorXd hx = q.H * x;
+  const VectorXd residual = hx + q.g - q.n.transpose() * lambda;
   double lambda_max = 0.0;
-  for (int i = 0; i < p.num_rows; ++i) lambda_max = std::max(lambda_max, std::abs(s.row_multipliers(i)) * p.A.row(i).norm());
-  lambda_max = std::max({lambda_max, s.lower_multipliers.template lpNorm<Eigen::Infinity>(),
-                         s.upper_multipliers.template lpNorm<Eigen::Infinity>()});
+  for (int k = 0; k < q.c.size(); ++k) {
+    const double norm = q.n.row(k).norm();
+    const double unit_lambda = lambda(k) * norm;  // multiplier of the unit-normal row
+    const double unit_slack = (q.n.row(k).dot(x) - q.c(k)) / norm;
+    r.primal = std::max(r.primal, scaledViolation(q.n.row(k).transpose(), q.c(k), x));
+    r.dual = std::max(r.dual, -lambda(k));
+    // Slacks of active constraints are rounding-level relative to the data,
+    // so their product with λ is judged relative to the multipliers' size.
+    r.complementarity = std::max(r.complementarity, std::abs(unit_lambda * unit_slack));
+    lambda_max = std::max(lambda_max, std::abs(unit_lambda));
+  }
   r.complementarity /= 1.0 + lambda_max;
-  r.stationarity = residual.template lpNorm<Eigen::Infinity>() /
-                   (1.0 + p.g.template lpNorm<Eigen::Infinity>() + hx.template lpNorm<Eigen::Infinity>());
+  // Relative to the size of the terms being summed: with huge multipliers
+  // (near-degenerate problems) Σ λ_k n_k cancels to the size of g.
+  const VectorXd constraint_terms = q.n.cwiseAbs().transpose() * lambda.cwiseAbs();
+  r.stationarity = residual.lpNorm<Eigen::Infinity>() /
+                   (1.0 + q.g.lpNorm<Eigen::Infinity>() + hx.lpNorm<Eigen::Infinity>() +
+                    constraint_terms.lpNorm<Eigen::Infinity>());
   return r;
 }
 
-// Tolerances for the KKT checks. The solver's own feasibility tolerance is
-// 1e-10; the remaining residuals are rounding-level for these well-scaled
-// problems (the observed worst values are printed by each random suite).
-constexpr double kPrimalTol = 1e-9;
-constexpr double kComplementarityTol = 1e-6;
-constexpr double kStationarityTol = 1e-9;
+// Tolerances for the KKT checks. Primal and complementarity: the solver's
+// contract (feasibility_tol, same measure; an active constraint is met to
+// within it). Stationarity is pure rounding. The worst values observed, printed
+// by each random suite, are orders of magnitude below these; over ~4.5e6
+// problems from 150 other seeds they were: primal 2.3e-11, complementarity
+// 1.5e-12, stationarity 1.9e-14.
+constexpr double kPrimalTol = 1e-10;
+constexpr double kComplementarityTol = 1e-10;
+constexpr double kStationarityTol = 1e-12;
 
 template <int N, int M>
 void expectKkt(const QpProblem<N, M>& p, const QpSolution<N, M>& s, KktResiduals* worst = nullptr) {
-  const KktResiduals r = kktResiduals(p, s);
+  KktResiduals r = kktResiduals(denseOf(p), s.x, multipliersOf(p, s));
+  r.dual = std::max(r.dual, strayMultipliers(p, s));
   EXPECT_LE(r.primal, kPrimalTol);
   EXPECT_LE(r.dual, 0.0);  // multipliers are returned clipped at exactly zero
   EXPECT_LE(r.complementarity, kComplementarityTol);
@@ -266,42 +325,51 @@ void expectKkt(const QpProblem<N, M>& p, const QpSolution<N, M>& s, KktResiduals
 // ---------------------------------------------------------------------------
 // Random problem generation.
 
+// Draws are built from the engine's raw output, which the standard fixes
+// (unlike the std:: distributions), so the problems are the same with every
+// standard library, up to libm rounding in log/cos/pow.
 class Rng {
  public:
   explicit Rng(std::uint64_t seed) : engine_(seed) {}
-  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(engine_); }
-  double normal() { return std::normal_distribution<double>(0.0, 1.0)(engine_); }
-  bool chance(double probability) { return uniform(0.0, 1.0) < probability; }
-  int integer(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(engine_); }
-  template <int R, int C>
-  Eigen::Matrix<double, R, C> normalMatrix() {
-    Eigen::Matrix<double, R, C> m;
-    for (int i = 0; i < R; ++i)
-      for (int j = 0; j < C; ++j) m(i, j) = normal();
+  double unit() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }  // [0, 1)
+  double uniform(double lo, double hi) { return lo + (hi - lo) * unit(); }
+  double normal() {  // Box-Muller
+    const double radius = std::sqrt(-2.0 * std::log(1.0 - unit()));
+    return radius * std::cos(2.0 * kPi * unit());
+  }
+  bool chance(double probability) { return unit() < probability; }
+  int integer(int lo, int hi) {  // inclusive; the modulo bias is irrelevant here
+    return lo + static_cast<int>(engine_() % static_cast<std::uint64_t>(hi - lo + 1));
+  }
+  double logUniform(double lo_exp, double hi_exp) { return std::pow(10.0, uniform(lo_exp, hi_exp)); }
+  MatrixXd normalMatrix(int rows, int cols) {
+    MatrixXd m(rows, cols);
+    for (int i = 0; i < rows; ++i) {
+      for (int j = 0; j < cols; ++j) m(i, j) = normal();
+    }
     return m;
   }
 
  private:
+  static constexpr double kPi = 3.14159265358979323846;
   std::mt19937_64 engine_;
 };
 
 // H = Q diag(λ) Qᵀ, λ log-uniform over `decades` decades, overall scale
 // log-uniform in [0.1, 10].
-template <int N>
-Mat<N> randomSpd(Rng& rng, double decades) {
-  const Eigen::HouseholderQR<Mat<N>> qr(rng.normalMatrix<N, N>());
-  const Mat<N> q = qr.householderQ();
-  const double scale = std::pow(10.0, rng.uniform(-1.0, 1.0));
-  Vec<N> eig;
-  for (int i = 0; i < N; ++i) eig(i) = scale * std::pow(10.0, rng.uniform(0.0, decades));
-  const Mat<N> h = q * eig.asDiagonal() * q.transpose();
+MatrixXd randomSpd(Rng& rng, int n, double decades) {
+  const MatrixXd q = Eigen::HouseholderQR<MatrixXd>(rng.normalMatrix(n, n)).householderQ();
+  const double scale = rng.logUniform(-1.0, 1.0);
+  VectorXd eig(n);
+  for (int i = 0; i < n; ++i) eig(i) = scale * rng.logUniform(0.0, decades);
+  const MatrixXd h = q * eig.asDiagonal() * q.transpose();
   return 0.5 * (h + h.transpose());
 }
 
 struct GenOptions {
   double finite_bound_prob = 0.5;  // each bound finite with this probability
   double tight_prob = 0.3;         // a constraint passes exactly through x0
-  bool degenerate = false;         // duplicated / opposite / all-tight rows
+  bool degenerate = false;         // duplicated / opposite / mostly tight rows
 };
 
 // Random problem feasible at a known point x0 (returned). The unconstrained
@@ -312,8 +380,9 @@ QpProblem<N, M> randomFeasible(Rng& rng, const GenOptions& opt, Vec<N>* x0_out =
   QpProblem<N, M> p;
   Vec<N> x0;
   for (int j = 0; j < N; ++j) x0(j) = rng.uniform(-1.0, 1.0);
-  p.H = randomSpd<N>(rng, 3.0);
-  p.g = -p.H * (x0 + 2.0 * rng.normalMatrix<N, 1>());
+  p.H = randomSpd(rng, N, 3.0);
+  const Vec<N> target = x0 + 2.0 * Vec<N>(rng.normalMatrix(N, 1));
+  p.g = -p.H * target;
   p.num_rows = rng.chance(0.2) ? rng.integer(0, M) : M;
   const double tight = opt.degenerate ? 0.8 : opt.tight_prob;
   for (int i = 0; i < M; ++i) {
@@ -323,24 +392,27 @@ QpProblem<N, M> randomFeasible(Rng& rng, const GenOptions& opt, Vec<N>* x0_out =
       continue;
     }
     const int kind = (opt.degenerate && i > 0) ? rng.integer(0, 2) : 0;
+    const double scale = rng.logUniform(-1.0, 1.0);
     if (kind == 1) {  // duplicate of the previous row, rescaled
-      const double s = std::pow(10.0, rng.uniform(-1.0, 1.0));
-      p.A.row(i) = s * p.A.row(i - 1);
-      p.b(i) = s * p.b(i - 1);
-    } else if (kind == 2) {  // opposite of the previous row: equality if both tight
-      const double s = std::pow(10.0, rng.uniform(-1.0, 1.0));
-      p.A.row(i) = -s * p.A.row(i - 1);
+      p.A.row(i) = scale * p.A.row(i - 1);
+      p.b(i) = scale * p.b(i - 1);
+    } else if (kind == 2) {  // opposite of the previous row: an equality if both are tight
       const double prev_slack = p.A.row(i - 1).dot(x0) - p.b(i - 1);
-      p.b(i) = -s * p.A.row(i - 1).dot(x0) - (rng.chance(tight) ? 0.0 : s * prev_slack);
+      p.A.row(i) = -scale * p.A.row(i - 1);
+      p.b(i) = p.A.row(i).dot(x0) - (rng.chance(tight) ? 0.0 : scale * prev_slack);
     } else {
-      p.A.row(i) = std::pow(10.0, rng.uniform(-1.0, 1.0)) * rng.normalMatrix<1, N>();
+      p.A.row(i) = scale * rng.normalMatrix(1, N);
       const double slack = rng.chance(tight) ? 0.0 : rng.uniform(0.0, 1.0) * p.A.row(i).norm();
       p.b(i) = p.A.row(i).dot(x0) - slack;
     }
   }
   for (int j = 0; j < N; ++j) {
-    if (rng.chance(opt.finite_bound_prob)) p.lower(j) = x0(j) - (rng.chance(tight) ? 0.0 : rng.uniform(0.0, 1.0));
-    if (rng.chance(opt.finite_bound_prob)) p.upper(j) = x0(j) + (rng.chance(tight) ? 0.0 : rng.uniform(0.0, 1.0));
+    if (rng.chance(opt.finite_bound_prob)) {
+      p.lower(j) = x0(j) - (rng.chance(tight) ? 0.0 : rng.uniform(0.0, 1.0));
+    }
+    if (rng.chance(opt.finite_bound_prob)) {
+      p.upper(j) = x0(j) + (rng.chance(tight) ? 0.0 : rng.uniform(0.0, 1.0));
+    }
     if (std::isfinite(p.lower(j)) && std::isfinite(p.upper(j)) && rng.chance(0.1)) {
       p.lower(j) = p.upper(j) = x0(j);  // fixed variable
     }
@@ -349,26 +421,26 @@ QpProblem<N, M> randomFeasible(Rng& rng, const GenOptions& opt, Vec<N>* x0_out =
   return p;
 }
 
-// A problem together with a proof of infeasibility: y >= 0 over the
-// constraint list of constraintsOf(), with Σ y_i n_i = 0 and Σ y_i c_i > 0,
-// so 0 = Σ y_i n_iᵀx >= Σ y_i c_i > 0 for any x, a contradiction.
+// A problem with a proof of infeasibility when delta > 0: y >= 0 over the
+// DenseQp constraint order with Σ y_k n_k = 0 and Σ y_k c_k = delta, so that
+// 0 = Σ y_k n_kᵀx >= Σ y_k c_k = delta holds for no x.
 template <int N, int M>
 struct ProblemWithCertificate {
   QpProblem<N, M> problem;
-  Vec<M + 2 * N> y = Vec<M + 2 * N>::Zero();
-  double delta = 0.0;  // Σ y_i c_i; > 0 proves infeasibility
+  VectorXd y;
+  double delta = 0.0;
 };
 
 // Starts from a random feasible problem and overwrites its last row with
-// a = −Σ μ_i n_i over a random subset of the other constraints (μ > 0) and
-// b = delta − Σ μ_i c_i. Then y = (μ, 1) gives Σ y_i c_i = delta: delta > 0 is
-// infeasible. delta < 0 leaves a region of size ~|delta| near that subset's
-// face which the other constraints may or may not meet. The subset is one
-// other row (contradictory halfspaces), bounds only (halfspace disjoint from
-// box faces) or a random mix.
+// a = −Σ μ_k n_k over a random subset of the other constraints (μ > 0) and
+// b = delta − Σ μ_k c_k; y = (μ, 1) is then the certificate. With delta < 0
+// the last row leaves a region of size ~|delta| next to that subset's face,
+// which the other constraints may or may not meet. The subset is one other
+// row (contradictory halfspaces), bounds only (halfspace disjoint from faces
+// of the box) or a random mix.
 template <int N, int M>
 ProblemWithCertificate<N, M> randomWithCertificate(Rng& rng, double delta) {
-  static_assert(M >= 1, "needs a row to overwrite");
+  static_assert(M >= 2, "needs a row to overwrite and one to contradict");
   ProblemWithCertificate<N, M> out;
   GenOptions opt;
   opt.finite_bound_prob = 0.6;
@@ -377,41 +449,42 @@ ProblemWithCertificate<N, M> randomWithCertificate(Rng& rng, double delta) {
   p.num_rows = M;
   for (int i = 0; i < M; ++i) {
     if (!p.A.row(i).allFinite()) {
-      p.A.row(i) = rng.normalMatrix<1, N>();
+      p.A.row(i) = rng.normalMatrix(1, N);
       p.b(i) = -rng.uniform(0.0, 3.0);
     }
   }
+  const int style = rng.integer(0, 2);
+  if (style == 1) {  // the whole box finite, so that bounds alone can cut it off
+    for (int j = 0; j < N; ++j) {
+      if (!std::isfinite(p.lower(j))) p.lower(j) = -rng.uniform(1.0, 2.0);
+      if (!std::isfinite(p.upper(j))) p.upper(j) = std::max(p.lower(j), rng.uniform(1.0, 2.0));
+    }
+  }
+  // DenseQp order: rows 0..M−1 first (the last one is being replaced), then
+  // the finite bounds.
+  const DenseQp q = denseOf(p);
   const int last = M - 1;
-  // Pool of constraint-list indices other than the last row; the list puts
-  // rows first, so row i is index i and bounds follow from M on.
+  const int count = static_cast<int>(q.c.size());
   int pool[M + 2 * N];
   int pool_size = 0;
-  const int style = rng.integer(0, 2);
-  if (style == 0 && last > 0) {
+  if (style == 0) {
     pool[pool_size++] = rng.integer(0, last - 1);
   } else {
-    if (style == 1) {  // make the whole box finite so bounds can cut it off
-      for (int j = 0; j < N; ++j) {
-        if (!std::isfinite(p.lower(j))) p.lower(j) = -rng.uniform(1.0, 2.0);
-        if (!std::isfinite(p.upper(j))) p.upper(j) = std::max(p.lower(j), rng.uniform(1.0, 2.0));
-      }
-    }
-    const ConstraintList<N, M> cl = constraintsOf(p);
-    for (int k = (style == 1 ? M : 0); k < cl.count; ++k) {
+    for (int k = (style == 1 ? M : 0); k < count; ++k) {
       if (k != last) pool[pool_size++] = k;
     }
-    std::shuffle(pool, pool + pool_size, std::mt19937_64(static_cast<std::uint64_t>(rng.integer(0, 1 << 30))));
+    for (int i = pool_size - 1; i > 0; --i) std::swap(pool[i], pool[rng.integer(0, i)]);
     pool_size = std::min(pool_size, rng.integer(1, N));
   }
-  const ConstraintList<N, M> cl = constraintsOf(p);
-  Vec<N> a = Vec<N>::Zero();
+  out.y = VectorXd::Zero(count);
+  VectorXd a = VectorXd::Zero(N);
   double b = delta;
   for (int s = 0; s < pool_size; ++s) {
     const int k = pool[s];
     const double mu = rng.uniform(0.2, 2.0);
     out.y(k) += mu;
-    a -= mu * cl.n.row(k).transpose();
-    b -= mu * cl.c(k);
+    a -= mu * q.n.row(k).transpose();
+    b -= mu * q.c(k);
   }
   p.A.row(last) = a.transpose();
   p.b(last) = b;
@@ -420,21 +493,16 @@ ProblemWithCertificate<N, M> randomWithCertificate(Rng& rng, double delta) {
   return out;
 }
 
-// Checks the certificate on the problem data alone.
+// Checks the certificate on the final problem data alone.
 template <int N, int M>
 void expectCertificate(const ProblemWithCertificate<N, M>& pc) {
-  const ConstraintList<N, M> cl = constraintsOf(pc.problem);
-  Vec<N> combination = Vec<N>::Zero();
-  double rhs = 0.0;
+  const DenseQp q = denseOf(pc.problem);
+  ASSERT_EQ(q.c.size(), pc.y.size());
+  ASSERT_GE(pc.y.minCoeff(), 0.0);
   double scale = 0.0;
-  for (int k = 0; k < cl.count; ++k) {
-    ASSERT_GE(pc.y(k), 0.0);
-    combination += pc.y(k) * cl.n.row(k).transpose();
-    rhs += pc.y(k) * cl.c(k);
-    scale += pc.y(k) * cl.n.row(k).norm();
-  }
-  EXPECT_LE(combination.norm(), 1e-12 * scale);
-  EXPECT_GT(rhs, 0.0);
+  for (int k = 0; k < q.c.size(); ++k) scale += pc.y(k) * q.n.row(k).norm();
+  EXPECT_LE((q.n.transpose() * pc.y).norm(), 1e-12 * scale);
+  EXPECT_GT(q.c.dot(pc.y), 0.0);
 }
 
 // ---------------------------------------------------------------------------
@@ -444,32 +512,68 @@ struct SuiteStats {
   KktResiduals worst;
   double worst_objective_gap = 0.0;  // |f − f_ref| / (1 + |½xᵀHx| + |gᵀx|)
   double worst_x_gap = 0.0;          // ‖x − x_ref‖∞ / (1 + ‖x_ref‖∞)
+  double worst_scaled_x_gap = 0.0;   // the same times σ_min² (see expectMatchesReference())
   int max_iterations = 0;
   int referenced = 0;
 
   void print(const std::string& name, int count) const {
-    std::cout << "[ stats    ] " << name << ": " << count << " problems (" << referenced
+    std::cout << "[ stats    ] " << name << ": " << count << " solved (" << referenced
               << " vs brute force), worst primal " << worst.primal << ", complementarity "
               << worst.complementarity << ", stationarity " << worst.stationarity << ", objective gap "
-              << worst_objective_gap << ", x gap " << worst_x_gap << ", max iterations " << max_iterations
+              << worst_objective_gap << ", x gap " << worst_x_gap
+              << " (times sigma_min^2: " << worst_scaled_x_gap << "), max iterations " << max_iterations
               << "\n";
   }
 };
 
+// Rounding-level bound on f(x) − f(y) for a KKT pair (x, λ) and a feasible
+// y. By convexity f(x) − f(y) <= ∇f(x)ᵀ(x − y) = λᵀ(s(x) − s(y)) + rᵀ(x − y),
+// with s the slacks n_kᵀ· − c_k and r = Hx + g − Σ λ_k n_k. At an exact
+// optimum (λ >= 0, λ_k s_k(x) = 0, r = 0) and an exactly feasible y (s(y) >= 0)
+// the right-hand side is <= 0; in floating point it is bounded by the terms
+// below, which matter only when the multipliers are huge, as they are in
+// near-degenerate random problems (up to ~1e7).
+double roundingAllowance(const DenseQp& q, const VectorXd& x, const VectorXd& lambda, const VectorXd& y) {
+  // A slack cannot be evaluated more accurately than this, and multiplied by
+  // a huge λ even that is visible in the objective.
+  constexpr double kEps = 16.0 * std::numeric_limits<double>::epsilon();
+  const VectorXd r = q.H * x + q.g - q.n.transpose() * lambda;
+  double sum = std::abs(r.dot(x - y));
+  for (int k = 0; k < q.c.size(); ++k) {
+    const double slack_x = q.n.row(k).dot(x) - q.c(k);
+    const double slack_y = q.n.row(k).dot(y) - q.c(k);
+    const double noise =
+        kEps * (q.n.row(k).cwiseAbs().dot(x.cwiseAbs() + y.cwiseAbs()) + 2.0 * std::abs(q.c(k)));
+    sum += std::abs(lambda(k)) * (std::abs(slack_x) + std::max(0.0, -slack_y) + noise);
+  }
+  return sum;
+}
+
+double objectiveScale(const DenseQp& q, const VectorXd& x) {
+  return 1.0 + 0.5 * std::abs(x.dot(q.H * x)) + std::abs(q.g.dot(x));
+}
+
 template <int N, int M>
-void expectMatchesReference(const QpProblem<N, M>& p, const QpSolution<N, M>& s, const Reference<N>& ref,
+void expectMatchesReference(const QpProblem<N, M>& p, const QpSolution<N, M>& s, const Reference& ref,
                             SuiteStats* stats) {
-  ASSERT_TRUE(ref.feasible);
-  // Relative to the objective's terms, not its value, which may cancel.
-  const double f = objective(p, s.x);
-  const double f_scale = 1.0 + 0.5 * std::abs(ref.x.dot(p.H * ref.x)) + std::abs(p.g.dot(ref.x));
-  const double objective_gap = std::abs(f - ref.objective) / f_scale;
-  const double x_gap = (s.x - ref.x).template lpNorm<Eigen::Infinity>() /
-                       (1.0 + ref.x.template lpNorm<Eigen::Infinity>());
-  EXPECT_LE(objective_gap, 1e-6);
-  EXPECT_LE(x_gap, 1e-6);
-  stats->worst_objective_gap = std::max(stats->worst_objective_gap, objective_gap);
+  ASSERT_TRUE(ref.found);
+  const DenseQp q = denseOf(p);
+  const VectorXd lambda = multipliersOf(p, s);
+  // Objective compared relative to its terms, not its value, which may
+  // cancel, and in both directions up to rounding (see roundingAllowance()).
+  const double f_scale = objectiveScale(q, ref.x);
+  const double f_s = objective(q, s.x);
+  EXPECT_LE(f_s - ref.objective, 1e-12 * f_scale + roundingAllowance(q, s.x, lambda, ref.x));
+  EXPECT_LE(ref.objective - f_s, 1e-12 * f_scale + roundingAllowance(q, ref.x, ref.lambda, s.x));
+  // x is as well determined as the active normals are independent: nearly
+  // parallel ones (σ_min → 0) amplify rounding by up to 1/σ_min². Over ~1.7e6
+  // comparisons from 150 other seeds, x_gap · σ_min² stayed below 6e-14.
+  const double x_gap =
+      (s.x - ref.x).template lpNorm<Eigen::Infinity>() / (1.0 + ref.x.lpNorm<Eigen::Infinity>());
+  EXPECT_LE(x_gap, 1e-12 / (ref.sigma_min * ref.sigma_min));
+  stats->worst_objective_gap = std::max(stats->worst_objective_gap, std::abs(f_s - ref.objective) / f_scale);
   stats->worst_x_gap = std::max(stats->worst_x_gap, x_gap);
+  stats->worst_scaled_x_gap = std::max(stats->worst_scaled_x_gap, x_gap * ref.sigma_min * ref.sigma_min);
   ++stats->referenced;
 }
 
@@ -489,11 +593,16 @@ void runFeasibleSuite(const std::string& name, std::uint64_t seed, int count, in
     ASSERT_EQ(solver.solve(p, s), QpStatus::kSolved);
     EXPECT_EQ(s.status, QpStatus::kSolved);
     expectKkt(p, s, &stats.worst);
-    // Optimality over the known feasible point as a cheap sanity check.
-    EXPECT_LE(objective(p, s.x), objective(p, x0) + 1e-9 * (1.0 + std::abs(objective(p, x0))));
+    // Cheap independent check: no worse than the known feasible point, up to
+    // rounding (see roundingAllowance()).
+    const DenseQp q = denseOf(p);
+    const VectorXd x0_dynamic = x0;
+    EXPECT_LE(
+        objective(q, s.x) - objective(q, x0_dynamic),
+        1e-12 * objectiveScale(q, x0_dynamic) + roundingAllowance(q, s.x, multipliersOf(p, s), x0_dynamic));
     stats.max_iterations = std::max(stats.max_iterations, s.iterations);
-    if (k < reference_count) expectMatchesReference(p, s, bruteForce(p), &stats);
-    if (::testing::Test::HasFailure()) break;  // first failing problem is enough
+    if (k < reference_count) expectMatchesReference(p, s, bruteForce(q), &stats);
+    if (::testing::Test::HasFailure()) break;  // the first failing problem is enough
   }
   stats.print(name, count);
 }
@@ -505,18 +614,18 @@ void runInfeasibleSuite(const std::string& name, std::uint64_t seed, int count, 
   int max_iterations = 0;
   for (int k = 0; k < count; ++k) {
     SCOPED_TRACE(name + " problem " + std::to_string(k));
-    const auto pc = randomWithCertificate<N, M>(rng, std::pow(10.0, rng.uniform(-5.0, 0.0)));
+    const auto pc = randomWithCertificate<N, M>(rng, rng.logUniform(-5.0, 0.0));
     expectCertificate(pc);
     QpSolution<N, M> s;
     EXPECT_EQ(solver.solve(pc.problem, s), QpStatus::kInfeasible);
     EXPECT_TRUE(s.x.allFinite());
     max_iterations = std::max(max_iterations, s.iterations);
     if (k < reference_count) {
-      EXPECT_FALSE(bruteForce(pc.problem).feasible);
+      EXPECT_GT(bruteForce(denseOf(pc.problem)).least_violation, 1e-9);
     }
     if (::testing::Test::HasFailure()) break;
   }
-  std::cout << "[ stats    ] " << name << ": " << count << " infeasible problems (" << reference_count
+  std::cout << "[ stats    ] " << name << ": " << count << " infeasible (" << reference_count
             << " vs brute force), max iterations " << max_iterations << "\n";
 }
 
@@ -534,15 +643,16 @@ void runTinyOrEmptySuite(const std::string& name, std::uint64_t seed, int count)
   int skipped = 0;
   for (int k = 0; k < count; ++k) {
     SCOPED_TRACE(name + " problem " + std::to_string(k));
-    const double magnitude = std::pow(10.0, rng.uniform(-6.0, 0.0));
+    const double magnitude = rng.logUniform(-6.0, 0.0);
     const double delta = rng.chance(0.5) ? magnitude : -magnitude;
     const auto pc = randomWithCertificate<N, M>(rng, delta);
-    const Reference<N> ref = bruteForce(pc.problem);
+    const Reference ref = bruteForce(denseOf(pc.problem));
     QpSolution<N, M> s;
     const QpStatus status = solver.solve(pc.problem, s);
+    stats.max_iterations = std::max(stats.max_iterations, s.iterations);
     if (delta > 0.0) {
       expectCertificate(pc);
-      EXPECT_GT(ref.least_violation, 1e-12);  // reference agrees with the certificate
+      EXPECT_GT(ref.least_violation, 1e-12);  // the reference agrees with the certificate
     }
     if (ref.least_violation <= 1e-12) {
       ++feasible;
@@ -1011,28 +1121,21 @@ TEST(QpSolver, SolveDoesNotAllocate) {
     ASSERT_EQ(b, QpStatus::kInfeasible);
     ASSERT_EQ(after, before);
   }
-  // The counter itself works.
+  // The counter itself works. A direct call, because a new-expression whose
+  // result is unused may be elided.
   const long before = g_heap_allocations.load();
-  auto* probe = new int(3);
+  void* probe = ::operator new(16);
   EXPECT_GT(g_heap_allocations.load(), before);
-  delete probe;
+  ::operator delete(probe);
 }
 
 // ---------------------------------------------------------------------------
 // Random suites. Counts are sized so the whole binary runs in a few seconds.
 
-TEST(QpSolverRandom, FeasibleN4M2) {
-  runFeasibleSuite<4, 2>("N=4 M=2", 101, 10000, 2000, GenOptions{});
-}
-TEST(QpSolverRandom, FeasibleN4M4) {
-  runFeasibleSuite<4, 4>("N=4 M=4", 102, 10000, 2000, GenOptions{});
-}
-TEST(QpSolverRandom, FeasibleN2M2) {
-  runFeasibleSuite<2, 2>("N=2 M=2", 103, 3000, 3000, GenOptions{});
-}
-TEST(QpSolverRandom, FeasibleN3M4) {
-  runFeasibleSuite<3, 4>("N=3 M=4", 104, 3000, 2000, GenOptions{});
-}
+TEST(QpSolverRandom, FeasibleN4M2) { runFeasibleSuite<4, 2>("N=4 M=2", 101, 10000, 2000, GenOptions{}); }
+TEST(QpSolverRandom, FeasibleN4M4) { runFeasibleSuite<4, 4>("N=4 M=4", 102, 10000, 1500, GenOptions{}); }
+TEST(QpSolverRandom, FeasibleN2M2) { runFeasibleSuite<2, 2>("N=2 M=2", 103, 3000, 3000, GenOptions{}); }
+TEST(QpSolverRandom, FeasibleN3M4) { runFeasibleSuite<3, 4>("N=3 M=4", 104, 3000, 2000, GenOptions{}); }
 TEST(QpSolverRandom, FeasibleN6M4) {
   GenOptions opt;
   opt.finite_bound_prob = 0.3;  // keeps the reference's subset count small
@@ -1060,7 +1163,7 @@ TEST(QpSolverRandom, InfeasibleN2M2) { runInfeasibleSuite<2, 2>("N=2 M=2", 303, 
 TEST(QpSolverRandom, InfeasibleN3M4) { runInfeasibleSuite<3, 4>("N=3 M=4", 304, 2000, 500); }
 TEST(QpSolverRandom, InfeasibleN6M4) { runInfeasibleSuite<6, 4>("N=6 M=4", 305, 1000, 0); }
 TEST(QpSolverRandom, TinyOrEmptyN4M2) { runTinyOrEmptySuite<4, 2>("tiny/empty N=4 M=2", 401, 1000); }
-TEST(QpSolverRandom, TinyOrEmptyN4M4) { runTinyOrEmptySuite<4, 4>("tiny/empty N=4 M=4", 402, 1000); }
+TEST(QpSolverRandom, TinyOrEmptyN4M4) { runTinyOrEmptySuite<4, 4>("tiny/empty N=4 M=4", 402, 700); }
 TEST(QpSolverRandom, TinyOrEmptyN2M4) { runTinyOrEmptySuite<2, 4>("tiny/empty N=2 M=4", 403, 2000); }
 TEST(QpSolverRandom, TinyOrEmptyN3M4) { runTinyOrEmptySuite<3, 4>("tiny/empty N=3 M=4", 404, 1000); }
 
