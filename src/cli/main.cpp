@@ -5,6 +5,7 @@
 
 #include "cli/generate_command.h"
 #include "cli/simulate_command.h"
+#include "cli/train_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"quadfdi — detect, isolate and size motor faults on quadrotors (Garg & Fan, dynamic symmetry)"};
@@ -14,6 +15,8 @@ int main(int argc, char** argv) {
   CLI::App* simulate_cmd = quadfdi::cli::addSimulateCommand(app, simulate);
   quadfdi::cli::GenerateOptions generate;
   CLI::App* generate_cmd = quadfdi::cli::addGenerateCommand(app, generate);
+  quadfdi::cli::TrainOptions train;
+  CLI::App* train_cmd = quadfdi::cli::addTrainCommand(app, train);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -29,6 +32,11 @@ int main(int argc, char** argv) {
   try {
     if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate, *simulate_cmd);
     if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate, *generate_cmd);
+    if (train_cmd->parsed()) {
+      std::string command_line = "quadfdi";
+      for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
+      return quadfdi::cli::runTrain(train, *train_cmd, command_line);
+    }
   } catch (const std::exception& e) {
     std::cerr << "quadfdi: error: " << e.what() << "\n";
     return 1;

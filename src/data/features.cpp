@@ -1,0 +1,63 @@
+#include "data/features.h"
+
+namespace quadfdi {
+
+const char* toString(FeatureSet f) {
+  switch (f) {
+    case FeatureSet::kModelFree: return "model-free";
+    case FeatureSet::kModelBased: return "model-based";
+    case FeatureSet::kResidualOnly: return "residual";
+  }
+  return "?";
+}
+
+bool parseFeatureSet(const std::string& text, FeatureSet& f) {
+  if (text == "model-free") { f = FeatureSet::kModelFree; return true; }
+  if (text == "model-based") { f = FeatureSet::kModelBased; return true; }
+  if (text == "residual" || text == "residual-only") { f = FeatureSet::kResidualOnly; return true; }
+  return false;
+}
+
+int featureChannels(FeatureSet f) {
+  switch (f) {
+    case FeatureSet::kModelFree: return kOutputDim + kInputDim;
+    case FeatureSet::kModelBased: return 2 * kOutputDim + kInputDim;
+    case FeatureSet::kResidualOnly: return kOutputDim;
+  }
+  return 0;
+}
+
+void gatherWindowFeatures(const TrajectoryBatch& b, const WindowRef& w, int length, FeatureSet features,
+                          OutputKind output, const SymmetryMap* map, float* out) {
+  const bool use_y = features != FeatureSet::kResidualOnly;
+  const bool use_res = features != FeatureSet::kModelFree;
+  const int first = w.end_sample - length + 1;
+  Output origin = Output::Zero();
+  for (int k = 0; k < length; ++k) {
+    const std::size_t o = b.sampleOffset(w.trajectory, first + k);
+    Output y, r;
+    Input u;
+    for (int c = 0; c < kOutputDim; ++c) {
+      y(c) = b.outputs[o * kOutputDim + static_cast<std::size_t>(c)];
+      r(c) = b.residuals[o * kOutputDim + static_cast<std::size_t>(c)];
+    }
+    for (int c = 0; c < kInputDim; ++c) u(c) = b.inputs[o * kInputDim + static_cast<std::size_t>(c)];
+    if (map) {
+      y = map->applyToOutput(y, output);
+      r = map->applyToOutput(r, output);
+      u = map->applyToInput(u);
+    }
+    if (k == 0) origin.head<3>() = y.head<3>();
+    y -= origin;  // positions relative to the window's first sample
+    int c = 0;
+    if (use_y) {
+      for (int i = 0; i < kOutputDim; ++i) out[c++] = static_cast<float>(y(i));
+      for (int i = 0; i < kInputDim; ++i) out[c++] = static_cast<float>(u(i));
+    }
+    if (use_res)
+      for (int i = 0; i < kOutputDim; ++i) out[c++] = static_cast<float>(r(i));
+    out += c;
+  }
+}
+
+}  // namespace quadfdi

@@ -1,0 +1,29 @@
+// Network inputs from windows (SPEC §6): feature sets, the symmetry map applied to the
+// window, and position made relative to the window's first sample so that the detector
+// does not care where in the room the vehicle flies.
+#pragma once
+
+#include <string>
+
+#include "data/trajectory_batch.h"
+#include "symmetry/symmetry.h"
+
+namespace quadfdi {
+
+enum class FeatureSet {
+  kModelFree,     // (y, u): 10 channels — the paper's contribution
+  kModelBased,    // (y, u, ỹ): 16 channels
+  kResidualOnly,  // ỹ: 6 channels
+};
+const char* toString(FeatureSet f);
+bool parseFeatureSet(const std::string& text, FeatureSet& f);  // model-free | model-based | residual
+int featureChannels(FeatureSet f);
+
+// Writes the window's features, [T][channels] row-major, into `out` (T·channels floats).
+// Channel order: y (position relative to the window's first sample, then angles or rates),
+// u, ỹ — each present only in the feature sets that use it. With `map`, every sample is first
+// sent through the symmetry map (y, ỹ like outputs, u permuted).
+void gatherWindowFeatures(const TrajectoryBatch& batch, const WindowRef& window, int length, FeatureSet features,
+                          OutputKind output, const SymmetryMap* map, float* out);
+
+}  // namespace quadfdi

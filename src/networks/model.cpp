@@ -1,0 +1,240 @@
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "networks/torch_net.h"
+
+namespace quadfdi {
+
+const char* toString(Architecture a) { return a == Architecture::kLstm ? "lstm" : "mlp"; }
+
+bool parseArchitecture(const std::string& text, Architecture& a) {
+  if (text == "lstm") { a = Architecture::kLstm; return true; }
+  if (text == "mlp") { a = Architecture::kMlp; return true; }
+  return false;
+}
+
+FaultNetImpl::FaultNetImpl(const ModelMetadata& m) : architecture(m.architecture) {
+  const int n = m.channels();
+  mean = register_buffer("mean", torch::zeros({n}));
+  scale = register_buffer("scale", torch::ones({n}));
+  if (architecture == Architecture::kLstm) {
+    lstm = register_module("lstm", torch::nn::LSTM(torch::nn::LSTMOptions(n, m.hidden).batch_first(true)));
+    head1 = register_module("head1", torch::nn::Linear(m.hidden, 64));
+    head2 = register_module("head2", torch::nn::Linear(64, 4));
+  } else {
+    mlp = register_module(
+        "mlp", torch::nn::Sequential(torch::nn::Linear(n * m.window, m.hidden), torch::nn::ReLU(),
+                                     torch::nn::Linear(m.hidden, m.hidden), torch::nn::ReLU(),
+                                     torch::nn::Linear(m.hidden, m.hidden), torch::nn::ReLU(),
+                                     torch::nn::Linear(m.hidden, m.hidden), torch::nn::ReLU(),
+                                     torch::nn::Linear(m.hidden, 64), torch::nn::ReLU(), torch::nn::Linear(64, 4)));
+  }
+}
+
+torch::Tensor FaultNetImpl::forward(torch::Tensor x) {
+  x = (x - mean) / scale;
+  if (architecture == Architecture::kLstm) {
+    const torch::Tensor out = std::get<0>(lstm->forward(x));       // [B, T, H]
+    const torch::Tensor last = torch::relu(out.select(1, out.size(1) - 1));
+    return torch::sigmoid(head2->forward(torch::relu(head1->forward(last))));
+  }
+  return torch::sigmoid(mlp->forward(x.flatten(1)));
+}
+
+void loadNormalisation(FaultIdentifier::Impl& impl) {
+  const ModelMetadata& m = impl.metadata;
+  const auto n = static_cast<std::size_t>(m.channels());
+  torch::NoGradGuard no_grad;
+  if (m.feature_mean.size() == n) impl.net->mean.copy_(torch::tensor(m.feature_mean));
+  if (m.feature_std.size() == n) impl.net->scale.copy_(torch::tensor(m.feature_std));
+}
+
+FaultIdentifier::FaultIdentifier(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+FaultIdentifier FaultIdentifier::create(const ModelMetadata& metadata, std::uint64_t seed) {
+  auto impl = std::make_shared<Impl>();
+  impl->metadata = metadata;
+  torch::manual_seed(seed);
+  impl->net = FaultNet(metadata);
+  loadNormalisation(*impl);
+  return FaultIdentifier(impl);
+}
+
+const ModelMetadata& FaultIdentifier::metadata() const { return impl_->metadata; }
+ModelMetadata& FaultIdentifier::metadata() { return impl_->metadata; }
+
+void FaultIdentifier::predict(const float* windows, int count, float* theta) const {
+  torch::NoGradGuard no_grad;
+  impl_->net->eval();
+  const ModelMetadata& m = impl_->metadata;
+  const int per_window = m.window * m.channels();
+  constexpr int kChunk = 4096;
+  for (int first = 0; first < count; first += kChunk) {
+    const int n = std::min(kChunk, count - first);
+    const torch::Tensor x = torch::from_blob(const_cast<float*>(windows) + static_cast<std::ptrdiff_t>(first) * per_window,
+                                             {n, m.window, m.channels()}, torch::kFloat32);
+    const torch::Tensor y = impl_->net->forward(x).contiguous();
+    std::memcpy(theta + static_cast<std::ptrdiff_t>(first) * 4, y.data_ptr<float>(), sizeof(float) * 4 * static_cast<std::size_t>(n));
+  }
+}
+
+namespace {
+
+nlohmann::json toJson(const ModelMetadata& m) {
+  return {{"architecture", toString(m.architecture)},
+          {"features", toString(m.features)},
+          {"output", m.output == OutputKind::kPositionEuler ? "position-euler" : "position-rates"},
+          {"symmetry", toString(m.symmetry)},
+          {"trained_motor", m.trained_motor},
+          {"window", m.window},
+          {"dt", m.dt},
+          {"hidden", m.hidden},
+          {"params", m.params},
+          {"controller", m.controller},
+          {"feature_mean", m.feature_mean},
+          {"feature_std", m.feature_std},
+          {"provenance",
+           {{"command", m.command},
+            {"scale", m.scale},
+            {"seed", m.seed},
+            {"iterations", m.iterations},
+            {"training_seconds", m.training_seconds},
+            {"final_loss", m.final_loss},
+            {"heldout_loss", m.heldout_loss},
+            {"heldout_accuracy", m.heldout_accuracy},
+            {"generator", m.generator}}}};
+}
+
+ModelMetadata fromJson(const nlohmann::json& j, const std::string& path) {
+  auto fail = [&](const std::string& problem) -> ModelError { return ModelError(path + ": " + problem); };
+  ModelMetadata m;
+  try {
+    if (!parseArchitecture(j.at("architecture").get<std::string>(), m.architecture)) throw fail("unknown architecture");
+    if (!parseFeatureSet(j.at("features").get<std::string>(), m.features)) throw fail("unknown feature set");
+    const std::string out = j.at("output").get<std::string>();
+    if (out == "position-euler") m.output = OutputKind::kPositionEuler;
+    else if (out == "position-rates") m.output = OutputKind::kPositionRates;
+    else throw fail("unknown output kind '" + out + "'");
+    if (!parseSymmetryMode(j.at("symmetry").get<std::string>(), m.symmetry)) throw fail("unknown symmetry mode");
+    m.trained_motor = j.at("trained_motor").get<int>();
+    m.window = j.at("window").get<int>();
+    m.dt = j.at("dt").get<double>();
+    m.hidden = j.at("hidden").get<int>();
+    m.params = j.at("params").get<std::string>();
+    m.controller = j.at("controller").get<std::string>();
+    m.feature_mean = j.at("feature_mean").get<std::vector<float>>();
+    m.feature_std = j.at("feature_std").get<std::vector<float>>();
+    const auto& p = j.at("provenance");
+    m.command = p.at("command").get<std::string>();
+    m.scale = p.at("scale").get<std::string>();
+    m.seed = p.at("seed").get<std::uint64_t>();
+    m.iterations = p.at("iterations").get<int>();
+    m.training_seconds = p.at("training_seconds").get<double>();
+    m.final_loss = p.at("final_loss").get<double>();
+    m.heldout_loss = p.at("heldout_loss").get<double>();
+    m.heldout_accuracy = p.at("heldout_accuracy").get<double>();
+    m.generator = p.at("generator").get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    throw fail(std::string("bad metadata: ") + e.what());
+  }
+  const auto n = static_cast<std::size_t>(m.channels());
+  if (m.window < 1 || m.window > 100000 || m.hidden < 1 || m.hidden > 4096 || !(m.dt > 0.0))
+    throw fail("metadata out of range (window, hidden or dt)");
+  if (m.trained_motor < 1 || m.trained_motor > 4) throw fail("trained_motor must be 1..4");
+  if ((!m.feature_mean.empty() && m.feature_mean.size() != n) || (!m.feature_std.empty() && m.feature_std.size() != n))
+    throw fail("normalisation statistics do not match the feature set");
+  for (float s : m.feature_std)
+    if (!(s > 0.0f) || !std::isfinite(s)) throw fail("normalisation scale must be finite and > 0");
+  for (float v : m.feature_mean)
+    if (!std::isfinite(v)) throw fail("normalisation mean must be finite");
+  return m;
+}
+
+}  // namespace
+
+void FaultIdentifier::save(const std::string& path) const {
+  std::ostringstream weights;
+  try {
+    torch::save(impl_->net, weights);
+  } catch (const c10::Error& e) {
+    throw ModelError(path + ": cannot serialise the network");
+  }
+  const std::string w = weights.str();
+  const std::string temp = path + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) throw ModelError(path + ": cannot write");
+    out << kModelFormat << ' ' << kModelVersion << '\n' << toJson(impl_->metadata).dump() << '\n';
+    out << "weights " << w.size() << '\n';
+    out.write(w.data(), static_cast<std::streamsize>(w.size()));
+    out.flush();
+    if (!out) {
+      std::remove(temp.c_str());
+      throw ModelError(path + ": write failed (disk full or I/O error)");
+    }
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    std::remove(temp.c_str());
+    throw ModelError(path + ": cannot replace the output file");
+  }
+}
+
+FaultIdentifier FaultIdentifier::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ModelError(path + ": cannot open for reading");
+  std::string magic;
+  if (!std::getline(in, magic)) throw ModelError(path + ": empty file, not a quadfdi model");
+  const std::string expected = std::string(kModelFormat) + " ";
+  if (magic.rfind(expected, 0) != 0) throw ModelError(path + ": not a quadfdi model file (bad first line)");
+  if (magic != expected + std::to_string(kModelVersion))
+    throw ModelError(path + ": model format '" + magic.substr(expected.size()) + "' is not supported (expected " +
+                     std::to_string(kModelVersion) + ")");
+  std::string json_line;
+  if (!std::getline(in, json_line)) throw ModelError(path + ": truncated (no metadata)");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(json_line);
+  } catch (const nlohmann::json::parse_error&) {
+    throw ModelError(path + ":2: metadata is not valid JSON (truncated or corrupt file?)");
+  }
+  auto impl = std::make_shared<Impl>();
+  impl->metadata = fromJson(j, path);
+  std::string header;
+  if (!std::getline(in, header) || header.rfind("weights ", 0) != 0) throw ModelError(path + ": truncated (no weights)");
+  std::size_t size = 0;
+  try {
+    size = std::stoull(header.substr(8));
+  } catch (const std::exception&) {
+    throw ModelError(path + ":3: bad weights header");
+  }
+  if (size > (std::size_t{1} << 32)) throw ModelError(path + ":3: implausible weights size");
+  std::string w(size, '\0');
+  in.read(w.data(), static_cast<std::streamsize>(size));
+  if (static_cast<std::size_t>(in.gcount()) != size) throw ModelError(path + ": truncated (weights incomplete)");
+  if (in.peek() != std::char_traits<char>::eof()) throw ModelError(path + ": trailing data after the weights");
+  impl->net = FaultNet(impl->metadata);
+  try {
+    std::istringstream ws(w);
+    torch::load(impl->net, ws);
+  } catch (const c10::Error&) {
+    throw ModelError(path + ": weights do not match the architecture in the metadata (corrupt file?)");
+  } catch (const std::exception&) {
+    throw ModelError(path + ": cannot read the weights (corrupt file?)");
+  }
+  return FaultIdentifier(impl);
+}
+
+void configureCpuThreads(int threads) {
+  using SetThreads = void (*)(int);
+  if (auto* set_blas = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set_blas(1);
+  if (threads > 0) torch::set_num_threads(threads);
+}
+
+bool cudaAvailable() { return torch::cuda::is_available(); }
+
+}  // namespace quadfdi

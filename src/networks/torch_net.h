@@ -1,0 +1,32 @@
+// The LibTorch modules behind FaultIdentifier. Included only by networks/*.cpp.
+#pragma once
+
+#include <torch/torch.h>
+
+#include "networks/model.h"
+
+namespace quadfdi {
+
+// LSTM (seed §IV, authors' code): LSTM(n_in → H) → ReLU(last step) → 128→64 → ReLU → 64→4 → Sigmoid.
+// MLP: flattened window (n_in·T) → H → three H×H → 64 → 4 → Sigmoid, ReLU between.
+struct FaultNetImpl : torch::nn::Module {
+  explicit FaultNetImpl(const ModelMetadata& m);
+  torch::Tensor forward(torch::Tensor windows);  // [B, T, n_in] raw features → [B, 4]
+
+  Architecture architecture;
+  torch::Tensor mean, scale;  // buffers: normalisation (x − mean) / scale
+  torch::nn::LSTM lstm{nullptr};
+  torch::nn::Linear head1{nullptr}, head2{nullptr};
+  torch::nn::Sequential mlp{nullptr};
+};
+TORCH_MODULE(FaultNet);
+
+struct FaultIdentifier::Impl {
+  ModelMetadata metadata;
+  FaultNet net{nullptr};
+};
+
+// Copies normalisation statistics from metadata into the network's buffers.
+void loadNormalisation(FaultIdentifier::Impl& impl);
+
+}  // namespace quadfdi

@@ -1,0 +1,62 @@
+// Algorithm 1 (seed §III-C, SPEC §6): fresh data every outer iteration, FIFO buffer, passes in
+// minibatches with the hinge loss, Adam, and the stopping rule; checkpointed every iteration.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "data/algorithm1.h"
+#include "networks/model.h"
+
+namespace quadfdi {
+
+enum class LossKind { kNorm, kPerMotor };
+
+struct TrainConfig {
+  Algorithm1DataConfig data;     // rollout settings, scale (N₁, N_buf), Θ values, motors
+  ModelMetadata model;           // architecture, features, output, symmetry, …
+  LossKind loss = LossKind::kNorm;
+  double epsilon = 0.01;         // hinge margin ε (seed eq. 4)
+  double learning_rate = 5e-4;   // Adam (authors' code)
+  double weight_decay = 1e-5;
+  int batch_size = 1024;         // windows per minibatch (paper: 50 000)
+  int passes = 1;                // passes over the buffer per outer iteration (authors: 400)
+  int max_minibatches = 0;       // cap per outer iteration (0 = no cap): keeps CPU scales bounded
+  int min_iterations = 2;        // N_m: no stop before this many outer iterations
+  int max_iterations = 10;       // N_M
+  double stop_loss = 1e-3;       // stop when the iteration's mean loss is below this (after N_m)
+  int heldout_initial_conditions = 20;  // held-out set: fresh scenarios, same Θ values
+  std::uint64_t seed = 1;        // weights, shuffling; data uses data.rollout.seed
+  std::string device = "cpu";    // cpu | cuda
+  int threads = 0;               // torch intra-op threads (0 = all cores)
+  std::string checkpoint_path;   // written after every outer iteration (atomic); empty = none
+  bool resume = false;           // continue from checkpoint_path if it exists
+  std::string log_path;          // CSV, one row per outer iteration; empty = none
+};
+
+struct IterationReport {
+  int iteration = 0;        // 1-based, completed
+  double loss = 0.0;        // mean training loss over the iteration's minibatches
+  double heldout_loss = 0.0;
+  double heldout_accuracy = 0.0;  // max_i |Θ̂_i − Θ_i| ≤ 0.05
+  std::size_t buffer_windows = 0;
+  double seconds = 0.0;     // since the start of this run
+  double windows_per_second = 0.0;
+};
+
+struct TrainResult {
+  FaultIdentifier model;
+  int iterations = 0;
+  bool resumed = false;
+  bool converged = false;  // stopped by the loss rule rather than N_M
+};
+
+// Empty when valid, else a one-line description.
+std::string validate(const TrainConfig& config);
+
+// Throws std::runtime_error with a one-line message on bad configuration, an unusable
+// checkpoint, a missing CUDA device or a non-finite loss.
+TrainResult train(const TrainConfig& config, const std::function<void(const IterationReport&)>& on_iteration = {},
+                  const std::function<void(int done, int total)>& on_minibatch = {});
+
+}  // namespace quadfdi
