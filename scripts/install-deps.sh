@@ -11,6 +11,9 @@ packages=(
   libcli11-dev           # command line
   nlohmann-json3-dev     # JSON (detector output, metadata)
   libhdf5-dev            # datasets
+  libtorch-dev           # networks (CPU LibTorch)
+  libopenblas0-pthread   # fast BLAS for LibTorch (reference BLAS is ~9x slower)
+  python3-torch          # the PyTorch yardstick in the training benchmark
   libgtest-dev libgmock-dev   # tests
   libbenchmark-dev       # benchmarks
 )

@@ -1,0 +1,200 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "networks/trainer.h"
+
+namespace quadfdi {
+namespace {
+
+std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_nn_" + name; }
+
+// A tiny but real Algorithm 1 run: T = 10, hidden 16, 12 trajectories an iteration.
+TrainConfig tinyConfig(Architecture arch = Architecture::kLstm, FeatureSet features = FeatureSet::kModelFree) {
+  TrainConfig c;
+  c.data.rollout.window = 10;
+  c.data.rollout.seed = 3;
+  c.data.scale = {"unit", 4, 2000};
+  c.data.thetas = {0.0, 0.5, 1.0};
+  c.data.threads = 1;
+  c.model.architecture = arch;
+  c.model.features = features;
+  c.model.window = 10;
+  c.model.hidden = 16;
+  c.batch_size = 32;
+  c.passes = 2;
+  c.min_iterations = 6;
+  c.max_iterations = 6;
+  c.heldout_initial_conditions = 2;
+  c.learning_rate = 5e-3;
+  c.threads = 1;
+  c.seed = 5;
+  return c;
+}
+
+TEST(Training, ReducesTheLossOnAFixedSeed) {
+  for (Architecture arch : {Architecture::kLstm, Architecture::kMlp}) {
+    std::vector<IterationReport> reports;
+    const TrainResult r = train(tinyConfig(arch), [&](const IterationReport& it) { reports.push_back(it); });
+    ASSERT_EQ(reports.size(), 6u);
+    EXPECT_LT(reports.back().loss, 0.7 * reports.front().loss) << toString(arch);
+    EXPECT_LT(reports.back().heldout_loss, reports.front().heldout_loss) << toString(arch);
+    EXPECT_EQ(r.model.metadata().iterations, 6);
+    EXPECT_EQ(r.model.metadata().feature_mean.size(), 10u);
+  }
+}
+
+std::vector<float> someWindows(const ModelMetadata& m, int count, double offset = 0.0) {
+  RolloutConfig rc;
+  rc.window = m.window;
+  rc.seed = 9;
+  TrajectoryBatch b;
+  RolloutEngine(rc).run(algorithm1Jobs(0, 2, {0.0, 1.0}, {2}), 1, b);
+  // Positions on a 2⁻¹⁶ m grid, so that adding a whole offset below 128 m is exact in float32:
+  // then any difference in the output would come from the network, not from storage rounding.
+  for (int i = 0; i < b.count; ++i)
+    for (int k = 0; k < b.samples; ++k)
+      for (int c = 0; c < 3; ++c) {
+        float& p = b.outputs[b.sampleOffset(i, k) * kOutputDim + static_cast<std::size_t>(c)];
+        p = std::ldexp(std::round(std::ldexp(p, 16)), -16) + static_cast<float>(offset);
+      }
+  std::vector<WindowRef> refs;
+  enumerateWindows(b, m.window, refs);
+  const std::size_t per = static_cast<std::size_t>(m.window * m.channels());
+  std::vector<float> out(static_cast<std::size_t>(count) * per);
+  for (int i = 0; i < count; ++i)
+    gatherWindowFeatures(b, refs[static_cast<std::size_t>(i) % refs.size()], m.window, m.features, m.output, nullptr,
+                         &out[static_cast<std::size_t>(i) * per]);
+  return out;
+}
+
+TEST(ModelFile, SaveLoadGivesIdenticalOutputsAndMetadata) {
+  for (Architecture arch : {Architecture::kLstm, Architecture::kMlp}) {
+    ModelMetadata m;
+    m.architecture = arch;
+    m.features = FeatureSet::kModelBased;
+    m.window = 10;
+    m.hidden = 16;
+    m.feature_mean.assign(16, 0.1f);
+    m.feature_std.assign(16, 2.0f);
+    m.heldout_accuracy = 0.75;
+    m.command = "quadfdi train --test";
+    const FaultIdentifier model = FaultIdentifier::create(m, 3);
+    const std::string path = temp(std::string("model_") + toString(arch) + ".qfdi");
+    model.save(path);
+    const FaultIdentifier back = FaultIdentifier::load(path);
+    EXPECT_EQ(back.metadata().architecture, arch);
+    EXPECT_EQ(back.metadata().features, FeatureSet::kModelBased);
+    EXPECT_EQ(back.metadata().command, "quadfdi train --test");
+    EXPECT_EQ(back.metadata().heldout_accuracy, 0.75);
+    const std::vector<float> w = someWindows(m, 7);
+    std::vector<float> a(28), b(28);
+    model.predict(w.data(), 7, a.data());
+    back.predict(w.data(), 7, b.data());
+    EXPECT_EQ(a, b);
+    for (float t : a) EXPECT_TRUE(t > 0.0f && t < 1.0f);
+  }
+}
+
+TEST(ModelFile, OutputIsInvariantToAConstantPositionOffset) {
+  const TrainResult r = train(tinyConfig());
+  const ModelMetadata& m = r.model.metadata();
+  const std::vector<float> here = someWindows(m, 20), there = someWindows(m, 20, 37.0);
+  EXPECT_EQ(here, there);  // features are relative to the window's first position
+  std::vector<float> a(80), b(80);
+  r.model.predict(here.data(), 20, a.data());
+  r.model.predict(there.data(), 20, b.data());
+  EXPECT_EQ(a, b);
+}
+
+TEST(ModelFile, RefusesWrongTruncatedAndForeignFiles) {
+  ModelMetadata m;
+  m.window = 10;
+  m.hidden = 16;
+  const std::string good = temp("good.qfdi");
+  FaultIdentifier::create(m, 1).save(good);
+  std::ifstream in(good, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string bytes = ss.str();
+  auto errorOf = [](const std::string& path) {
+    try {
+      FaultIdentifier::load(path);
+    } catch (const ModelError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  auto write = [](const std::string& path, const std::string& data) {
+    std::ofstream(path, std::ios::binary) << data;
+    return path;
+  };
+  EXPECT_EQ(errorOf(temp("none.qfdi")), temp("none.qfdi") + ": cannot open for reading");
+  EXPECT_EQ(errorOf(write(temp("empty.qfdi"), "")), temp("empty.qfdi") + ": empty file, not a quadfdi model");
+  EXPECT_EQ(errorOf(write(temp("csv.qfdi"), "t,x,y\n")), temp("csv.qfdi") + ": not a quadfdi model file (bad first line)");
+  EXPECT_EQ(errorOf(write(temp("v9.qfdi"), "quadfdi-model 9\n{}\n")),
+            temp("v9.qfdi") + ": model format '9' is not supported (expected 1)");
+  for (std::size_t cut : {bytes.size() / 2, bytes.size() - 10, bytes.find('\n') + 40}) {
+    const std::string path = write(temp("cut.qfdi"), bytes.substr(0, cut));
+    const std::string e = errorOf(path);
+    EXPECT_EQ(e.rfind(path + ":", 0), 0u) << e;
+  }
+  std::string wrong_arch = bytes;
+  wrong_arch.replace(wrong_arch.find("\"lstm\""), 6, "\"mlp\" ");
+  EXPECT_NE(errorOf(write(temp("arch.qfdi"), wrong_arch)).find("do not match the architecture"), std::string::npos);
+}
+
+TEST(Training, ResumeContinuesFromTheCheckpoint) {
+  TrainConfig c = tinyConfig();
+  c.checkpoint_path = temp("resume.ckpt");
+  c.log_path = temp("resume.csv");
+  std::remove(c.checkpoint_path.c_str());
+  // An "interrupted" run: 3 of 6 iterations.
+  TrainConfig first = c;
+  first.max_iterations = 3;
+  first.min_iterations = 3;
+  train(first);
+  // Resume to 6 and compare with an uninterrupted run to 6.
+  c.resume = true;
+  const TrainResult resumed = train(c);
+  EXPECT_TRUE(resumed.resumed);
+  EXPECT_EQ(resumed.model.metadata().iterations, 6);
+  TrainConfig straight = tinyConfig();
+  const TrainResult full = train(straight);
+  const std::vector<float> w = someWindows(full.model.metadata(), 10);
+  std::vector<float> a(40), b(40);
+  resumed.model.predict(w.data(), 10, a.data());
+  full.model.predict(w.data(), 10, b.data());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-4f);
+  // The log holds one row per iteration, 1 … 6.
+  std::ifstream log(c.log_path);
+  std::string line;
+  int rows = 0;
+  std::getline(log, line);
+  while (std::getline(log, line)) EXPECT_EQ(std::atoi(line.c_str()), ++rows);
+  EXPECT_EQ(rows, 6);
+}
+
+TEST(Training, RejectsBadSettingsAndMissingCuda) {
+  TrainConfig c = tinyConfig();
+  c.batch_size = 0;
+  EXPECT_THROW(train(c), std::runtime_error);
+  c = tinyConfig();
+  c.model.window = 20;
+  EXPECT_THROW(train(c), std::runtime_error);
+  if (!cudaAvailable()) {
+    c = tinyConfig();
+    c.device = "cuda";
+    try {
+      train(c);
+      FAIL();
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("no CUDA device"), std::string::npos);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace quadfdi
