@@ -1,0 +1,49 @@
+// Training throughput (SPEC §9): windows per second for forward + backward + Adam on the
+// LSTM identifier, T = 100, hidden 128, model-free features, at 1 and 2 LibTorch threads.
+// bench/compare-training.sh runs this and the same model in PyTorch's Python API.
+#include <benchmark/benchmark.h>
+
+#include "networks/torch_net.h"
+
+namespace quadfdi {
+namespace {
+
+void trainStep(benchmark::State& state, Architecture arch) {
+  configureCpuThreads(static_cast<int>(state.range(0)));
+  const int batch = static_cast<int>(state.range(1));
+  ModelMetadata m;
+  m.architecture = arch;
+  m.window = 100;
+  m.hidden = 128;
+  const FaultIdentifier model = FaultIdentifier::create(m, 1);
+  auto& net = model.impl()->net;
+  torch::optim::Adam opt(net->parameters(), torch::optim::AdamOptions(5e-4).weight_decay(1e-5));
+  torch::manual_seed(0);
+  const torch::Tensor x = torch::randn({batch, m.window, m.channels()});
+  const torch::Tensor y = torch::rand({batch, 4});
+  for (auto _ : state) {
+    opt.zero_grad();
+    const torch::Tensor loss = torch::relu((net->forward(x) - y).norm(2, 1) - 0.01).mean();
+    loss.backward();
+    opt.step();
+    benchmark::DoNotOptimize(loss.item<float>());
+  }
+  state.SetItemsProcessed(state.iterations() * batch);
+  state.counters["threads"] = static_cast<double>(state.range(0));
+}
+
+BENCHMARK_CAPTURE(trainStep, lstm, Architecture::kLstm)
+    ->Args({1, 512})
+    ->Args({2, 512})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(3.0);
+BENCHMARK_CAPTURE(trainStep, mlp, Architecture::kMlp)
+    ->Args({1, 512})
+    ->Args({2, 512})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+
+}  // namespace
+}  // namespace quadfdi
