@@ -134,7 +134,7 @@ int runTrain(TrainOptions o, const CLI::App& command, const std::string& command
   c.min_iterations = o.min_iterations >= 0 ? o.min_iterations : s.min_iterations;
   c.max_iterations = o.max_iterations >= 0 ? o.max_iterations : s.max_iterations;
   c.min_iterations = std::min(c.min_iterations, c.max_iterations);
-  c.heldout_initial_conditions = o.scale == "tiny" ? 4 : 20;
+  c.heldout_initial_conditions = o.scale == "tiny" ? 1 : 20;
   c.seed = o.seed;
   c.device = o.device;
   c.threads = o.threads;
@@ -162,6 +162,9 @@ int runTrain(TrainOptions o, const CLI::App& command, const std::string& command
       [&](int done, int total) { bar.update(done, total, last); });
   bar.finish();
   r.model.save(o.output);
+  if (r.optimizer_state_reset)
+    std::fprintf(stderr, "quadfdi train: warning: %s.optim was missing or did not match the checkpoint; "
+                         "Adam restarted from fresh moments\n", c.checkpoint_path.c_str());
   if (!o.quiet) {
     const ModelMetadata& m = r.model.metadata();
     std::fprintf(stderr,

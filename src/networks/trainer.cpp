@@ -140,12 +140,19 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
   torch::optim::Adam optimizer(impl.net->parameters(),
                                torch::optim::AdamOptions(config.learning_rate).weight_decay(config.weight_decay));
   if (result.resumed) {
+    // The optimiser state is renamed into place just before the model; a kill between the two
+    // renames leaves it one iteration ahead. Then Adam restarts from fresh moments (reported).
     try {
       torch::serialize::InputArchive archive;
       archive.load_from(config.checkpoint_path + ".optim");
-      optimizer.load(archive);
+      torch::Tensor saved_iteration;
+      archive.read("iteration", saved_iteration);
+      if (saved_iteration.item<std::int64_t>() == start_iteration)
+        optimizer.load(archive);
+      else
+        result.optimizer_state_reset = true;
     } catch (const c10::Error&) {
-      throw std::runtime_error(config.checkpoint_path + ".optim: missing or corrupt optimiser state");
+      result.optimizer_state_reset = true;
     }
     data.restoreTo(start_iteration);
   }

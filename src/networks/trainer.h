@@ -49,6 +49,7 @@ struct TrainResult {
   int iterations = 0;
   bool resumed = false;
   bool converged = false;  // stopped by the loss rule rather than N_M
+  bool optimizer_state_reset = false;  // resumed, but the Adam state was missing or newer than the model
 };
 
 // Empty when valid, else a one-line description.
