@@ -1,0 +1,63 @@
+#include "evaluation/decision.h"
+
+namespace quadfdi {
+
+Decision decide(const Input& theta_hat, double theta_tol) {
+  Decision d;
+  int best = 0;
+  for (int k = 1; k < kInputDim; ++k)
+    if (theta_hat(k) < theta_hat(best)) best = k;
+  d.min_theta = theta_hat(best);
+  d.alarm = d.min_theta < theta_tol;
+  d.motor = d.alarm ? best + 1 : 0;
+  return d;
+}
+
+Decision decidePaperRule(const std::array<Input, 4>& out, SymmetryMode mode, double theta_tol) {
+  Decision d;
+  int best_map = 0, best_output = 0;
+  for (int n = 0; n < 4; ++n)
+    for (int i = 0; i < kInputDim; ++i)
+      if (out[static_cast<std::size_t>(n)](i) < out[static_cast<std::size_t>(best_map)](best_output)) {
+        best_map = n;
+        best_output = i;
+      }
+  d.min_theta = out[static_cast<std::size_t>(best_map)](best_output);
+  d.alarm = d.min_theta < theta_tol;
+  if (d.alarm) {
+    // Output i of the mapped flight stands for the original motor g⁻¹(i).
+    const SymmetryMap g = mapMotorToMotor2(best_map + 1, mode);
+    d.motor = g.inverse().imageOfMotor(best_output + 1);
+  }
+  return d;
+}
+
+std::vector<Input> estimateAllMotors(const FaultIdentifier& model, const TrajectoryBatch& batch,
+                                     const std::vector<WindowRef>& windows, std::vector<std::array<Input, 4>>* raw) {
+  const ModelMetadata& m = model.metadata();
+  const std::size_t per = static_cast<std::size_t>(m.window) * static_cast<std::size_t>(m.channels());
+  std::array<SymmetryMap, 4> maps{};
+  for (int k = 1; k <= 4; ++k) maps[static_cast<std::size_t>(k - 1)] = mapMotorToMotor2(k, m.symmetry);
+  const int trained = m.trained_motor - 1;
+  std::vector<Input> theta(windows.size(), Input::Ones());
+  if (raw) raw->assign(windows.size(), {});
+  constexpr std::size_t kChunk = 1024;  // windows per forward pass (×4 maps)
+  std::vector<float> features(kChunk * 4 * per), out(kChunk * 4 * 4);
+  for (std::size_t first = 0; first < windows.size(); first += kChunk) {
+    const std::size_t n = std::min(kChunk, windows.size() - first);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = 0; k < 4; ++k)
+        gatherWindowFeatures(batch, windows[first + i], m.window, m.features, m.output, &maps[k],
+                             &features[(i * 4 + k) * per]);
+    model.predict(features.data(), static_cast<int>(n * 4), out.data());
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = 0; k < 4; ++k) {
+        const float* o = &out[(i * 4 + k) * 4];
+        theta[first + i](static_cast<int>(k)) = o[trained];
+        if (raw) (*raw)[first + i][k] = Input(o[0], o[1], o[2], o[3]);
+      }
+  }
+  return theta;
+}
+
+}  // namespace quadfdi
