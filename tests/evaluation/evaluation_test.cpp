@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "data/rollout.h"
 #include "evaluation/metrics.h"
 
 namespace quadfdi {
@@ -88,6 +89,41 @@ TEST(Metrics, NeverDetectedAndEmpty) {
   EXPECT_TRUE(std::isnan(d.median));
   EXPECT_EQ(falseAlarmRate({}), 0.0);
   EXPECT_EQ(thetaMae({}), 0.0);
+}
+
+}  // namespace
+}  // namespace quadfdi
+
+namespace quadfdi {
+namespace {
+
+// The batched estimate equals one window at a time through the map of each motor, and motor
+// 2's estimate is the network on the unmapped window (g₂ = identity).
+TEST(EstimateAllMotors, MatchesPerWindowMappedPredictions) {
+  ModelMetadata m;
+  m.window = 10;
+  m.hidden = 8;
+  const FaultIdentifier model = FaultIdentifier::create(m, 2);
+  RolloutConfig rc;
+  rc.window = 10;
+  TrajectoryBatch b;
+  RolloutEngine(rc).run(algorithm1Jobs(0, 2, {0.0, 0.7}, {1, 3}), 1, b);
+  std::vector<WindowRef> windows;
+  enumerateWindows(b, 10, windows);
+  std::vector<std::array<Input, 4>> raw;
+  const std::vector<Input> theta = estimateAllMotors(model, b, windows, &raw);
+  ASSERT_EQ(theta.size(), windows.size());
+  std::vector<float> f(static_cast<std::size_t>(10 * m.channels()));
+  float out[4];
+  for (std::size_t i = 0; i < windows.size(); i += 5) {
+    for (int k = 1; k <= 4; ++k) {
+      const SymmetryMap g = mapMotorToMotor2(k, SymmetryMode::kExactGroup);
+      gatherWindowFeatures(b, windows[i], 10, m.features, m.output, k == 2 ? nullptr : &g, f.data());
+      model.predict(f.data(), 1, out);
+      EXPECT_NEAR(theta[i](k - 1), out[1], 1e-6) << "window " << i << " motor " << k;
+      EXPECT_NEAR(raw[i][static_cast<std::size_t>(k - 1)](0), out[0], 1e-6);
+    }
+  }
 }
 
 }  // namespace
