@@ -3,6 +3,7 @@
 #include <exception>
 #include <iostream>
 
+#include "cli/evaluate_command.h"
 #include "cli/generate_command.h"
 #include "cli/simulate_command.h"
 #include "cli/train_command.h"
@@ -17,6 +18,8 @@ int main(int argc, char** argv) {
   CLI::App* generate_cmd = quadfdi::cli::addGenerateCommand(app, generate);
   quadfdi::cli::TrainOptions train;
   CLI::App* train_cmd = quadfdi::cli::addTrainCommand(app, train);
+  quadfdi::cli::EvaluateOptions evaluate;
+  CLI::App* evaluate_cmd = quadfdi::cli::addEvaluateCommand(app, evaluate);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -32,11 +35,10 @@ int main(int argc, char** argv) {
   try {
     if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate, *simulate_cmd);
     if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate, *generate_cmd);
-    if (train_cmd->parsed()) {
-      std::string command_line = "quadfdi";
-      for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
-      return quadfdi::cli::runTrain(train, *train_cmd, command_line);
-    }
+    std::string command_line = "quadfdi";
+    for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
+    if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, *train_cmd, command_line);
+    if (evaluate_cmd->parsed()) return quadfdi::cli::runEvaluate(evaluate, command_line);
   } catch (const std::exception& e) {
     std::cerr << "quadfdi: error: " << e.what() << "\n";
     return 1;

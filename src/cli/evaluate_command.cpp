@@ -1,0 +1,200 @@
+#include "cli/evaluate_command.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "evaluation/experiments.h"
+#include "io/atomic_file.h"
+
+namespace quadfdi::cli {
+
+CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "evaluate",
+      "Run the paper's experiments (SPEC §7) on trained models and write, per experiment, a CSV\n"
+      "(accuracy vs faulty length), a Markdown table and a PNG figure, plus REPORT.md.\n"
+      "E1 four motors from one motor-2 network; E2 LSTM vs MLP over theta2; E3 LQR vs CBF-QP test\n"
+      "inputs; E4 model-free vs model-based vs residual-only; E5 nominal vs perturbed plants;\n"
+      "E6 paper rotation map vs exact symmetry group.");
+  cmd->add_option("--model-free,--model", o.model_free, "Model-free LSTM model file (E1, E3–E6)");
+  cmd->add_option("--model-based", o.model_based, "Model-based LSTM model file (E3–E5)");
+  cmd->add_option("--residual", o.residual, "Residual-only model file (E4, optional)");
+  cmd->add_option("--mlp", o.mlp, "Model-free MLP model file (E2)");
+  cmd->add_option("--experiments,-e", o.experiments, "Experiments to run: e1 … e6")->capture_default_str();
+  cmd->add_option("--scale", o.scale, "Test flights per class: tiny (3, tests), quick (40), default (200), paper (2 000)")
+      ->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Test-set seed")->capture_default_str();
+  cmd->add_option("--theta-tol", o.theta_tol, "Alarm when min_k theta_k < this (complete faults: 0.2)")
+      ->capture_default_str();
+  cmd->add_option("--threads,-j", o.threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--output,-o", o.output, "Output folder")->capture_default_str();
+  cmd->add_flag("--quiet,-q", o.quiet, "No progress");
+  return cmd;
+}
+
+namespace {
+
+std::string fmt(double v, int digits = 3) {
+  if (std::isnan(v)) return "–";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+std::string machine() {
+  std::ifstream cpu("/proc/cpuinfo");
+  std::string line, model = "unknown CPU";
+  while (std::getline(cpu, line))
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  return model + ", " + std::to_string(sysconf(_SC_NPROCESSORS_ONLN)) + " cores";
+}
+
+void writeFile(const std::string& path, const std::string& text) {
+  AtomicFileWriter w(path);
+  w.stream() << text;
+  w.commit();
+}
+
+const int kReportLengths[] = {1, 2, 5, 10, 25, 50, 100};
+
+std::string csvOf(const ExperimentResult& e, double dt) {
+  std::ostringstream s;
+  s << "faulty_length,faulty_time_ms";
+  for (const auto& c : e.conditions) s << ",\"isolation: " << c.name << "\"";
+  for (const auto& c : e.conditions) s << ",\"identification: " << c.name << "\"";
+  s << '\n';
+  const std::size_t n = e.conditions.empty() ? 0 : e.conditions.front().isolation.accuracy.size();
+  for (std::size_t l = 0; l < n; ++l) {
+    s << l << ',' << fmt(static_cast<double>(l) * dt * 1000.0, 1);
+    for (const auto& c : e.conditions) s << ',' << fmt(c.isolation.accuracy[l], 4);
+    for (const auto& c : e.conditions) s << ',' << fmt(c.identification.accuracy[l], 4);
+    s << '\n';
+  }
+  return s.str();
+}
+
+std::string markdownOf(const ExperimentResult& e, double dt) {
+  std::ostringstream s;
+  s << "### " << e.title << "\n\nPaper: " << e.paper_claim << ".\n\n";
+  s << "| condition | flights |";
+  for (int l : kReportLengths) s << " L=" << l << " |";
+  s << " delay median / p95 [ms] | detected | false alarms (windows) | healthy windows without alarm | Θ MAE |";
+  const bool cbf = !e.conditions.empty() && e.conditions.front().constraint_active >= 0.0;
+  bool any_cbf = false;
+  for (const auto& c : e.conditions) any_cbf |= c.constraint_active >= 0.0;
+  if (any_cbf) s << " CBF active |";
+  (void)cbf;
+  s << "\n|---|---|";
+  for (std::size_t i = 0; i < std::size(kReportLengths); ++i) s << "---|";
+  s << "---|---|---|---|---|";
+  if (any_cbf) s << "---|";
+  s << '\n';
+  for (const auto& c : e.conditions) {
+    s << "| " << c.name << " | " << c.flights << " |";
+    for (int l : kReportLengths)
+      s << ' ' << (static_cast<std::size_t>(l) < c.isolation.accuracy.size() ? fmt(c.isolation.accuracy[static_cast<std::size_t>(l)]) : "–") << " |";
+    s << ' ' << fmt(c.delay.median * dt * 1000.0, 0) << " / " << fmt(c.delay.p95 * dt * 1000.0, 0) << " | "
+      << c.delay.detected << "/" << c.delay.faulty << " | " << fmt(c.false_alarm_rate, 4) << " | "
+      << fmt(c.healthy_no_alarm, 4) << " | " << fmt(c.theta_mae) << " |";
+    if (any_cbf) s << ' ' << (c.constraint_active >= 0.0 ? fmt(100.0 * c.constraint_active, 1) + " %" : "–") << " |";
+    s << '\n';
+  }
+  s << "\nL = faulty samples in the window (2 ms each); accuracy = the window's alarm names the faulty motor. "
+       "Delay: first window naming the right motor.\n\n![" << e.id << "](" << e.id << ".png)\n";
+  return s.str();
+}
+
+bool plot(const std::string& dir, const ExperimentResult& e) {
+  std::ostringstream gp;
+  gp << "set terminal pngcairo size 900,520 font 'DejaVu Sans,10'\nset output '" << dir << "/" << e.id << ".png'\n"
+     << "set datafile separator ','\nset key bottom right\nset grid\nset yrange [0:1.02]\n"
+     << "set xlabel 'faulty samples in the window (2 ms each)'\nset ylabel 'isolation accuracy'\n"
+     << "set title \"" << e.title << "\" noenhanced\nplot ";
+  for (std::size_t i = 0; i < e.conditions.size(); ++i)
+    gp << (i ? ", " : "") << "'" << dir << "/" << e.id << ".csv' using 1:" << i + 3 << " with lines lw 2 title \""
+       << e.conditions[i].name << "\" noenhanced";
+  gp << '\n';
+  writeFile(dir + "/" + e.id + ".gp", gp.str());
+  const std::string cmd = "gnuplot '" + dir + "/" + e.id + ".gp' 2>/dev/null";
+  return std::system(cmd.c_str()) == 0;
+}
+
+}  // namespace
+
+int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
+  EvaluationScale scale;
+  if (!evaluationScale(o.scale, scale)) throw std::runtime_error("--scale must be tiny, quick, default or paper, got '" + o.scale + "'");
+  if (!(o.theta_tol > 0.0 && o.theta_tol <= 1.0)) throw std::runtime_error("--theta-tol must be in (0, 1]");
+  for (const std::string& id : o.experiments)  // refuse before any work is done
+    if (id.size() != 2 || id[0] != 'e' || id[1] < '1' || id[1] > '6')
+      throw std::runtime_error("unknown experiment '" + id + "' (e1 … e6)");
+  ExperimentInputs in;
+  in.scale = scale;
+  in.seed = o.seed;
+  in.theta_tol = o.theta_tol;
+  in.threads = o.threads;
+  std::vector<std::unique_ptr<FaultIdentifier>> owned;
+  std::vector<std::pair<std::string, std::string>> used;
+  for (const auto& [role, path] : {std::pair<std::string, std::string>{"model-free", o.model_free},
+                                   {"model-based", o.model_based}, {"residual", o.residual}, {"mlp", o.mlp}}) {
+    if (path.empty()) continue;
+    owned.push_back(std::make_unique<FaultIdentifier>(FaultIdentifier::load(path)));
+    in.models[role] = owned.back().get();
+    used.emplace_back(role, path);
+  }
+  if (in.models.empty()) throw std::runtime_error("no model given (--model-free, --model-based, --residual, --mlp)");
+  if (mkdir(o.output.c_str(), 0755) != 0 && errno != EEXIST)
+    throw std::runtime_error(o.output + ": cannot create the output folder");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  std::ostringstream report;
+  report << "# quadfdi evaluation report\n\n";
+  std::ostringstream body;
+  const double dt = 0.002;
+  for (const std::string& id : o.experiments) {
+    ExperimentResult e;
+    std::string missing;
+    const bool ran = runExperiment(id, in, e, missing, [&](const std::string& msg) {
+      if (!o.quiet) std::fprintf(stderr, "evaluate: %s\n", msg.c_str());
+    });
+    if (!ran) {
+      body << "### " << id << ": not run — needs the " << missing << " model\n\n";
+      if (!o.quiet) std::fprintf(stderr, "evaluate: %s skipped: needs the %s model\n", id.c_str(), missing.c_str());
+      continue;
+    }
+    writeFile(o.output + "/" + e.id + ".csv", csvOf(e, dt));
+    const std::string md = markdownOf(e, dt);
+    writeFile(o.output + "/" + e.id + ".md", md);
+    if (!plot(o.output, e) && !o.quiet) std::fprintf(stderr, "evaluate: warning: gnuplot failed, no %s.png\n", e.id.c_str());
+    body << md << '\n';
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  report << "- command: `" << command_line << "`\n- scale: " << scale.name << " (" << scale.flights_per_class
+         << " test flights per class; SPEC §7's protocol uses 2 000)\n- test-set seed: " << o.seed
+         << ", Θ_tol: " << o.theta_tol << "\n- machine: " << machine() << "\n- wall time: " << fmt(seconds, 1)
+         << " s\n- models:\n";
+  for (const auto& [role, path] : used) {
+    const ModelMetadata& m = in.models[role]->metadata();
+    report << "  - " << role << ": `" << path << "` (" << toString(m.architecture) << ", " << toString(m.features)
+           << ", trained at scale " << m.scale << " with seed " << m.seed << ", " << m.iterations
+           << " outer iterations, held-out accuracy " << fmt(m.heldout_accuracy) << ")\n";
+  }
+  report << "\nEvery flight: 200 steps at 500 Hz, fault at step 100, windows of T = 100 ending at k = 100 … 200.\n\n"
+         << body.str();
+  writeFile(o.output + "/REPORT.md", report.str());
+  if (!o.quiet) std::fprintf(stderr, "quadfdi evaluate: wrote %s/REPORT.md (%.1f s)\n", o.output.c_str(), seconds);
+  return 0;
+}
+
+}  // namespace quadfdi::cli
