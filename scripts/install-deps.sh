@@ -14,6 +14,7 @@ packages=(
   libtorch-dev           # networks (CPU LibTorch)
   libopenblas0-pthread   # fast BLAS for LibTorch (reference BLAS is ~9x slower)
   python3-torch          # the PyTorch yardstick in the training benchmark
+  gnuplot-nox            # figures of quadfdi evaluate
   libgtest-dev libgmock-dev   # tests
   libbenchmark-dev       # benchmarks
 )

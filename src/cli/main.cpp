@@ -5,6 +5,7 @@
 
 #include "cli/evaluate_command.h"
 #include "cli/generate_command.h"
+#include "cli/reproduce_command.h"
 #include "cli/simulate_command.h"
 #include "cli/train_command.h"
 
@@ -20,6 +21,8 @@ int main(int argc, char** argv) {
   CLI::App* train_cmd = quadfdi::cli::addTrainCommand(app, train);
   quadfdi::cli::EvaluateOptions evaluate;
   CLI::App* evaluate_cmd = quadfdi::cli::addEvaluateCommand(app, evaluate);
+  quadfdi::cli::ReproduceOptions reproduce;
+  CLI::App* reproduce_cmd = quadfdi::cli::addReproduceCommand(app, reproduce);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -39,6 +42,7 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
     if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, *train_cmd, command_line);
     if (evaluate_cmd->parsed()) return quadfdi::cli::runEvaluate(evaluate, command_line);
+    if (reproduce_cmd->parsed()) return quadfdi::cli::runReproduce(reproduce, command_line);
   } catch (const std::exception& e) {
     std::cerr << "quadfdi: error: " << e.what() << "\n";
     return 1;

@@ -58,6 +58,8 @@ void applyConfig(TrainOptions& o, const CLI::App& cmd) {
 
 }  // namespace
 
+static TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_line);
+
 CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "train",
@@ -100,6 +102,10 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
 
 int runTrain(TrainOptions o, const CLI::App& command, const std::string& command_line) {
   applyConfig(o, command);
+  return trainAndSave(o, command_line);
+}
+
+static TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_line) {
   const auto scale = dataScale(o.scale);
   require(scale.has_value(), "--scale must be tiny, default or paper, got '" + o.scale + "'");
   const TrainSchedule s = schedule(o.scale);
@@ -141,7 +147,11 @@ int runTrain(TrainOptions o, const CLI::App& command, const std::string& command
   c.checkpoint_path = o.checkpoint.empty() ? o.output + ".ckpt" : o.checkpoint;
   c.log_path = o.log.empty() ? o.output + ".log.csv" : o.log;
   c.resume = o.resume;
+  return c;
+}
 
+int trainAndSave(const TrainOptions& o, const std::string& command_line) {
+  const TrainConfig c = makeTrainConfig(o, command_line);
   ProgressBar bar("train", !o.quiet);
   std::string last;
   const TrainResult r = train(

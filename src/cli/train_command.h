@@ -35,5 +35,7 @@ struct TrainOptions {
 
 CLI::App* addTrainCommand(CLI::App& app, TrainOptions& options);
 int runTrain(TrainOptions options, const CLI::App& command, const std::string& command_line);
+// Trains with fully resolved options (no config file) and writes options.output.
+int trainAndSave(const TrainOptions& options, const std::string& command_line);
 
 }  // namespace quadfdi::cli

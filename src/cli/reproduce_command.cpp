@@ -1,0 +1,89 @@
+#include "cli/reproduce_command.h"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+
+#include "cli/evaluate_command.h"
+#include "cli/train_command.h"
+
+namespace quadfdi::cli {
+
+CLI::App* addReproduceCommand(CLI::App& app, ReproduceOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "reproduce",
+      "The whole chain in one folder: train every network the experiments need (model-free LSTM,\n"
+      "model-based LSTM, residual-only LSTM, model-free MLP; data generated inside Algorithm 1),\n"
+      "then run E1–E6 and write REPORT.md with tables and figures.\n"
+      "Scales: quick (~10–15 min on 2 cores, small networks' training), default (the CPU reproduction),\n"
+      "paper (the paper's training and test scale; meant for a GPU: --device cuda).");
+  cmd->add_option("--scale", o.scale, "quick, default or paper")->capture_default_str();
+  cmd->add_option("--output,-o", o.output, "Output folder")->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Training seed")->capture_default_str();
+  cmd->add_option("--threads,-j", o.threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--device", o.device, "cpu or cuda (training)")->capture_default_str();
+  cmd->add_flag("--quiet,-q", o.quiet, "Less output");
+  return cmd;
+}
+
+int runReproduce(const ReproduceOptions& o, const std::string& command_line) {
+  if (o.scale != "quick" && o.scale != "default" && o.scale != "paper")
+    throw std::runtime_error("--scale must be quick, default or paper, got '" + o.scale + "'");
+  if (mkdir(o.output.c_str(), 0755) != 0 && errno != EEXIST)
+    throw std::runtime_error(o.output + ": cannot create the output folder");
+  const std::string models = o.output + "/models";
+  if (mkdir(models.c_str(), 0755) != 0 && errno != EEXIST) throw std::runtime_error(models + ": cannot create");
+
+  struct Role {
+    const char* name;
+    const char* architecture;
+    const char* features;
+  };
+  const Role roles[] = {{"model-free", "lstm", "model-free"},
+                        {"model-based", "lstm", "model-based"},
+                        {"residual", "lstm", "residual"},
+                        {"mlp", "mlp", "model-free"}};
+  EvaluateOptions eval;
+  eval.scale = o.scale;
+  eval.threads = o.threads;
+  eval.output = o.output;
+  eval.quiet = o.quiet;
+  eval.experiments = {"e1", "e2", "e3", "e4", "e5", "e6"};
+  const auto t0 = std::chrono::steady_clock::now();
+  for (const Role& r : roles) {
+    TrainOptions t;
+    t.architecture = r.architecture;
+    t.features = r.features;
+    t.seed = o.seed;
+    t.threads = o.threads;
+    t.device = o.device;
+    t.quiet = o.quiet;
+    t.resume = true;  // a re-run picks up where a killed one stopped
+    t.output = models + "/" + r.name + ".qfdi";
+    if (o.scale == "quick") {  // ≈ 1 min a network on 2 cores
+      t.scale = "tiny";
+      t.max_iterations = 6;
+      t.min_iterations = 6;
+      t.max_minibatches = 20;
+      t.batch_size = 256;
+    } else {
+      t.scale = o.scale;  // default: configs/train-*.toml's schedule; paper: the paper's
+    }
+    if (!o.quiet) std::fprintf(stderr, "reproduce: training %s (%s, %s)\n", r.name, r.architecture, r.features);
+    trainAndSave(t, command_line + "  [" + r.name + "]");
+    if (std::string(r.name) == "model-free") eval.model_free = t.output;
+    if (std::string(r.name) == "model-based") eval.model_based = t.output;
+    if (std::string(r.name) == "residual") eval.residual = t.output;
+    if (std::string(r.name) == "mlp") eval.mlp = t.output;
+  }
+  runEvaluate(eval, command_line);
+  if (!o.quiet)
+    std::fprintf(stderr, "quadfdi reproduce: %s scale done in %.0f s; see %s/REPORT.md\n", o.scale.c_str(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), o.output.c_str());
+  return 0;
+}
+
+}  // namespace quadfdi::cli
