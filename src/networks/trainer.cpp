@@ -20,15 +20,16 @@ struct Minibatch {
   std::vector<float> labels;
 };
 
-void gather(const WindowBuffer& buffer, const std::vector<std::size_t>& order, std::size_t first, std::size_t n,
-            const ModelMetadata& m, Minibatch& out) {
+// Features and labels of `n` windows, window i given by at(i) as (batch, ref).
+template <typename At>
+void gather(std::size_t n, const At& at, const ModelMetadata& m, Minibatch& out) {
   const std::size_t per = static_cast<std::size_t>(m.window) * static_cast<std::size_t>(m.channels());
   out.features.resize(n * per);
   out.labels.resize(n * 4);
   for (std::size_t i = 0; i < n; ++i) {
-    const auto e = buffer.at(order[first + i]);
-    gatherWindowFeatures(*e.batch, e.ref, m.window, m.features, m.output, nullptr, &out.features[i * per]);
-    const Input label = windowLabel(*e.batch, e.ref);
+    const auto [batch, ref] = at(i);
+    gatherWindowFeatures(*batch, ref, m.window, m.features, m.output, nullptr, &out.features[i * per]);
+    const Input label = windowLabel(*batch, ref);
     for (int j = 0; j < 4; ++j) out.labels[i * 4 + static_cast<std::size_t>(j)] = static_cast<float>(label(j));
   }
 }
@@ -214,7 +215,10 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
       for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[shuffle_rng.next() % i]);  // Fisher–Yates
       for (std::size_t first = 0; first < n && minibatches < total; first += bs) {
         const std::size_t count = std::min(bs, n - first);
-        gather(data.buffer(), order, first, count, meta, mb);
+        gather(count, [&](std::size_t i) {
+          const auto e = data.buffer().at(order[first + i]);
+          return std::make_pair(e.batch, e.ref);
+        }, meta, mb);
         const auto b = static_cast<std::int64_t>(count);
         const torch::Tensor x =
             torch::from_blob(mb.features.data(), {b, meta.window, meta.channels()}, torch::kFloat32).to(device);
@@ -241,19 +245,9 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
     int correct = 0;
     {
       torch::NoGradGuard no_grad;
-      std::vector<std::size_t> all(heldout_windows.size());
-      for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
-      const std::size_t per = static_cast<std::size_t>(meta.window * meta.channels());
-      for (std::size_t first = 0; first < all.size(); first += 4096) {
-        const std::size_t count = std::min<std::size_t>(4096, all.size() - first);
-        mb.features.resize(count * per);
-        mb.labels.resize(count * 4);
-        for (std::size_t i = 0; i < count; ++i) {
-          const WindowRef& w = heldout_windows[first + i];
-          gatherWindowFeatures(heldout, w, meta.window, meta.features, meta.output, nullptr, &mb.features[i * per]);
-          const Input label = windowLabel(heldout, w);
-          for (int j = 0; j < 4; ++j) mb.labels[i * 4 + static_cast<std::size_t>(j)] = static_cast<float>(label(j));
-        }
+      for (std::size_t first = 0; first < heldout_windows.size(); first += 4096) {
+        const std::size_t count = std::min<std::size_t>(4096, heldout_windows.size() - first);
+        gather(count, [&](std::size_t i) { return std::make_pair(&heldout, heldout_windows[first + i]); }, meta, mb);
         const auto b = static_cast<std::int64_t>(count);
         const torch::Tensor x = torch::from_blob(mb.features.data(), {b, meta.window, meta.channels()}, torch::kFloat32).to(device);
         const torch::Tensor y = torch::from_blob(mb.labels.data(), {b, 4}, torch::kFloat32).to(device);

@@ -1,6 +1,8 @@
 // quadfdi evaluate on a tiny scale: the report generator writes every file, and names what
 // it could not run.
 #include <gtest/gtest.h>
+
+#include "cli/cli_support.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,14 +15,9 @@
 namespace {
 
 std::string run(const std::string& args, int* code) {
-  FILE* pipe = popen((std::string(QUADFDI_EXE) + " " + args + " 2>&1").c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  *code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return out;
+  const quadfdi::test::CommandResult r = quadfdi::test::runQuadfdi(args);
+  *code = r.exit_code;
+  return r.out;
 }
 
 std::string slurp(const std::string& path) {

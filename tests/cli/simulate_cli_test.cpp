@@ -1,5 +1,7 @@
 // Runs the real executable: options, one-line errors, exit codes, files.
 #include <gtest/gtest.h>
+
+#include "cli/cli_support.h"
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -10,21 +12,8 @@
 
 namespace {
 
-struct CommandResult {
-  int exit_code;
-  std::string out;  // stdout and stderr together when merged
-};
-
-CommandResult run(const std::string& args, bool merge_stderr = true) {
-  const std::string cmd = std::string(QUADFDI_EXE) + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using quadfdi::test::CommandResult;
+CommandResult run(const std::string& args, bool merge_stderr = true) { return quadfdi::test::runQuadfdi(args, merge_stderr); }
 
 std::string tempPath(const std::string& name) { return ::testing::TempDir() + "quadfdi_cli_" + name; }
 

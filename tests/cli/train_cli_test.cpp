@@ -1,6 +1,8 @@
 // quadfdi train through the executable: a tiny run, one-line errors, and a run killed with
 // SIGKILL mid-way that --resume completes.
 #include <gtest/gtest.h>
+
+#include "cli/cli_support.h"
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,20 +16,8 @@
 
 namespace {
 
-struct Result {
-  int exit_code;
-  std::string out;
-};
-
-Result run(const std::string& args) {
-  FILE* pipe = popen((std::string(QUADFDI_EXE) + " " + args + " 2>&1").c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using Result = quadfdi::test::CommandResult;
+Result run(const std::string& args) { return quadfdi::test::runQuadfdi(args); }
 
 std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_train_cli_" + name; }
 bool exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
