@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The yardstick for bench/training_bench.cpp: the same LSTM/MLP, loss and Adam step in
 PyTorch's Python API (Debian's python3-torch, same LibTorch backend). Prints windows/s."""
 import sys

@@ -29,7 +29,7 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
   cmd->add_option("--residual", o.residual, "Residual-only model file (E4, optional)");
   cmd->add_option("--mlp", o.mlp, "Model-free MLP model file (E2)");
   cmd->add_option("--experiments,-e", o.experiments, "Experiments to run: e1 … e6")->capture_default_str();
-  cmd->add_option("--scale", o.scale, "Test flights per class: tiny (3, tests), quick (40), default (200), paper (2 000)")
+  cmd->add_option("--scale", o.scale, "Test flights per class: tiny (3, tests), quick (25), default (200), paper (2 000)")
       ->capture_default_str();
   cmd->add_option("--seed", o.seed, "Test-set seed")->capture_default_str();
   cmd->add_option("--theta-tol", o.theta_tol, "Alarm when min_k theta_k < this (complete faults: 0.2)")

@@ -102,7 +102,7 @@ ConditionResult allMotors(const FaultIdentifier& model, const TestSetConfig& c, 
 
 bool evaluationScale(const std::string& name, EvaluationScale& scale) {
   if (name == "tiny") scale = {"tiny", 3};  // tests
-  else if (name == "quick") scale = {"quick", 40};
+  else if (name == "quick") scale = {"quick", 25};
   else if (name == "default") scale = {"default", 200};
   else if (name == "paper") scale = {"paper", 2000};
   else return false;
