@@ -140,7 +140,8 @@ static TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& com
   c.min_iterations = o.min_iterations >= 0 ? o.min_iterations : s.min_iterations;
   c.max_iterations = o.max_iterations >= 0 ? o.max_iterations : s.max_iterations;
   c.min_iterations = std::min(c.min_iterations, c.max_iterations);
-  c.heldout_initial_conditions = o.scale == "tiny" ? 1 : 20;
+  c.heldout_initial_conditions = o.heldout_initial_conditions > 0 ? o.heldout_initial_conditions
+                                                                 : (o.scale == "tiny" ? 1 : 20);
   c.seed = o.seed;
   c.device = o.device;
   c.threads = o.threads;

@@ -23,6 +23,7 @@ struct TrainOptions {
   int min_iterations = -1;
   int max_iterations = -1;
   double preroll = 0.0;
+  int heldout_initial_conditions = 0;  // 0: from the scale
   unsigned long long seed = 1;
   std::string device = "cpu";
   int threads = 0;
