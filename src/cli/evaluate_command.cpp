@@ -1,6 +1,5 @@
 #include "cli/evaluate_command.h"
 
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -11,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cli/cli_util.h"
 #include "evaluation/experiments.h"
 #include "io/atomic_file.h"
 
@@ -154,8 +154,7 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
     used.emplace_back(role, path);
   }
   if (in.models.empty()) throw std::runtime_error("no model given (--model-free, --model-based, --residual, --mlp)");
-  if (mkdir(o.output.c_str(), 0755) != 0 && errno != EEXIST)
-    throw std::runtime_error(o.output + ": cannot create the output folder");
+  ensureDirectory(o.output);
 
   const auto t0 = std::chrono::steady_clock::now();
   std::ostringstream report;

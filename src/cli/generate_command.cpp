@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "cli/cli_util.h"
 #include "cli/progress.h"
 #include "data/algorithm1.h"
 #include "io/controller_config.h"
@@ -88,10 +89,6 @@ void applyConfig(GenerateOptions& o, const CLI::App& cmd) {
     else if (k == "threads") { if (!given("--threads")) o.threads = static_cast<int>(doc.integer(e)); }
     else doc.fail(e, "unknown key '" + k + "'");
   }
-}
-
-void require(bool ok, const std::string& problem) {
-  if (!ok) throw std::runtime_error(problem);
 }
 
 }  // namespace

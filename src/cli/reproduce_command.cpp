@@ -1,13 +1,12 @@
 #include "cli/reproduce_command.h"
 
-#include <sys/stat.h>
 
-#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
 
+#include "cli/cli_util.h"
 #include "cli/evaluate_command.h"
 #include "cli/train_command.h"
 
@@ -33,10 +32,9 @@ CLI::App* addReproduceCommand(CLI::App& app, ReproduceOptions& o) {
 int runReproduce(const ReproduceOptions& o, const std::string& command_line) {
   if (o.scale != "quick" && o.scale != "default" && o.scale != "paper")
     throw std::runtime_error("--scale must be quick, default or paper, got '" + o.scale + "'");
-  if (mkdir(o.output.c_str(), 0755) != 0 && errno != EEXIST)
-    throw std::runtime_error(o.output + ": cannot create the output folder");
+  ensureDirectory(o.output);
   const std::string models = o.output + "/models";
-  if (mkdir(models.c_str(), 0755) != 0 && errno != EEXIST) throw std::runtime_error(models + ": cannot create");
+  ensureDirectory(models);
 
   struct Role {
     const char* name;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "cli/cli_util.h"
 #include "cli/progress.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
@@ -20,10 +21,6 @@ TrainSchedule schedule(const std::string& scale) {
   if (scale == "tiny") return {256, 1, 8, 1, 2};
   if (scale == "default") return {512, 1, 60, 10, 16};  // ≈ 15 min on 2 cores
   return {50000, 400, 0, 250, 500};  // paper: authors' batch, passes and N_m
-}
-
-void require(bool ok, const std::string& problem) {
-  if (!ok) throw std::runtime_error(problem);
 }
 
 void applyConfig(TrainOptions& o, const CLI::App& cmd) {

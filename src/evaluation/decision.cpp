@@ -32,12 +32,12 @@ Decision decidePaperRule(const std::array<Input, 4>& out, SymmetryMode mode, dou
   return d;
 }
 
-std::vector<Input> estimateAllMotors(const FaultIdentifier& model, const TrajectoryBatch& batch,
+std::vector<Input> estimateAllMotors(const FaultIdentifier& model, SymmetryMode mode, const TrajectoryBatch& batch,
                                      const std::vector<WindowRef>& windows, std::vector<std::array<Input, 4>>* raw) {
   const ModelMetadata& m = model.metadata();
   const std::size_t per = static_cast<std::size_t>(m.window) * static_cast<std::size_t>(m.channels());
   std::array<SymmetryMap, 4> maps{};
-  for (int k = 1; k <= 4; ++k) maps[static_cast<std::size_t>(k - 1)] = mapMotorToMotor2(k, m.symmetry);
+  for (int k = 1; k <= 4; ++k) maps[static_cast<std::size_t>(k - 1)] = mapMotorToMotor2(k, mode);
   const int trained = m.trained_motor - 1;
   std::vector<Input> theta(windows.size(), Input::Ones());
   if (raw) raw->assign(windows.size(), {});

@@ -28,7 +28,8 @@ Decision decidePaperRule(const std::array<Input, 4>& outputs_per_map, SymmetryMo
 // trained motor on g_k(window) (g_k sends motor k to the trained motor). Batched: one forward
 // pass over all 4·n mapped windows. If `raw` is given it receives the network's four outputs for
 // each (window, map) pair, for the paper rule.
-std::vector<Input> estimateAllMotors(const FaultIdentifier& model, const TrajectoryBatch& batch,
+// `mode` chooses the maps (normally the model's own metadata().symmetry).
+std::vector<Input> estimateAllMotors(const FaultIdentifier& model, SymmetryMode mode, const TrajectoryBatch& batch,
                                      const std::vector<WindowRef>& windows,
                                      std::vector<std::array<Input, 4>>* raw = nullptr);
 

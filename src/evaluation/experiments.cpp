@@ -84,7 +84,7 @@ const FaultIdentifier* need(const ExperimentInputs& in, const std::string& role,
 // Evaluates one model on one test set, one condition per fault motor (or one for all).
 std::vector<ConditionResult> perMotor(const FaultIdentifier& model, const TestSetConfig& c, const TestSet& set,
                                       double tol, DecisionRule rule, const std::string& prefix) {
-  const std::vector<WindowOutcome> outcomes = evaluateTestSet(model, c, set, tol, rule);
+  const std::vector<WindowOutcome> outcomes = evaluateTestSet(model, c, set, tol, rule, model.metadata().symmetry);
   std::vector<ConditionResult> out;
   for (int motor = 1; motor <= 4; ++motor)
     out.push_back(summarise(prefix + "motor " + std::to_string(motor), outcomes, c.rollout.window,
@@ -93,8 +93,8 @@ std::vector<ConditionResult> perMotor(const FaultIdentifier& model, const TestSe
 }
 
 ConditionResult allMotors(const FaultIdentifier& model, const TestSetConfig& c, const TestSet& set, double tol,
-                          const std::string& name) {
-  const std::vector<WindowOutcome> outcomes = evaluateTestSet(model, c, set, tol);
+                          const std::string& name, SymmetryMode mode) {
+  const std::vector<WindowOutcome> outcomes = evaluateTestSet(model, c, set, tol, DecisionRule::kOurs, mode);
   return summarise(name, outcomes, c.rollout.window, [](const WindowOutcome&) { return true; });
 }
 
@@ -139,7 +139,7 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
       for (auto [role, model] : {std::pair<const char*, const FaultIdentifier*>{"LSTM", lstm}, {"MLP", mlp}}) {
         std::snprintf(name, sizeof name, "%s, theta2 = %.1f", role, theta);
         say(name);
-        out.conditions.push_back(allMotors(*model, c, set, 0.95, name));
+        out.conditions.push_back(allMotors(*model, c, set, 0.95, name, model->metadata().symmetry));
       }
     }
     return true;
@@ -179,7 +179,8 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
       for (const auto& [role, model] : models) {
         if (id == "e3" && role != "model-free" && models.size() > 1 && role == "residual") continue;
         ConditionResult r = allMotors(*model, c, set, in.theta_tol,
-                                      role + ", " + (kind == ControllerKind::kLqr ? "LQR" : "CBF-QP") + ", " + params);
+                                      role + ", " + (kind == ControllerKind::kLqr ? "LQR" : "CBF-QP") + ", " + params,
+                                      model->metadata().symmetry);
         r.constraint_active = activity;
         out.conditions.push_back(std::move(r));
       }
@@ -194,13 +195,9 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
     const TestSetConfig c = testSet(in, ControllerKind::kLqr, "nominal", completeFaultsAllMotors());
     const TestSet set = generateTestSet(c);
     for (SymmetryMode mode : {SymmetryMode::kExactGroup, SymmetryMode::kPaperRotation}) {
-      FaultIdentifier copy = *m;  // shares the network; only the map changes
-      const SymmetryMode saved = copy.metadata().symmetry;
-      copy.metadata().symmetry = mode;
       say(std::string("symmetry ") + toString(mode));
-      out.conditions.push_back(allMotors(copy, c, set, in.theta_tol,
-                                         mode == SymmetryMode::kExactGroup ? "exact group" : "paper rotation map"));
-      copy.metadata().symmetry = saved;
+      out.conditions.push_back(allMotors(*m, c, set, in.theta_tol,
+                                         mode == SymmetryMode::kExactGroup ? "exact group" : "paper rotation map", mode));
     }
     return true;
   }

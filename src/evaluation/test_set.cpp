@@ -27,9 +27,10 @@ TestSet generateTestSet(const TestSetConfig& c) {
 }
 
 std::vector<WindowOutcome> evaluateTestSet(const FaultIdentifier& model, const TestSetConfig& c, const TestSet& set,
-                                           double theta_tol, DecisionRule rule) {
+                                           double theta_tol, DecisionRule rule, SymmetryMode mode) {
   std::vector<std::array<Input, 4>> raw;
-  const std::vector<Input> theta = estimateAllMotors(model, set.batch, set.windows, rule == DecisionRule::kPaper ? &raw : nullptr);
+  const std::vector<Input> theta =
+      estimateAllMotors(model, mode, set.batch, set.windows, rule == DecisionRule::kPaper ? &raw : nullptr);
   std::vector<WindowOutcome> out(set.windows.size());
   for (std::size_t i = 0; i < set.windows.size(); ++i) {
     const WindowRef& w = set.windows[i];
@@ -41,7 +42,7 @@ std::vector<WindowOutcome> evaluateTestSet(const FaultIdentifier& model, const T
     o.true_theta = fc.motor == 0 ? 1.0 : fc.theta;
     o.theta_hat = theta[i];
     o.decision = rule == DecisionRule::kOurs ? decide(theta[i], theta_tol)
-                                             : decidePaperRule(raw[i], model.metadata().symmetry, theta_tol);
+                                             : decidePaperRule(raw[i], mode, theta_tol);
   }
   return out;
 }

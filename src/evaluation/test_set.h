@@ -36,6 +36,7 @@ enum class DecisionRule { kOurs, kPaper };
 
 // Runs the model on every window through the symmetry maps and decides each one.
 std::vector<WindowOutcome> evaluateTestSet(const FaultIdentifier& model, const TestSetConfig& config,
-                                           const TestSet& set, double theta_tol, DecisionRule rule = DecisionRule::kOurs);
+                                           const TestSet& set, double theta_tol, DecisionRule rule,
+                                           SymmetryMode mode);
 
 }  // namespace quadfdi

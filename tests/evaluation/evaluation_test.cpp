@@ -111,7 +111,7 @@ TEST(EstimateAllMotors, MatchesPerWindowMappedPredictions) {
   std::vector<WindowRef> windows;
   enumerateWindows(b, 10, windows);
   std::vector<std::array<Input, 4>> raw;
-  const std::vector<Input> theta = estimateAllMotors(model, b, windows, &raw);
+  const std::vector<Input> theta = estimateAllMotors(model, SymmetryMode::kExactGroup, b, windows, &raw);
   ASSERT_EQ(theta.size(), windows.size());
   std::vector<float> f(static_cast<std::size_t>(10 * m.channels()));
   float out[4];
