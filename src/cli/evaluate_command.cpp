@@ -115,6 +115,29 @@ std::string markdownOf(const ExperimentResult& e, double dt) {
   return s.str();
 }
 
+// The project's aim (issue 5): ≥ 99 % isolation of complete faults within 50 ms of onset
+// (L = 25 faulty samples) in all four motors, and ≤ 0.1 % false-alarm windows. Stated plainly.
+std::string aimVerdict(const ExperimentResult& e1, double dt) {
+  constexpr double kMinIsolation = 0.99, kMaxFalseAlarms = 0.001, kWithin = 0.050;  // [-], [-], [s]
+  const auto l = static_cast<std::size_t>(kWithin / dt + 0.5);
+  std::ostringstream s;
+  s << "### Against our aim (E1)\n\nAim: at least " << fmt(100 * kMinIsolation, 0)
+    << " % isolation of complete faults within " << fmt(kWithin * 1000, 0) << " ms of onset (L = " << l
+    << ") in every motor, at most " << fmt(100 * kMaxFalseAlarms, 1) << " % false-alarm windows.\n\n";
+  bool all = true;
+  for (const auto& c : e1.conditions) {
+    const double acc = l < c.isolation.accuracy.size() ? c.isolation.accuracy[l] : 0.0;
+    const bool iso_ok = acc >= kMinIsolation, fa_ok = c.false_alarm_rate <= kMaxFalseAlarms;
+    all = all && iso_ok && fa_ok;
+    s << "- " << c.name << ": isolation at L = " << l << " is " << fmt(100 * acc, 1) << " % ("
+      << (iso_ok ? "meets" : "FALLS SHORT of") << " the aim); false alarms " << fmt(100 * c.false_alarm_rate, 2)
+      << " % (" << (fa_ok ? "meets" : "FALLS SHORT of") << " the aim)\n";
+  }
+  s << "\n" << (all ? "All four motors meet the aim at this scale." : "The aim is NOT met at this scale (see above).")
+    << "\n\n";
+  return s.str();
+}
+
 bool plot(const std::string& dir, const ExperimentResult& e) {
   std::ostringstream gp;
   gp << "set terminal pngcairo size 900,520 font 'DejaVu Sans,10'\nset output '" << dir << "/" << e.id << ".png'\n"
@@ -177,6 +200,7 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
     writeFile(o.output + "/" + e.id + ".md", md);
     if (!plot(o.output, e) && !o.quiet) std::fprintf(stderr, "evaluate: warning: gnuplot failed, no %s.png\n", e.id.c_str());
     body << md << '\n';
+    if (e.id == "e1") body << aimVerdict(e, dt);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report << "- command: `" << command_line << "`\n- scale: " << scale.name << " (" << scale.flights_per_class

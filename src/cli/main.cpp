@@ -3,6 +3,7 @@
 #include <exception>
 #include <iostream>
 
+#include "cli/detect_command.h"
 #include "cli/evaluate_command.h"
 #include "cli/generate_command.h"
 #include "cli/reproduce_command.h"
@@ -23,6 +24,8 @@ int main(int argc, char** argv) {
   CLI::App* evaluate_cmd = quadfdi::cli::addEvaluateCommand(app, evaluate);
   quadfdi::cli::ReproduceOptions reproduce;
   CLI::App* reproduce_cmd = quadfdi::cli::addReproduceCommand(app, reproduce);
+  quadfdi::cli::DetectOptions detect;
+  CLI::App* detect_cmd = quadfdi::cli::addDetectCommand(app, detect);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -38,6 +41,7 @@ int main(int argc, char** argv) {
   try {
     if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate, *simulate_cmd);
     if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate, *generate_cmd);
+    if (detect_cmd->parsed()) return quadfdi::cli::runDetect(detect);
     std::string command_line = "quadfdi";
     for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
     if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, *train_cmd, command_line);

@@ -29,22 +29,27 @@ int featureChannels(FeatureSet f) {
 
 void gatherWindowFeatures(const TrajectoryBatch& b, const WindowRef& w, int length, FeatureSet features,
                           OutputKind output, const SymmetryMap* map, float* out) {
+  const std::size_t o = b.sampleOffset(w.trajectory, w.end_sample - length + 1);  // samples are contiguous
+  gatherFeatures(&b.outputs[o * kOutputDim], &b.inputs[o * kInputDim],
+                 b.residuals.empty() ? nullptr : &b.residuals[o * kOutputDim], length, features, output, map, out);
+}
+
+void gatherFeatures(const float* outputs, const float* inputs, const float* residuals, int length, FeatureSet features,
+                    OutputKind output, const SymmetryMap* map, float* out) {
   const bool use_y = features != FeatureSet::kResidualOnly;
   const bool use_res = features != FeatureSet::kModelFree;
-  const int first = w.end_sample - length + 1;
   Output origin = Output::Zero();
   for (int k = 0; k < length; ++k) {
-    const std::size_t o = b.sampleOffset(w.trajectory, first + k);
-    Output y, r;
+    Output y, r = Output::Zero();
     Input u;
     for (int c = 0; c < kOutputDim; ++c) {
-      y(c) = b.outputs[o * kOutputDim + static_cast<std::size_t>(c)];
-      r(c) = b.residuals[o * kOutputDim + static_cast<std::size_t>(c)];
+      y(c) = outputs[k * kOutputDim + c];
+      if (use_res) r(c) = residuals[k * kOutputDim + c];
     }
-    for (int c = 0; c < kInputDim; ++c) u(c) = b.inputs[o * kInputDim + static_cast<std::size_t>(c)];
+    for (int c = 0; c < kInputDim; ++c) u(c) = inputs[k * kInputDim + c];
     if (map) {
       y = map->applyToOutput(y, output);
-      r = map->applyToOutput(r, output);
+      if (use_res) r = map->applyToOutput(r, output);
       u = map->applyToInput(u);
     }
     if (k == 0) origin.head<3>() = y.head<3>();

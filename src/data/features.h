@@ -26,4 +26,10 @@ int featureChannels(FeatureSet f);
 void gatherWindowFeatures(const TrajectoryBatch& batch, const WindowRef& window, int length, FeatureSet features,
                           OutputKind output, const SymmetryMap* map, float* out);
 
+// The same from `length` consecutive samples held elsewhere (the online detector's history):
+// outputs [length][kOutputDim], inputs [length][kInputDim], residuals likewise (may be null
+// for model-free features).
+void gatherFeatures(const float* outputs, const float* inputs, const float* residuals, int length, FeatureSet features,
+                    OutputKind output, const SymmetryMap* map, float* out);
+
 }  // namespace quadfdi

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "networks/torch_net.h"
+#include "networks/inference.h"
 
 namespace quadfdi {
 
@@ -236,5 +237,59 @@ void configureCpuThreads(int threads) {
 }
 
 bool cudaAvailable() { return torch::cuda::is_available(); }
+
+}  // namespace quadfdi
+
+namespace quadfdi {
+namespace {
+
+std::vector<float> toVector(const torch::Tensor& t) {
+  const torch::Tensor c = t.detach().to(torch::kCPU, torch::kFloat32).contiguous();
+  return std::vector<float>(c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
+}
+
+DenseWeights denseOf(const torch::nn::LinearImpl& l) {
+  DenseWeights d;
+  d.in = static_cast<int>(l.weight.size(1));
+  d.out = static_cast<int>(l.weight.size(0));
+  d.weight = toVector(l.weight);
+  d.bias = toVector(l.bias);
+  return d;
+}
+
+}  // namespace
+
+NetworkWeights exportWeights(const FaultIdentifier& model) {
+  torch::NoGradGuard no_grad;
+  const ModelMetadata& m = model.metadata();
+  const FaultNet& net = model.impl()->net;
+  NetworkWeights w;
+  w.architecture = m.architecture;
+  w.window = m.window;
+  w.channels = m.channels();
+  w.hidden = m.hidden;
+  w.mean = toVector(net->mean);
+  w.scale = toVector(net->scale);
+  if (m.architecture == Architecture::kLstm) {
+    torch::Tensor w_ih, w_hh, b_ih, b_hh;
+    for (const auto& p : net->lstm->named_parameters()) {
+      if (p.key() == "weight_ih_l0") w_ih = p.value();
+      if (p.key() == "weight_hh_l0") w_hh = p.value();
+      if (p.key() == "bias_ih_l0") b_ih = p.value();
+      if (p.key() == "bias_hh_l0") b_hh = p.value();
+    }
+    if (!w_ih.defined() || !w_hh.defined() || !b_ih.defined() || !b_hh.defined())
+      throw ModelError("exportWeights: the LSTM lacks its layer-0 parameters");
+    w.gates.in = w.channels + w.hidden;
+    w.gates.out = 4 * w.hidden;
+    w.gates.weight = toVector(torch::cat({w_ih, w_hh}, 1));
+    w.gates.bias = toVector(b_ih + b_hh);
+    w.head = {denseOf(*net->head1), denseOf(*net->head2)};
+  } else {
+    for (const auto& module : net->mlp->children())
+      if (const auto* linear = module->as<torch::nn::LinearImpl>()) w.head.push_back(denseOf(*linear));
+  }
+  return w;
+}
 
 }  // namespace quadfdi

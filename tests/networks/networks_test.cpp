@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <memory>
 #include <fstream>
 #include <sstream>
 
+#include "networks/inference.h"
 #include "networks/trainer.h"
 
 namespace quadfdi {
@@ -96,6 +99,79 @@ TEST(ModelFile, SaveLoadGivesIdenticalOutputsAndMetadata) {
     EXPECT_EQ(a, b);
     for (float t : a) EXPECT_TRUE(t > 0.0f && t < 1.0f);
   }
+}
+
+std::vector<float> wavyWindows(const ModelMetadata& m, int count) {
+  std::vector<float> w(static_cast<std::size_t>(count) * static_cast<std::size_t>(m.window * m.channels()));
+  for (std::size_t i = 0; i < w.size(); ++i) w[i] = static_cast<float>(std::sin(0.37 * static_cast<double>(i)));
+  return w;
+}
+
+// The LibTorch-free engine agrees with LibTorch to float round-off, and — unlike LibTorch, whose
+// GEMM changes its summation order with the batch size — gives a window the same bits alone or
+// in any batch, which the detector's file and stream modes rely on.
+TEST(InferenceEngine, MatchesLibTorchAndIsIndependentOfTheBatch) {
+  int kernels_run = 0;
+  for (const char* kernel : {"generic", "avx2", "avx512"}) {
+    setenv("QUADFDI_KERNEL", kernel, 1);
+    for (Architecture arch : {Architecture::kLstm, Architecture::kMlp}) {
+      ModelMetadata m;
+      m.architecture = arch;
+      m.window = 100;
+      m.hidden = 128;
+      m.feature_mean.assign(10, 0.05f);
+      m.feature_std.assign(10, 1.5f);
+      const FaultIdentifier model = FaultIdentifier::create(m, 4);
+      std::unique_ptr<InferenceEngine> engine;
+      try {
+        engine = std::make_unique<InferenceEngine>(exportWeights(model));
+      } catch (const std::invalid_argument&) {
+        break;  // this CPU lacks the instruction set
+      }
+      EXPECT_STREQ(engine->kernel(), kernel);
+      const int n = 2 * engine->lanes() + 3;
+      const std::vector<float> w = wavyWindows(m, n);
+      std::vector<float> reference(4 * n), batched(4 * n), single(4 * n);
+      model.predict(w.data(), n, reference.data());
+      engine->predict(w.data(), n, batched.data());
+      const std::size_t per = static_cast<std::size_t>(m.window * m.channels());
+      for (int first = 0; first < n; first += 3)
+        engine->predict(w.data() + per * static_cast<std::size_t>(first), std::min(3, n - first), single.data() + 4 * first);
+      EXPECT_EQ(batched, single) << kernel << " " << toString(arch);
+      float worst = 0.0f;
+      for (int i = 0; i < 4 * n; ++i) worst = std::max(worst, std::abs(batched[i] - reference[i]));
+      EXPECT_LT(worst, 2e-6f) << kernel << " " << toString(arch);
+      if (arch == Architecture::kMlp) ++kernels_run;
+    }
+  }
+  unsetenv("QUADFDI_KERNEL");
+  EXPECT_GE(kernels_run, 1);
+  setenv("QUADFDI_KERNEL", "sse9", 1);
+  ModelMetadata m;
+  EXPECT_THROW(InferenceEngine{exportWeights(FaultIdentifier::create(m, 1))}, std::invalid_argument);
+  unsetenv("QUADFDI_KERNEL");
+}
+
+TEST(InferenceEngine, MatchesATrainedNetwork) {
+  const TrainResult r = train(tinyConfig());
+  const std::vector<float> w = wavyWindows(r.model.metadata(), 11);
+  std::vector<float> reference(44), fast(44);
+  r.model.predict(w.data(), 11, reference.data());
+  InferenceEngine engine(exportWeights(r.model));
+  engine.predict(w.data(), 11, fast.data());
+  for (int i = 0; i < 44; ++i) EXPECT_NEAR(fast[i], reference[i], 2e-6f);
+}
+
+TEST(InferenceEngine, RefusesInconsistentWeights) {
+  ModelMetadata m;
+  m.window = 10;
+  m.hidden = 16;
+  NetworkWeights w = exportWeights(FaultIdentifier::create(m, 1));
+  w.head.pop_back();
+  EXPECT_THROW(InferenceEngine{w}, std::invalid_argument);
+  w = exportWeights(FaultIdentifier::create(m, 1));
+  w.gates.bias.pop_back();
+  EXPECT_THROW(InferenceEngine{w}, std::invalid_argument);
 }
 
 TEST(ModelFile, OutputIsInvariantToAConstantPositionOffset) {

@@ -1,0 +1,30 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace quadfdi::cli {
+
+struct DetectOptions {
+  std::string model;           // empty: the shipped default model
+  std::string input = "-";
+  std::string output = "-";
+  int stride = 8;              // [samples]
+  double watch = 0.9;
+  double raise_below = 0.5;
+  double clear_above = 0.8;
+  int raise_after = 5;
+  int clear_after = 100;           // [samples]
+  int watch_samples = 16;
+  double max_input_period = 0.008;  // [s]
+  double max_gap = 0.02;            // [s]
+  bool quiet = false;
+};
+
+CLI::App* addDetectCommand(CLI::App& app, DetectOptions& options);
+int runDetect(const DetectOptions& options);
+
+// The shipped model: $QUADFDI_MODEL if set, else models/lstm-model-free.qfdi of the source tree.
+std::string defaultModelPath();
+
+}  // namespace quadfdi::cli

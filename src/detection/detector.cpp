@@ -1,0 +1,172 @@
+#include "detection/detector.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+#include "data/features.h"
+
+namespace quadfdi {
+namespace {
+constexpr long kSpareSamples = 4096;  // history beyond T before it is compacted
+constexpr int kMaxPoints = 8;         // evaluations per engine pass, at most
+}
+
+Detector::Detector(const DetectorConfig& config, InferenceEngine& engine)
+    : config_(config), engine_(engine), resampler_(config.resampler), alarm_(config.alarm) {
+  if (config.window != engine.window() || engine.channels() != featureChannels(FeatureSet::kModelFree))
+    throw std::invalid_argument("detector: the network must read model-free windows of T samples");
+  if (config.stride < 1) throw std::invalid_argument("detector: stride must be at least 1");
+  if (config.trained_motor != 2) throw std::invalid_argument("detector: only networks trained on motor 2 are supported");
+  for (int k = 1; k <= 4; ++k) maps_[static_cast<std::size_t>(k - 1)] = mapMotorToMotor2(k, config.symmetry);
+  capacity_ = config.window + kSpareSamples;
+  outputs_.assign(static_cast<std::size_t>(capacity_) * kOutputDim, 0.0f);
+  inputs_.assign(static_cast<std::size_t>(capacity_) * kInputDim, 0.0f);
+  times_.assign(static_cast<std::size_t>(capacity_), 0.0);
+  features_.assign(static_cast<std::size_t>(engine.lanes()) * config.window * engine.channels(), 0.0f);
+  raw_.assign(static_cast<std::size_t>(engine.lanes()) * 4, 0.0f);
+  restart();
+}
+
+void Detector::restart() {
+  first_index_ = count_ = 0;
+  next_due_ = config_.window - 1;  // the first full window
+  dense_ = false;
+  watch_left_ = config_.watch_samples;
+  alarm_.reset();
+  evaluations_.clear();
+}
+
+void Detector::appendModelSample(const TelemetrySample& s) {
+  if (count_ - first_index_ == capacity_) {  // compact: keep what the next windows need
+    const long keep_from = std::max(first_index_, std::min(next_due_, count_) - config_.window + 1);
+    const long n = count_ - keep_from, off = keep_from - first_index_;
+    std::memmove(outputs_.data(), outputs_.data() + off * kOutputDim, sizeof(float) * static_cast<std::size_t>(n * kOutputDim));
+    std::memmove(inputs_.data(), inputs_.data() + off * kInputDim, sizeof(float) * static_cast<std::size_t>(n * kInputDim));
+    std::memmove(times_.data(), times_.data() + off, sizeof(double) * static_cast<std::size_t>(n));
+    first_index_ = keep_from;
+  }
+  const long at = count_ - first_index_;
+  for (int i = 0; i < kOutputDim; ++i) outputs_[static_cast<std::size_t>(at * kOutputDim + i)] = static_cast<float>(s.y[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < kInputDim; ++i) inputs_[static_cast<std::size_t>(at * kInputDim + i)] = static_cast<float>(s.u[static_cast<std::size_t>(i)]);
+  times_[static_cast<std::size_t>(at)] = s.t;
+  ++count_;
+}
+
+ResampleStatus Detector::push(const TelemetrySample& sample, bool look_ahead) {
+  if (summary_.input_samples > 0 && sample.t > last_t_ && sample.t - last_t_ > config_.resampler.max_gap) {
+    // A hole in the log: finish the stretch before it with what it has, then start again.
+    evaluateDue(false);
+    resolve();
+    pending_.clear();  // samples that never saw a full window get no output
+    restart();
+    ++summary_.restarts;
+  }
+  const ResampleStatus status = resampler_.push(sample, [&](const TelemetrySample& s) { appendModelSample(s); });
+  if (status == ResampleStatus::kNotIncreasing || status == ResampleStatus::kTooCoarse) return status;
+  ++summary_.input_samples;
+  last_t_ = sample.t;
+  pending_.push_back({sample.t, count_ - 1});
+  evaluateDue(look_ahead);
+  resolve();
+  return status;
+}
+
+void Detector::finish() {
+  evaluateDue(false);
+  resolve();
+  pending_.clear();
+}
+
+void Detector::gather(long end_index, float* out) const {
+  const int t = config_.window;
+  const long first = end_index - t + 1 - first_index_;
+  const std::size_t per = static_cast<std::size_t>(t) * static_cast<std::size_t>(engine_.channels());
+  for (std::size_t k = 0; k < 4; ++k)
+    gatherFeatures(&outputs_[static_cast<std::size_t>(first * kOutputDim)], &inputs_[static_cast<std::size_t>(first * kInputDim)],
+                   nullptr, t, FeatureSet::kModelFree, OutputKind::kPositionEuler, &maps_[k], out + k * per);
+}
+
+void Detector::evaluateDue(bool look_ahead) {
+  const std::size_t per = static_cast<std::size_t>(config_.window) * static_cast<std::size_t>(engine_.channels());
+  const int points = std::min(kMaxPoints, engine_.lanes() / 4);  // evaluations sharing one engine pass
+  long due[kMaxPoints];
+  while (next_due_ <= count_ - 1) {
+    // The looks that follow if each changes nothing; a look whose result changes the plan ends the chain.
+    const long step = dense_ ? 1 : config_.stride;
+    int n = 0;
+    for (long c = next_due_; n < points && c <= count_ - 1; c += step) due[n++] = c;
+    if (n < points && look_ahead) break;  // file mode: wait for a full pass
+    for (int i = 0; i < n; ++i) gather(due[i], features_.data() + static_cast<std::size_t>(i) * 4 * per);
+    engine_.predict(features_.data(), 4 * n, raw_.data());
+    for (int i = 0; i < n && due[i] == next_due_; ++i) apply(due[i], raw_.data() + 16 * i);
+  }
+}
+
+void Detector::apply(long index, const float* raw) {
+  Evaluation e;
+  e.index = index;
+  const auto trained = static_cast<std::size_t>(config_.trained_motor - 1);
+  for (std::size_t k = 0; k < 4; ++k) e.theta[k] = raw[k * 4 + trained];
+  e.alarm = alarm_.update(e.theta, index);
+  ++summary_.evaluations;
+  const float lowest = *std::min_element(e.theta.begin(), e.theta.end());
+  if (e.alarm.raised) {
+    ++summary_.alarms_raised;
+    if (summary_.alarms_raised == 1) {
+      summary_.first_alarm_t = times_[static_cast<std::size_t>(index - first_index_)];
+      summary_.first_alarm_motor = e.alarm.motor;
+      summary_.first_alarm_theta = summary_.lowest_theta = e.theta[static_cast<std::size_t>(e.alarm.motor - 1)];
+      tracking_first_alarm_ = true;
+    }
+  }
+  if (tracking_first_alarm_) {
+    if (e.alarm.active && e.alarm.motor == summary_.first_alarm_motor)
+      summary_.lowest_theta = std::min(summary_.lowest_theta, e.theta[static_cast<std::size_t>(e.alarm.motor - 1)]);
+    else
+      tracking_first_alarm_ = false;
+  }
+  if (e.alarm.active) {
+    dense_ = false;  // decided; tracked at the stride
+  } else if (static_cast<double>(lowest) < config_.alarm.raise_below) {
+    dense_ = true;  // evidence is building: decide at full rate
+  } else if (static_cast<double>(lowest) < config_.watch) {
+    dense_ = watch_left_ > 0;
+    if (watch_left_ > 0) --watch_left_;
+  } else {
+    dense_ = false;
+    watch_left_ = config_.watch_samples;
+  }
+  next_due_ = index + (dense_ ? 1 : config_.stride);
+  evaluations_.push_back(e);
+}
+
+void Detector::resolve() {
+  while (!pending_.empty()) {
+    const Pending& p = pending_.front();
+    if (p.last_index < config_.window - 1) {  // before the first full window: no output
+      pending_.pop_front();
+      continue;
+    }
+    if (p.last_index >= next_due_ || evaluations_.empty()) break;  // its evidence is not all in yet
+    while (evaluations_.size() > 1 && evaluations_[1].index <= p.last_index) evaluations_.pop_front();
+    const Evaluation& e = evaluations_.front();
+    DetectorOutput out;
+    out.t = p.t;
+    out.theta = e.theta;
+    out.alarm = e.alarm.active;
+    out.motor = e.alarm.active ? e.alarm.motor : 0;
+    ready_.push_back(out);
+    ++summary_.outputs;
+    pending_.pop_front();
+  }
+}
+
+bool Detector::pop(DetectorOutput& out) {
+  if (ready_.empty()) return false;
+  out = ready_.front();
+  ready_.pop_front();
+  return true;
+}
+
+}  // namespace quadfdi

@@ -1,0 +1,107 @@
+// The online detector (issue 6): telemetry samples in, one decision per input sample out.
+//
+// Cost. Θ̂ for four motors needs four LSTM passes over a T-sample window; with the shipped
+// network (H = 128, T = 100) that is ≈ 27 M multiply-adds per sample, too much for 10× real time
+// at 500 Hz on one core. So the detector evaluates every `stride` samples, and every sample only
+// while an alarm is being decided: while the weakest Θ̂ is below the alarm's `raise_below`, and
+// for up to `watch_samples` evaluations after it first dips below `watch`. A fault's Θ̂ falls
+// through `watch` before it reaches the alarm threshold, so the alarm is decided at full rate; the
+// stride delays only the first look, by at most stride − 1 samples. Once raised, the alarm is
+// tracked (and cleared) at the stride.
+//
+// Determinism. Which samples are evaluated depends only on earlier estimates, and the inference
+// engine gives a window the same bits in any batch, so reading a file (with look-ahead) and
+// streaming (without) give identical output.
+#pragma once
+
+#include <array>
+#include <deque>
+#include <vector>
+
+#include "detection/alarm.h"
+#include "detection/resampler.h"
+#include "networks/inference.h"
+#include "symmetry/symmetry.h"
+
+namespace quadfdi {
+
+struct DetectorConfig {
+  int window = 100;        // T [samples] (from the model file)
+  int trained_motor = 2;   // the network's motor (from the model file)
+  SymmetryMode symmetry = SymmetryMode::kExactGroup;  // maps for the other motors (from the model file)
+  int stride = 8;          // [samples] evaluation period while healthy (extra first-look delay ≤ stride − 1)
+  double watch = 0.9;      // [-] below this min Θ̂, evaluate every sample …
+  int watch_samples = 16;  // [evaluations] … for at most this many, unless Θ̂ < raise_below
+  ResamplerConfig resampler;
+  AlarmConfig alarm;
+};
+
+struct DetectorOutput {
+  double t = 0.0;                        // [s] of the input sample
+  std::array<float, 4> theta{1, 1, 1, 1};  // Θ̂ per motor from the latest evaluation at or before t
+  bool alarm = false;
+  int motor = 0;                         // 1..4 while alarm, else 0
+};
+
+struct DetectorSummary {
+  long input_samples = 0, outputs = 0, evaluations = 0, restarts = 0;
+  long alarms_raised = 0;
+  double first_alarm_t = 0.0;  // [s] valid when alarms_raised > 0
+  int first_alarm_motor = 0;
+  float first_alarm_theta = 1.0f;  // Θ̂ of that motor when raised
+  float lowest_theta = 1.0f;       // lowest Θ̂ of that motor while the first alarm was up
+};
+
+class Detector {
+ public:
+  // setup: allocates the history and the feature buffers. The engine is borrowed.
+  Detector(const DetectorConfig& config, InferenceEngine& engine);
+
+  // Feeds one input sample. kNotIncreasing and kTooCoarse refuse it (the caller reports and stops);
+  // kRestarted means a gap emptied the history. Evaluates what is due; with `look_ahead`, waits
+  // for the next due sample so that two evaluations share one pass (file mode).
+  ResampleStatus push(const TelemetrySample& sample, bool look_ahead);
+  void finish();  // end of input: evaluate everything still due
+
+  bool pop(DetectorOutput& out);  // next ready output, in input order
+  const DetectorSummary& summary() const { return summary_; }
+
+ private:
+  struct Evaluation {
+    long index;  // model sample it was made at
+    std::array<float, 4> theta;
+    AlarmState alarm;
+  };
+  void appendModelSample(const TelemetrySample& s);
+  void evaluateDue(bool look_ahead);
+  void gather(long end_index, float* out) const;  // the four mapped windows ending at end_index
+  void apply(long index, const float* raw);        // one evaluation's four network outputs ×4 maps
+  void resolve();                                  // pending input samples → ready outputs
+  void restart();
+
+  DetectorConfig config_;
+  InferenceEngine& engine_;
+  Resampler resampler_;
+  AlarmFilter alarm_;
+  std::array<SymmetryMap, 4> maps_{};
+  // History of model-rate samples since the last restart, contiguous: [capacity][6] and [capacity][4].
+  std::vector<float> outputs_, inputs_;
+  std::vector<double> times_;
+  long capacity_ = 0, first_index_ = 0, count_ = 0;  // indices count model samples since the restart
+  long next_due_ = 0;
+  bool dense_ = false;  // evaluating every sample
+  int watch_left_ = 0;  // dense evaluations left in the watch band
+  double last_t_ = 0.0;  // [s] of the last accepted input sample
+  std::vector<float> features_, raw_;
+  struct Pending {
+    double t;
+    long last_index;  // model samples up to here are its evidence
+  };
+  std::deque<Pending> pending_;
+  std::deque<Evaluation> evaluations_;
+  std::deque<DetectorOutput> ready_;
+  DetectorSummary summary_;
+  bool tracking_first_alarm_ = false;
+};
+
+}  // namespace quadfdi

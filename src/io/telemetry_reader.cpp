@@ -1,0 +1,100 @@
+#include "io/telemetry_reader.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+
+namespace quadfdi {
+namespace {
+
+std::string trim(const std::string& s) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && (s[b] == ' ' || s[b] == '\t' || s[b] == '"')) ++b;
+  while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t' || s[e - 1] == '"' || s[e - 1] == '\r')) --e;
+  return s.substr(b, e - b);
+}
+
+// Splits on commas into `cells` (reused). No quoting: telemetry is numbers.
+void split(const std::string& line, std::vector<std::string>& cells) {
+  cells.clear();
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = line.find(',', start);
+    cells.push_back(trim(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+}
+
+}  // namespace
+
+const char* const TelemetryReader::kRequiredColumns[11] = {"t",   "x",     "y",   "z",  "roll", "pitch",
+                                                           "yaw", "u1",    "u2",  "u3", "u4"};
+
+bool TelemetryReader::readLine(std::string& text) {
+  while (std::getline(in_, text)) {
+    ++line_;
+    if (line_ == 1 && text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // BOM
+    const std::string t = trim(text);
+    if (t.empty() || t[0] == '#') continue;
+    return true;
+  }
+  return false;
+}
+
+TelemetryReader::TelemetryReader(std::istream& in, std::string name) : in_(in), name_(std::move(name)) {
+  std::string header;
+  if (!readLine(header)) throw TelemetryError(name_ + ": empty input (expected the header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4)");
+  std::vector<std::string> cells;
+  split(header, cells);
+  cells_ = static_cast<int>(cells.size());
+  column_.fill(-1);
+  for (int c = 0; c < cells_; ++c)
+    for (int r = 0; r < 11; ++r)
+      if (cells[static_cast<std::size_t>(c)] == kRequiredColumns[r]) {
+        if (column_[static_cast<std::size_t>(r)] >= 0)
+          throw TelemetryError(where() + ": column '" + kRequiredColumns[r] + "' appears twice in the header");
+        column_[static_cast<std::size_t>(r)] = c;
+      }
+  for (int r = 0; r < 11; ++r)
+    if (column_[static_cast<std::size_t>(r)] < 0)
+      throw TelemetryError(where() + ": the header lacks column '" + kRequiredColumns[r] +
+                           "' (needs t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4; others are ignored)");
+}
+
+TelemetryReader::Row TelemetryReader::next(TelemetrySample& sample, std::string& problem) {
+  std::string text;
+  if (!readLine(text)) {
+    if (in_.bad()) throw TelemetryError(name_ + ": read error after line " + std::to_string(line_));
+    return Row::kEnd;
+  }
+  std::vector<std::string>& cells = cells_buffer_;
+  split(text, cells);
+  if (static_cast<int>(cells.size()) != cells_)
+    throw TelemetryError(where() + ": " + std::to_string(cells.size()) + " cells, the header has " + std::to_string(cells_));
+  double values[11];
+  for (int r = 0; r < 11; ++r) {
+    const std::string& cell = cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])];
+    if (cell.empty()) {
+      problem = where() + ": column '" + kRequiredColumns[r] + "' is empty; row skipped";
+      return Row::kSkipped;
+    }
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(cell.c_str(), &end);
+    if (end == cell.c_str() || *end != '\0')
+      throw TelemetryError(where() + ": column '" + kRequiredColumns[r] + "': '" + cell.substr(0, 40) + "' is not a number");
+    if (!std::isfinite(v)) {
+      problem = where() + ": column '" + kRequiredColumns[r] + "' is " + cell + "; row skipped";
+      return Row::kSkipped;
+    }
+    values[r] = v;
+  }
+  sample.t = values[0];
+  for (int i = 0; i < 6; ++i) sample.y[static_cast<std::size_t>(i)] = values[1 + i];
+  for (int i = 0; i < 4; ++i) sample.u[static_cast<std::size_t>(i)] = values[7 + i];
+  return Row::kSample;
+}
+
+}  // namespace quadfdi

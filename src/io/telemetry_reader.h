@@ -1,0 +1,51 @@
+// Reading flight telemetry (SPEC §8) for the detector: header names the columns (any order,
+// extra columns ignored), one sample per row. Rows are read one at a time so a live pipe works.
+#pragma once
+
+#include <array>
+#include <istream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "detection/resampler.h"
+
+namespace quadfdi {
+
+// "NAME:LINE: problem" — bad input the reader cannot go past.
+class TelemetryError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class TelemetryReader {
+ public:
+  // Reads the header (blank lines and lines starting with '#' are skipped). Throws TelemetryError
+  // for an empty input or a header without the required columns.
+  TelemetryReader(std::istream& in, std::string name);
+
+  enum class Row {
+    kSample,   // `sample` holds the row
+    kSkipped,  // a NaN, infinite or empty cell: `problem` says which; the row is dropped
+    kEnd,
+  };
+  // Throws TelemetryError for a row that is not telemetry (wrong cell count, text in a number).
+  Row next(TelemetrySample& sample, std::string& problem);
+
+  long line() const { return line_; }  // 1-based number of the last line read
+  const std::string& name() const { return name_; }
+  std::string where() const { return name_ + ":" + std::to_string(line_); }
+
+  static const char* const kRequiredColumns[11];  // t, x, y, z, roll, pitch, yaw, u1 … u4
+
+ private:
+  bool readLine(std::string& text);
+  std::istream& in_;
+  std::string name_;
+  long line_ = 0;
+  int cells_ = 0;                 // columns in the header
+  std::array<int, 11> column_{};  // cell index of each required column
+  std::vector<std::string> cells_buffer_;
+};
+
+}  // namespace quadfdi

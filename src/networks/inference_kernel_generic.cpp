@@ -1,0 +1,5 @@
+// The inference kernels for generic (flags in src/CMakeLists.txt); see inference_kernel.inc.
+#define QUADFDI_LANES 8
+#define QUADFDI_KERNEL genericKernel
+#define QUADFDI_KERNEL_NAME "generic"
+#include "networks/inference_kernel.inc"
