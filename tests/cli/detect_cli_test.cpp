@@ -1,0 +1,156 @@
+// quadfdi detect end to end: simulate → detect (file and pipe), and the documented behaviour
+// for every kind of messy or bad telemetry.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/cli_support.h"
+
+namespace {
+
+using quadfdi::test::CommandResult;
+CommandResult run(const std::string& args, bool merge_stderr = true) { return quadfdi::test::runQuadfdi(args, merge_stderr); }
+std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_detect_" + name; }
+std::string exe() { return QUADFDI_EXE; }
+int countLines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+std::string readFile(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+// A faulty flight of motor 3 (complete failure at 1.0 s), simulated once for the suite.
+const std::string& faultyCsv() {
+  static const std::string path = [] {
+    const std::string p = temp("faulty.csv");
+    const CommandResult r = run("simulate --motor 3 --theta 0 --fault-step 500 --steps 800 --seed 4 --output " + p);
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    return p;
+  }();
+  return path;
+}
+
+TEST(DetectCli, FindsTheFaultyMotorAndWritesOneLinePerSample) {
+  const std::string out = temp("faulty.jsonl");
+  const CommandResult r = run("detect --input " + faultyCsv() + " --output " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("FAULT in motor 3 at t = 1.0"), std::string::npos) << r.out;
+  const std::vector<std::string> json = lines(readFile(out));
+  const int rows = countLines(readFile(faultyCsv())) - 1;
+  EXPECT_EQ(static_cast<int>(json.size()), rows - 99);  // from the first full window on
+  EXPECT_EQ(json.front().rfind("{\"t\": 0.198, \"theta\": [", 0), 0u) << json.front();
+  EXPECT_NE(json.front().find("\"alarm\": false, \"motor\": null}"), std::string::npos) << json.front();
+  EXPECT_NE(json.back().find("\"alarm\": true, \"motor\": 3}"), std::string::npos) << json.back();
+}
+
+TEST(DetectCli, APipelineFromSimulateGivesTheFileModeOutput) {
+  const CommandResult file = run("detect --input " + faultyCsv(), false);
+  const CommandResult pipe =
+      run("simulate --motor 3 --theta 0 --fault-step 500 --steps 800 --seed 4 --output - 2>/dev/null | " + exe() +
+              " detect --input -",
+          false);
+  ASSERT_EQ(file.exit_code, 0);
+  ASSERT_EQ(pipe.exit_code, 0);
+  EXPECT_GT(countLines(file.out), 600);
+  EXPECT_EQ(file.out, pipe.out);
+}
+
+TEST(DetectCli, AHealthyFlightRaisesNoAlarm) {
+  const std::string csv = temp("healthy.csv");
+  ASSERT_EQ(run("simulate --steps 1500 --seed 8 --output " + csv).exit_code, 0);
+  const CommandResult r = run("detect --input " + csv + " --output " + temp("healthy.jsonl"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("no fault"), std::string::npos) << r.out;
+  EXPECT_EQ(readFile(temp("healthy.jsonl")).find("\"alarm\": true"), std::string::npos);
+}
+
+TEST(DetectCli, ToleratesExtraColumnsReorderingAndNaNRows) {
+  // simulate --full-state adds columns; then shuffle the column order and blank a few cells.
+  const std::string full = temp("full.csv");
+  ASSERT_EQ(run("simulate --motor 1 --theta 0 --fault-step 500 --steps 700 --seed 2 --full-state --output " + full).exit_code, 0);
+  std::vector<std::string> rows = lines(readFile(full));
+  std::ofstream messy(temp("messy.csv"));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    std::string row = rows[i];
+    const std::size_t comma = row.find(',');  // move t to the end
+    row = row.substr(comma + 1) + "," + row.substr(0, comma);
+    if (i == 300) row.replace(row.find(','), 0, "");  // unchanged
+    if (i == 300 || i == 301) row = "nan" + row.substr(row.find(','));  // x is NaN
+    if (i == 302) row = row.substr(0, row.find(',') + 1) + row.substr(row.find(',', row.find(',') + 1));  // y empty
+    messy << row << "\r\n";  // Windows line ends
+  }
+  messy.close();
+  const CommandResult r = run("detect --input " + temp("messy.csv") + " --output " + temp("messy.jsonl"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("messy.csv:301: column 'x' is nan; row skipped"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("messy.csv:303: column 'y' is empty; row skipped"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("FAULT in motor 1"), std::string::npos) << r.out;
+}
+
+TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
+  const std::string good_header = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n";
+  const std::string row0 = "0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n", row1 = "0.002,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
+  struct Case {
+    std::string name, text, expect;
+  };
+  const std::vector<Case> cases = {
+      {"empty", "", "empty.csv: empty input"},
+      {"header-only", good_header, "header-only.csv: no telemetry rows after the header"},
+      {"missing-column", "t,x,y,z,roll,pitch,yaw,u1,u2,u4\n" + row0, "missing-column.csv:1: the header lacks column 'u3'"},
+      {"backwards", good_header + row0 + row1 + row0, "backwards.csv:4: time goes backwards or repeats"},
+      {"text", good_header + row0 + "0.002,0,zero,1,0,0,0,0.07,0.07,0.07,0.07\n", "text.csv:3: column 'y': 'zero' is not a number"},
+      {"short-row", good_header + row0 + "0.002,0,0,1\n", "short-row.csv:3: 4 cells, the header has 11"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = temp(c.name + ".csv");
+    std::ofstream(path) << c.text;
+    const CommandResult r = run("detect --input " + path + " --output " + temp("bad.jsonl"));
+    EXPECT_EQ(r.exit_code, 1) << c.name << ": " << r.out;
+    EXPECT_EQ(countLines(r.out), 1) << c.name << ": " << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.name << ": " << r.out;
+  }
+  // A log at 100 Hz is refused; nothing already written is lost.
+  std::ostringstream coarse;
+  coarse << good_header;
+  for (int k = 0; k < 40; ++k) coarse << 0.01 * k << ",0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
+  std::ofstream(temp("coarse.csv")) << coarse.str();
+  std::ofstream(temp("kept.jsonl")) << "precious\n";
+  const CommandResult r = run("detect --input " + temp("coarse.csv") + " --output " + temp("kept.jsonl"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("coarse.csv:11: the log is sampled too coarsely"), std::string::npos) << r.out;
+  EXPECT_EQ(readFile(temp("kept.jsonl")), "precious\n");
+}
+
+TEST(DetectCli, ShortLogsModelsAndOptionsAreCheckedUpFront) {
+  const std::string path = temp("short.csv");
+  std::ofstream(path) << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
+  const CommandResult shortlog = run("detect --input " + path);
+  EXPECT_EQ(shortlog.exit_code, 0) << shortlog.out;
+  EXPECT_NE(shortlog.out.find("shorter than one window"), std::string::npos) << shortlog.out;
+
+  std::ofstream(temp("bogus.qfdi")) << "not a model";
+  const CommandResult bad_model = run("detect --model " + temp("bogus.qfdi") + " --input " + path);
+  EXPECT_EQ(bad_model.exit_code, 1);
+  EXPECT_EQ(countLines(bad_model.out), 1) << bad_model.out;
+  const CommandResult based = run("detect --model " QUADFDI_SOURCE_DIR "/models/lstm-model-based.qfdi --input " + path);
+  EXPECT_EQ(based.exit_code, 1);
+  EXPECT_NE(based.out.find("needs a model-free"), std::string::npos) << based.out;
+  EXPECT_EQ(run("detect --stride 0 --input " + path).exit_code, 2);
+  EXPECT_EQ(run("detect --raise-below 0.9 --clear-above 0.5 --input " + path).exit_code, 1);
+  EXPECT_EQ(run("detect --input /nonexistent/log.csv").exit_code, 1);
+}
+
+}  // namespace
