@@ -1,5 +1,8 @@
 #include "cli/detect_command.h"
 
+#include <poll.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -53,6 +56,15 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
 
 namespace {
 
+// True when more standard input is ready without waiting: the stream then reads ahead like a
+// file (same output, since a window's estimate does not depend on its batch), and only a
+// live, idle pipe gets each sample evaluated the moment it arrives.
+bool moreInputReady() {
+  if (std::cin.rdbuf()->in_avail() > 0) return true;
+  pollfd p{STDIN_FILENO, POLLIN, 0};
+  return poll(&p, 1, 0) > 0 && (p.revents & POLLIN) != 0;
+}
+
 std::string fmtMs(double seconds) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g ms", 1000.0 * seconds);
@@ -100,6 +112,7 @@ int runDetect(const DetectOptions& o) {
   Detector detector(config, engine);
 
   const bool streaming = o.input == "-";
+  std::ios::sync_with_stdio(false);  // buffered standard input: see moreInputReady
   std::ifstream file;
   if (!streaming) {
     file.open(o.input);
@@ -125,7 +138,8 @@ int runDetect(const DetectOptions& o) {
       continue;
     }
     const long restarts = detector.summary().restarts;
-    const ResampleStatus status = detector.push(sample, !streaming);
+    const bool look_ahead = !streaming || moreInputReady();
+    const ResampleStatus status = detector.push(sample, look_ahead);
     if (status == ResampleStatus::kNotIncreasing)
       throw TelemetryError(reader.where() + ": time goes backwards or repeats (t = " + std::to_string(sample.t) + " s)");
     if (status == ResampleStatus::kTooCoarse)
@@ -135,12 +149,8 @@ int runDetect(const DetectOptions& o) {
       std::fprintf(stderr, "detect: warning: %s: gap of more than %.0f ms in the log; the detector starts again (needs %.2f s)\n",
                    reader.where().c_str(), 1000.0 * o.max_gap, m.window * m.dt);
     DetectorOutput d;
-    bool wrote = false;
-    while (detector.pop(d)) {
-      writeJson(out, d);
-      wrote = true;
-    }
-    if (streaming && wrote) out.flush();
+    while (detector.pop(d)) writeJson(out, d);
+    if (streaming && !look_ahead) out.flush();  // a live pipe sees each decision at once
   }
   detector.finish();
   DetectorOutput d;
