@@ -83,9 +83,10 @@ void detectLog(benchmark::State& state) {
 
 BENCHMARK(detectLog)
     ->ArgNames({"motor", "stride", "stream"})
+    ->Args({0, 4, 0})
+    ->Args({0, 4, 1})
+    ->Args({1, 4, 0})
     ->Args({0, 8, 0})
-    ->Args({0, 8, 1})
-    ->Args({1, 8, 0})
     ->Args({0, 1, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

@@ -9,7 +9,7 @@ struct DetectOptions {
   std::string model;           // empty: the shipped default model
   std::string input = "-";
   std::string output = "-";
-  int stride = 8;              // [samples]
+  int stride = 4;              // [samples]
   double watch = 0.9;
   double raise_below = 0.5;
   double clear_above = 0.8;

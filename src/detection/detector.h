@@ -29,7 +29,7 @@ struct DetectorConfig {
   int window = 100;        // T [samples] (from the model file)
   int trained_motor = 2;   // the network's motor (from the model file)
   SymmetryMode symmetry = SymmetryMode::kExactGroup;  // maps for the other motors (from the model file)
-  int stride = 8;          // [samples] evaluation period while healthy (extra first-look delay ≤ stride − 1)
+  int stride = 4;          // [samples] evaluation period while healthy (extra first-look delay ≤ stride − 1)
   double watch = 0.9;      // [-] below this min Θ̂, evaluate every sample …
   int watch_samples = 16;  // [evaluations] … for at most this many, unless Θ̂ < raise_below
   ResamplerConfig resampler;

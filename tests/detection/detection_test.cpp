@@ -231,7 +231,7 @@ TEST_F(ShippedDetector, StaysQuietOnHealthyFlights) {
     DetectorSummary s;
     run(fly(0, 1.0, 0, 1500, seed).samples, true, &s);
     EXPECT_EQ(s.alarms_raised, 0) << "seed " << seed;
-    EXPECT_LT(s.evaluations, 1500 / 4);  // the stride is doing its job while healthy
+    EXPECT_LT(s.evaluations, 1500 / 3);  // the stride is doing its job while healthy
   }
 }
 
