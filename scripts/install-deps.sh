@@ -17,6 +17,7 @@ packages=(
   gnuplot-nox            # figures of quadfdi evaluate
   libgtest-dev libgmock-dev   # tests
   libbenchmark-dev       # benchmarks
+  clang libclang-rt-14-dev    # libFuzzer targets (the fuzz preset, CI smoke run)
 )
 
 missing=()

@@ -73,7 +73,7 @@ std::string fmtMs(double seconds) {
 
 void writeJson(std::ostream& out, const DetectorOutput& d) {
   char buf[256];
-  const int n = std::snprintf(buf, sizeof buf, "{\"t\": %.6g, \"theta\": [%.4f, %.4f, %.4f, %.4f], \"alarm\": %s, \"motor\": ", d.t,
+  const int n = std::snprintf(buf, sizeof buf, "{\"t\": %.10g, \"theta\": [%.4f, %.4f, %.4f, %.4f], \"alarm\": %s, \"motor\": ", d.t,
                               static_cast<double>(d.theta[0]), static_cast<double>(d.theta[1]),
                               static_cast<double>(d.theta[2]), static_cast<double>(d.theta[3]), d.alarm ? "true" : "false");
   out.write(buf, n);

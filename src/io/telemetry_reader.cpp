@@ -8,6 +8,8 @@
 namespace quadfdi {
 namespace {
 
+constexpr double kMaxMagnitude = 1e9;  // [SI] larger values are no flight telemetry (and overflow float)
+
 std::string trim(const std::string& s) {
   std::size_t b = 0, e = s.size();
   while (b < e && (s[b] == ' ' || s[b] == '\t' || s[b] == '"')) ++b;
@@ -87,6 +89,10 @@ TelemetryReader::Row TelemetryReader::next(TelemetrySample& sample, std::string&
       throw TelemetryError(where() + ": column '" + kRequiredColumns[r] + "': '" + cell.substr(0, 40) + "' is not a number");
     if (!std::isfinite(v)) {
       problem = where() + ": column '" + kRequiredColumns[r] + "' is " + cell + "; row skipped";
+      return Row::kSkipped;
+    }
+    if (std::abs(v) > kMaxMagnitude) {  // finite in a double, but no telemetry: it would overflow the network's floats
+      problem = where() + ": column '" + kRequiredColumns[r] + "' = " + cell.substr(0, 40) + " is out of range; row skipped";
       return Row::kSkipped;
     }
     values[r] = v;

@@ -26,7 +26,7 @@ class TelemetryReader {
 
   enum class Row {
     kSample,   // `sample` holds the row
-    kSkipped,  // a NaN, infinite or empty cell: `problem` says which; the row is dropped
+    kSkipped,  // a NaN, infinite, empty or absurd (|v| > 1e9) cell: `problem` says which; the row is dropped
     kEnd,
   };
   // Throws TelemetryError for a row that is not telemetry (wrong cell count, text in a number).
