@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "cli/cli_util.h"
+#include "cli/interrupt.h"
 #include "evaluation/experiments.h"
 #include "io/atomic_file.h"
 
@@ -185,6 +186,8 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
   std::ostringstream body;
   const double dt = 0.002;
   for (const std::string& id : o.experiments) {
+    if (interruptFlag().load())
+      throw Interrupted("evaluation stopped before " + id + "; the experiments' files written so far are complete, REPORT.md was not written");
     ExperimentResult e;
     std::string missing;
     const bool ran = runExperiment(id, in, e, missing, [&](const std::string& msg) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "cli/cli_util.h"
+#include "cli/interrupt.h"
 #include "cli/progress.h"
 #include "data/algorithm1.h"
 #include "io/controller_config.h"
@@ -135,7 +136,10 @@ int runGenerate(GenerateOptions o, const CLI::App& command) {
   ProgressBar bar("generate", !o.quiet);
   TrajectoryBatch batch;
   const auto t0 = std::chrono::steady_clock::now();
-  engine.run(jobs, o.threads, batch, [&](int done, int n) { bar.update(done, n); });
+  if (!engine.run(jobs, o.threads, batch, [&](int done, int n) { bar.update(done, n); }, &interruptFlag())) {
+    bar.finish();
+    throw Interrupted("generate stopped before the dataset was complete; " + o.output + " was not written");
+  }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   bar.finish();
 

@@ -6,9 +6,11 @@
 #include "cli/detect_command.h"
 #include "cli/evaluate_command.h"
 #include "cli/generate_command.h"
+#include "cli/interrupt.h"
 #include "cli/reproduce_command.h"
 #include "cli/simulate_command.h"
 #include "cli/train_command.h"
+#include "networks/trainer.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"quadfdi — detect, isolate and size motor faults on quadrotors (Garg & Fan, dynamic symmetry)"};
@@ -47,6 +49,12 @@ int main(int argc, char** argv) {
     if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, *train_cmd, command_line);
     if (evaluate_cmd->parsed()) return quadfdi::cli::runEvaluate(evaluate, command_line);
     if (reproduce_cmd->parsed()) return quadfdi::cli::runReproduce(reproduce, command_line);
+  } catch (const quadfdi::cli::Interrupted& e) {
+    std::cerr << "quadfdi: interrupted: " << e.what() << "\n";
+    return 130;
+  } catch (const quadfdi::TrainingInterrupted& e) {
+    std::cerr << "quadfdi: interrupted: " << e.what() << "\n";
+    return 130;
   } catch (const std::exception& e) {
     std::cerr << "quadfdi: error: " << e.what() << "\n";
     return 1;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "cli/cli_util.h"
+#include "cli/interrupt.h"
 #include "cli/progress.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
@@ -145,6 +146,7 @@ static TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& com
   c.checkpoint_path = o.checkpoint.empty() ? o.output + ".ckpt" : o.checkpoint;
   c.log_path = o.log.empty() ? o.output + ".log.csv" : o.log;
   c.resume = o.resume;
+  c.stop = &interruptFlag();
   return c;
 }
 

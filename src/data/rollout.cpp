@@ -136,7 +136,7 @@ void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller,
 }
 
 bool RolloutEngine::run(const std::vector<TrajectoryJob>& jobs, int threads, TrajectoryBatch& batch,
-                        const ProgressCallback& progress) const {
+                        const ProgressCallback& progress, const std::atomic<bool>* stop) const {
   if (!error_.empty()) return false;
   const int n = static_cast<int>(jobs.size());
   batch.resize(n, config_.samplesPerTrajectory());
@@ -148,6 +148,7 @@ bool RolloutEngine::run(const std::vector<TrajectoryJob>& jobs, int threads, Tra
   auto work = [&] {
     const std::unique_ptr<Controller> controller = makeWorkerController();
     for (;;) {
+      if (stop && stop->load(std::memory_order_relaxed)) break;
       const int first = next.fetch_add(kChunk);
       if (first >= n) break;
       const int last = std::min(n, first + kChunk);
@@ -164,7 +165,7 @@ bool RolloutEngine::run(const std::vector<TrajectoryJob>& jobs, int threads, Tra
     for (int w = 0; w < workers; ++w) pool.emplace_back(work);
     for (auto& t : pool) t.join();
   }
-  return true;
+  return done.load() == n;
 }
 
 }  // namespace quadfdi

@@ -3,6 +3,7 @@
 // byte-identical whatever the thread count.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -60,9 +61,10 @@ class RolloutEngine {
   const RolloutConfig& config() const { return config_; }
 
   // Fills `batch` (resized here) with one trajectory per job, using `threads` workers (0 = all
-  // cores). Returns false only if the engine is not set up.
+  // cores). Returns false if the engine is not set up, or if `stop` was raised before every job
+  // ran (the workers finish their current chunk; the batch is then incomplete).
   bool run(const std::vector<TrajectoryJob>& jobs, int threads, TrajectoryBatch& batch,
-           const ProgressCallback& progress = {}) const;
+           const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr) const;
 
   // One trajectory into slot `slot` of an already sized batch; `controller` is the calling
   // thread's own controller instance (controllers hold per-step state).

@@ -214,6 +214,13 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
     for (int pass = 0; pass < config.passes && minibatches < total; ++pass) {
       for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[shuffle_rng.next() % i]);  // Fisher–Yates
       for (std::size_t first = 0; first < n && minibatches < total; first += bs) {
+        if (config.stop && config.stop->load(std::memory_order_relaxed))
+          throw TrainingInterrupted(
+              "training stopped during outer iteration " + std::to_string(iteration + 1) + "; " +
+              (config.checkpoint_path.empty() || iteration == 0
+                   ? std::string("no iteration was complete, nothing was saved")
+                   : config.checkpoint_path + " holds the " + std::to_string(iteration) +
+                         " completed iterations: run again with --resume to continue"));
         const std::size_t count = std::min(bs, n - first);
         gather(count, [&](std::size_t i) {
           const auto e = data.buffer().at(order[first + i]);

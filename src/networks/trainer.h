@@ -2,7 +2,9 @@
 // minibatches with the hinge loss, Adam, and the stopping rule; checkpointed every iteration.
 #pragma once
 
+#include <atomic>
 #include <functional>
+#include <stdexcept>
 #include <string>
 
 #include "data/algorithm1.h"
@@ -32,6 +34,14 @@ struct TrainConfig {
   std::string checkpoint_path;   // written after every outer iteration (atomic); empty = none
   bool resume = false;           // continue from checkpoint_path if it exists
   std::string log_path;          // CSV, one row per outer iteration; empty = none
+  const std::atomic<bool>* stop = nullptr;  // raised (by a signal handler): stop before the next
+                                            // minibatch; the last iteration's checkpoint stays
+};
+
+// Thrown when `stop` was raised: the message says how far the checkpoint got.
+class TrainingInterrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 struct IterationReport {
