@@ -98,7 +98,9 @@ std::string validate(const TrainConfig& c) {
   if (c.max_minibatches < 0) return "max minibatches must be >= 0";
   if (c.min_iterations < 0 || c.max_iterations < 1 || c.min_iterations > c.max_iterations)
     return "need 0 <= min iterations <= max iterations, max >= 1";
-  if (!(c.learning_rate > 0.0) || !(c.weight_decay >= 0.0) || !(c.epsilon >= 0.0)) return "bad optimiser settings";
+  if (!(c.learning_rate > 0.0) || !std::isfinite(c.learning_rate) || !(c.weight_decay >= 0.0) ||
+      !std::isfinite(c.weight_decay) || !(c.epsilon >= 0.0) || !std::isfinite(c.epsilon))
+    return "bad optimiser settings (learning rate > 0, weight decay and epsilon >= 0, all finite)";
   if (c.device != "cpu" && c.device != "cuda") return "device must be cpu or cuda";
   if (c.model.window != c.data.rollout.window) return "model window must equal the data window";
   return {};

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <memory>
 #include <fstream>
 #include <sstream>
@@ -160,6 +161,21 @@ TEST(InferenceEngine, MatchesATrainedNetwork) {
   InferenceEngine engine(exportWeights(r.model));
   engine.predict(w.data(), 11, fast.data());
   for (int i = 0; i < 44; ++i) EXPECT_NEAR(fast[i], reference[i], 2e-6f);
+}
+
+// A diverging run stops with a message rather than saving a NaN network (issue 7).
+TEST(Training, StopsWithAClearMessageOnANonFiniteLoss) {
+  TrainConfig c = tinyConfig();
+  c.learning_rate = 1e30;  // finite, accepted, and enough to overflow the weights
+  c.max_iterations = c.min_iterations = 2;
+  try {
+    train(c);
+    FAIL() << "training with a 1e30 learning rate did not diverge";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("training diverged: non-finite loss"), std::string::npos) << e.what();
+  }
+  c.learning_rate = std::numeric_limits<double>::infinity();
+  EXPECT_NE(validate(c).find("bad optimiser settings"), std::string::npos);
 }
 
 TEST(InferenceEngine, RefusesInconsistentWeights) {
