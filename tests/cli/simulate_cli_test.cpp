@@ -117,4 +117,25 @@ TEST(SimulateCli, FailedRunLeavesTheExistingOutputIntact) {
   EXPECT_EQ(ss.str(), "precious\n");
 }
 
+// A full disk, simulated with a file-size limit (the write fails with EFBIG; SIGXFSZ ignored):
+// a one-line error, no output file, no temporary file, and an existing file kept.
+TEST(SimulateCli, AFullDiskIsReportedAndLosesNothing) {
+  const std::string path = tempPath("full-disk.csv");
+  { std::ofstream(path) << "precious\n"; }
+  const std::string cmd = "sh -c \"ulimit -f 8; trap '' XFSZ; exec " + std::string(QUADFDI_EXE) +
+                          " simulate --steps 5000 --output " + path + "\" 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string out;
+  char buf[512];
+  while (fgets(buf, sizeof buf, pipe)) out += buf;
+  const int status = pclose(pipe);
+  EXPECT_EQ(WEXITSTATUS(status), 1) << out;
+  EXPECT_NE(out.find(path + ": write failed (disk full or I/O error)"), std::string::npos) << out;
+  std::ifstream kept(path);
+  std::string first;
+  std::getline(kept, first);
+  EXPECT_EQ(first, "precious");
+}
+
 }  // namespace
