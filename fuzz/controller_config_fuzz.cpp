@@ -16,6 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     c = controllerConfigFromText(fuzz::text(data, size), "fuzz-controller.toml", base);
   } catch (const ConfigError& e) {
+    fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz-controller.toml:", 0) == 0);
     return 0;
   }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <string>
 
 namespace quadfdi::fuzz {
@@ -31,6 +32,13 @@ inline const std::string& writeTempFile(const std::uint8_t* data, std::size_t si
 // The input as text (NUL bytes included).
 inline std::string text(const std::uint8_t* data, std::size_t size) {
   return std::string(reinterpret_cast<const char*>(data), size);
+}
+
+// With QUADFDI_FUZZ_VERBOSE=1 in the environment, the targets print the message of every error
+// they catch (for triage: run the binary on single files).
+inline void report(const std::exception& e) {
+  static const bool verbose = std::getenv("QUADFDI_FUZZ_VERBOSE") != nullptr;
+  if (verbose) std::fprintf(stderr, "caught: %s\n", e.what());
 }
 
 // A property of the code under test does not hold: report and crash so libFuzzer keeps the input.

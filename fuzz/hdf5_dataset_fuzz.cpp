@@ -32,6 +32,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       (void)windowLabel(b, windows[i]);
     }
   } catch (const DatasetError& e) {
+    fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind(path, 0) == 0);
   }
   return 0;

@@ -21,6 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     doc = parseKeyValue(fuzz::text(data, size), "fuzz.toml");
   } catch (const ConfigError& e) {
+    fuzz::report(e);
     QUADFDI_FUZZ_CHECK(startsWithSource(e));
     return 0;
   }
@@ -33,27 +34,32 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const double v = doc.number(entry);
       QUADFDI_FUZZ_CHECK(std::isfinite(v));
     } catch (const ConfigError& e) {
+      fuzz::report(e);
       QUADFDI_FUZZ_CHECK(startsWithSource(e));
     }
     try {
       const long long v = doc.integer(entry);
       QUADFDI_FUZZ_CHECK(v >= -9000000000000000LL && v <= 9000000000000000LL);
     } catch (const ConfigError& e) {
+      fuzz::report(e);
       QUADFDI_FUZZ_CHECK(startsWithSource(e));
     }
     try {
       (void)doc.boolean(entry);
     } catch (const ConfigError& e) {
+      fuzz::report(e);
       QUADFDI_FUZZ_CHECK(startsWithSource(e));
     }
     try {
       (void)doc.string(entry);
     } catch (const ConfigError& e) {
+      fuzz::report(e);
       QUADFDI_FUZZ_CHECK(startsWithSource(e));
     }
     try {
       for (double v : doc.numberList(entry)) QUADFDI_FUZZ_CHECK(std::isfinite(v));
     } catch (const ConfigError& e) {
+      fuzz::report(e);
       QUADFDI_FUZZ_CHECK(startsWithSource(e));
     }
   }

@@ -29,6 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     QUADFDI_FUZZ_CHECK(engine.window() == m.window && engine.channels() == m.channels());
     engine.predict(window.data(), 1, theta);
   } catch (const ModelError& e) {
+    fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind(path, 0) == 0);
   }
   return 0;

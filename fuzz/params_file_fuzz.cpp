@@ -14,6 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     p = vehicleParamsFromText(fuzz::text(data, size), "fuzz-vehicle.toml");
   } catch (const ConfigError& e) {
+    fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz-vehicle.toml", 0) == 0);
     return 0;
   }

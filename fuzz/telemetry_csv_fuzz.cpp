@@ -3,6 +3,7 @@
 // TelemetryError — never a crash, a hang or a sanitizer report.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -56,7 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const bool look_ahead = (mode & 4) != 0;
     Detector detector(dc, engine());
     bool detector_stopped = false;
-    double last_grid_t = -INFINITY;
+    double last_grid_t = -std::numeric_limits<double>::infinity();
     TelemetrySample sample;
     std::string problem;
     for (;;) {
@@ -92,6 +93,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     DetectorOutput out;
     while (detector.pop(out)) QUADFDI_FUZZ_CHECK(out.motor >= 0 && out.motor <= 4);
   } catch (const TelemetryError& e) {
+    fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.csv", 0) == 0);
   }
   return 0;

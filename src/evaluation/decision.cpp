@@ -1,5 +1,10 @@
 #include "evaluation/decision.h"
 
+#include <algorithm>
+#include <thread>
+
+#include "networks/inference.h"
+
 namespace quadfdi {
 
 Decision decide(const Input& theta_hat, double theta_tol) {
@@ -33,7 +38,8 @@ Decision decidePaperRule(const std::array<Input, 4>& out, SymmetryMode mode, dou
 }
 
 std::vector<Input> estimateAllMotors(const FaultIdentifier& model, SymmetryMode mode, const TrajectoryBatch& batch,
-                                     const std::vector<WindowRef>& windows, std::vector<std::array<Input, 4>>* raw) {
+                                     const std::vector<WindowRef>& windows, std::vector<std::array<Input, 4>>* raw,
+                                     int threads) {
   const ModelMetadata& m = model.metadata();
   const std::size_t per = static_cast<std::size_t>(m.window) * static_cast<std::size_t>(m.channels());
   std::array<SymmetryMap, 4> maps{};
@@ -41,22 +47,37 @@ std::vector<Input> estimateAllMotors(const FaultIdentifier& model, SymmetryMode 
   const int trained = m.trained_motor - 1;
   std::vector<Input> theta(windows.size(), Input::Ones());
   if (raw) raw->assign(windows.size(), {});
-  constexpr std::size_t kChunk = 1024;  // windows per forward pass (×4 maps)
-  std::vector<float> features(kChunk * 4 * per), out(kChunk * 4 * 4);
-  for (std::size_t first = 0; first < windows.size(); first += kChunk) {
-    const std::size_t n = std::min(kChunk, windows.size() - first);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = 0; k < 4; ++k)
-        gatherWindowFeatures(batch, windows[first + i], m.window, m.features, m.output, &maps[k],
-                             &features[(i * 4 + k) * per]);
-    model.predict(features.data(), static_cast<int>(n * 4), out.data());
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = 0; k < 4; ++k) {
-        const float* o = &out[(i * 4 + k) * 4];
-        theta[first + i](static_cast<int>(k)) = o[trained];
-        if (raw) (*raw)[first + i][k] = Input(o[0], o[1], o[2], o[3]);
-      }
-  }
+  const NetworkWeights weights = exportWeights(model);
+  // Each worker owns an engine and a contiguous share of the windows; the engine's results do not
+  // depend on batching, so the output is the same for any number of workers.
+  const std::size_t workers = std::max<std::size_t>(
+      1, std::min<std::size_t>(windows.size() / 256 + 1,
+                               threads > 0 ? static_cast<std::size_t>(threads) : std::thread::hardware_concurrency()));
+  auto work = [&](std::size_t begin, std::size_t end) {
+    InferenceEngine engine(weights);
+    constexpr std::size_t kChunk = 64;  // windows per pass (×4 maps)
+    std::vector<float> features(kChunk * 4 * per), out(kChunk * 4 * 4);
+    for (std::size_t first = begin; first < end; first += kChunk) {
+      const std::size_t n = std::min(kChunk, end - first);
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t k = 0; k < 4; ++k)
+          gatherWindowFeatures(batch, windows[first + i], m.window, m.features, m.output, &maps[k],
+                               &features[(i * 4 + k) * per]);
+      engine.predict(features.data(), static_cast<int>(n * 4), out.data());
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t k = 0; k < 4; ++k) {
+          const float* o = &out[(i * 4 + k) * 4];
+          theta[first + i](static_cast<int>(k)) = o[trained];
+          if (raw) (*raw)[first + i][k] = Input(o[0], o[1], o[2], o[3]);
+        }
+    }
+  };
+  std::vector<std::thread> pool;
+  const std::size_t share = (windows.size() + workers - 1) / workers;
+  for (std::size_t w = 1; w < workers; ++w)
+    pool.emplace_back(work, std::min(windows.size(), w * share), std::min(windows.size(), (w + 1) * share));
+  work(0, std::min(windows.size(), share));
+  for (std::thread& t : pool) t.join();
   return theta;
 }
 

@@ -25,12 +25,13 @@ Decision decide(const Input& theta_hat, double theta_tol);
 Decision decidePaperRule(const std::array<Input, 4>& outputs_per_map, SymmetryMode mode, double theta_tol);
 
 // Θ̂ for every motor of every window: motor k's effectiveness is the network's output for its
-// trained motor on g_k(window) (g_k sends motor k to the trained motor). Batched: one forward
-// pass over all 4·n mapped windows. If `raw` is given it receives the network's four outputs for
+// trained motor on g_k(window) (g_k sends motor k to the trained motor). Runs on the LibTorch-free
+// inference engine (networks/inference.h), `threads` workers (0 = all cores), with results that do
+// not depend on the thread count. If `raw` is given it receives the network's four outputs for
 // each (window, map) pair, for the paper rule.
 // `mode` chooses the maps (normally the model's own metadata().symmetry).
 std::vector<Input> estimateAllMotors(const FaultIdentifier& model, SymmetryMode mode, const TrajectoryBatch& batch,
                                      const std::vector<WindowRef>& windows,
-                                     std::vector<std::array<Input, 4>>* raw = nullptr);
+                                     std::vector<std::array<Input, 4>>* raw = nullptr, int threads = 0);
 
 }  // namespace quadfdi

@@ -30,7 +30,7 @@ std::vector<WindowOutcome> evaluateTestSet(const FaultIdentifier& model, const T
                                            double theta_tol, DecisionRule rule, SymmetryMode mode) {
   std::vector<std::array<Input, 4>> raw;
   const std::vector<Input> theta =
-      estimateAllMotors(model, mode, set.batch, set.windows, rule == DecisionRule::kPaper ? &raw : nullptr);
+      estimateAllMotors(model, mode, set.batch, set.windows, rule == DecisionRule::kPaper ? &raw : nullptr, c.threads);
   std::vector<WindowOutcome> out(set.windows.size());
   for (std::size_t i = 0; i < set.windows.size(); ++i) {
     const WindowRef& w = set.windows[i];

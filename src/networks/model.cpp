@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -113,6 +114,15 @@ nlohmann::json toJson(const ModelMetadata& m) {
 
 ModelMetadata fromJson(const nlohmann::json& j, const std::string& path) {
   auto fail = [&](const std::string& problem) -> ModelError { return ModelError(path + ": " + problem); };
+  // get<int> would cast a float or an out-of-range integer (undefined for 1e10): integers only.
+  auto integer = [&](const nlohmann::json& object, const char* key) {
+    constexpr std::int64_t kMin = std::numeric_limits<int>::min(), kMax = std::numeric_limits<int>::max();
+    const nlohmann::json& v = object.at(key);
+    const bool fits = v.is_number_unsigned() ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(kMax)
+                                             : v.is_number_integer() && v.get<std::int64_t>() >= kMin && v.get<std::int64_t>() <= kMax;
+    if (!fits) throw fail(std::string("bad metadata: '") + key + "' must be an integer in the range of int");
+    return static_cast<int>(v.get<std::int64_t>());
+  };
   ModelMetadata m;
   try {
     if (!parseArchitecture(j.at("architecture").get<std::string>(), m.architecture)) throw fail("unknown architecture");
@@ -122,10 +132,10 @@ ModelMetadata fromJson(const nlohmann::json& j, const std::string& path) {
     else if (out == "position-rates") m.output = OutputKind::kPositionRates;
     else throw fail("unknown output kind '" + out + "'");
     if (!parseSymmetryMode(j.at("symmetry").get<std::string>(), m.symmetry)) throw fail("unknown symmetry mode");
-    m.trained_motor = j.at("trained_motor").get<int>();
-    m.window = j.at("window").get<int>();
+    m.trained_motor = integer(j, "trained_motor");
+    m.window = integer(j, "window");
     m.dt = j.at("dt").get<double>();
-    m.hidden = j.at("hidden").get<int>();
+    m.hidden = integer(j, "hidden");
     m.params = j.at("params").get<std::string>();
     m.controller = j.at("controller").get<std::string>();
     m.feature_mean = j.at("feature_mean").get<std::vector<float>>();
@@ -133,8 +143,9 @@ ModelMetadata fromJson(const nlohmann::json& j, const std::string& path) {
     const auto& p = j.at("provenance");
     m.command = p.at("command").get<std::string>();
     m.scale = p.at("scale").get<std::string>();
+    if (!p.at("seed").is_number_integer()) throw fail("bad metadata: 'seed' must be an integer");
     m.seed = p.at("seed").get<std::uint64_t>();
-    m.iterations = p.at("iterations").get<int>();
+    m.iterations = integer(p, "iterations");
     m.training_seconds = p.at("training_seconds").get<double>();
     m.final_loss = p.at("final_loss").get<double>();
     m.heldout_loss = p.at("heldout_loss").get<double>();
@@ -154,6 +165,29 @@ ModelMetadata fromJson(const nlohmann::json& j, const std::string& path) {
   for (float v : m.feature_mean)
     if (!std::isfinite(v)) throw fail("normalisation mean must be finite");
   return m;
+}
+
+// Floats in the parameters and buffers of the network `m` describes (FaultNetImpl's layers). The
+// weights block stores them uncompressed, so a smaller block cannot hold them.
+std::int64_t parameterCount(const ModelMetadata& m) {
+  const std::int64_t n = m.channels(), h = m.hidden, t = m.window;
+  const std::int64_t buffers = 2 * n, head = (h * 64 + 64) + (64 * 4 + 4);
+  if (m.architecture == Architecture::kLstm) return buffers + 4 * h * (n + h) + 8 * h + head;
+  return buffers + (n * t * h + h) + 3 * (h * h + h) + head;
+}
+
+// Name, type, device and shape of every parameter and buffer. torch::load replaces each tensor
+// whole, shape included, so it alone would accept an intact archive of another architecture.
+std::vector<std::string> layout(const FaultNet& net) {
+  std::vector<std::string> out;
+  auto add = [&](const std::string& name, const torch::Tensor& t) {
+    std::ostringstream s;
+    s << "'" << name << "' " << t.scalar_type() << ' ' << t.device() << ' ' << t.sizes();
+    out.push_back(s.str());
+  };
+  for (const auto& p : net->named_parameters()) add(p.key(), p.value());
+  for (const auto& b : net->named_buffers()) add(b.key(), b.value());
+  return out;
 }
 
 }  // namespace
@@ -200,7 +234,7 @@ FaultIdentifier FaultIdentifier::load(const std::string& path) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(json_line);
-  } catch (const nlohmann::json::parse_error&) {
+  } catch (const nlohmann::json::exception&) {  // parse_error, or out_of_range for a number like 1e400
     throw ModelError(path + ":2: metadata is not valid JSON (truncated or corrupt file?)");
   }
   auto impl = std::make_shared<Impl>();
@@ -214,11 +248,21 @@ FaultIdentifier FaultIdentifier::load(const std::string& path) {
     throw ModelError(path + ":3: bad weights header");
   }
   if (size > (std::size_t{1} << 32)) throw ModelError(path + ":3: implausible weights size");
+  // Check the claims against the file before allocating: a few bytes must not cost gigabytes.
+  if (const std::streamoff here = in.tellg(); here >= 0 && in.seekg(0, std::ios::end)) {
+    const std::streamoff end = in.tellg();
+    in.seekg(here);
+    if (end >= here && size > static_cast<std::size_t>(end - here)) throw ModelError(path + ": truncated (weights incomplete)");
+  }
+  if (const std::int64_t floats = parameterCount(impl->metadata); size < 4 * static_cast<std::size_t>(floats))
+    throw ModelError(path + ":3: weights do not match the architecture in the metadata (" + std::to_string(size) +
+                     " bytes, it has " + std::to_string(floats) + " float parameters)");
   std::string w(size, '\0');
   in.read(w.data(), static_cast<std::streamsize>(size));
   if (static_cast<std::size_t>(in.gcount()) != size) throw ModelError(path + ": truncated (weights incomplete)");
   if (in.peek() != std::char_traits<char>::eof()) throw ModelError(path + ": trailing data after the weights");
   impl->net = FaultNet(impl->metadata);
+  const std::vector<std::string> expected_layout = layout(impl->net);
   try {
     std::istringstream ws(w);
     torch::load(impl->net, ws);
@@ -227,6 +271,11 @@ FaultIdentifier FaultIdentifier::load(const std::string& path) {
   } catch (const std::exception&) {
     throw ModelError(path + ": cannot read the weights (corrupt file?)");
   }
+  const std::vector<std::string> loaded_layout = layout(impl->net);
+  for (std::size_t i = 0; i < loaded_layout.size(); ++i)
+    if (loaded_layout[i] != expected_layout[i])
+      throw ModelError(path + ": weights do not match the architecture in the metadata (" + loaded_layout[i] +
+                       ", expected " + expected_layout[i] + ")");
   return FaultIdentifier(impl);
 }
 

@@ -97,8 +97,9 @@ TEST(Metrics, NeverDetectedAndEmpty) {
 namespace quadfdi {
 namespace {
 
-// The batched estimate equals one window at a time through the map of each motor, and motor
-// 2's estimate is the network on the unmapped window (g₂ = identity).
+// The batched estimate equals one window at a time through the map of each motor (LibTorch, to
+// float round-off), motor 2's estimate is the network on the unmapped window (g₂ = identity), and
+// the thread count changes nothing.
 TEST(EstimateAllMotors, MatchesPerWindowMappedPredictions) {
   ModelMetadata m;
   m.window = 10;
@@ -124,6 +125,11 @@ TEST(EstimateAllMotors, MatchesPerWindowMappedPredictions) {
       EXPECT_NEAR(raw[i][static_cast<std::size_t>(k - 1)](0), out[0], 1e-6);
     }
   }
+  // The same bits on one worker and on three.
+  std::vector<std::array<Input, 4>> raw1, raw3;
+  EXPECT_EQ(estimateAllMotors(model, SymmetryMode::kExactGroup, b, windows, &raw1, 1),
+            estimateAllMotors(model, SymmetryMode::kExactGroup, b, windows, &raw3, 3));
+  EXPECT_EQ(raw1, raw3);
 }
 
 }  // namespace
