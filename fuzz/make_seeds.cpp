@@ -1,6 +1,7 @@
 // One-off generator of the fuzzers' binary seeds: tiny model files and a tiny dataset.
 //   build/fuzz/fuzz/fuzz_make_seeds DIR   → DIR/model/*.qfdi, DIR/dataset/*.h5
 // (The committed corpora in fuzz/corpus/ were started from these and minimised with -merge=1.)
+#include <hdf5.h>
 #include <sys/stat.h>
 
 #include <cstdio>
@@ -76,6 +77,21 @@ int main(int argc, char** argv) {
   meta.window = 3;
   meta.fault_step = 3;
   writeDataset(dir + "/dataset/tiny.h5", b, meta);
+
+  // The same file whose `outputs` claims 2^30 trajectories but stores nothing (HDF5 allocates
+  // contiguous storage late, so the file stays a few kilobytes).
+  writeDataset(dir + "/dataset/huge-shape.h5", b, meta);
+  {
+    const hid_t file = H5Fopen((dir + "/dataset/huge-shape.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Ldelete(file, "trajectories/outputs", H5P_DEFAULT);
+    const hsize_t dims[3] = {hsize_t{1} << 30, 7, kOutputDim};
+    const hid_t space = H5Screate_simple(3, dims, nullptr);
+    const hid_t ds = H5Dcreate2(file, "trajectories/outputs", H5T_IEEE_F32LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (file < 0 || space < 0 || ds < 0) return 1;
+    H5Dclose(ds);
+    H5Sclose(space);
+    H5Fclose(file);
+  }
   std::cout << "seeds written under " << dir << "\n";
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "detection/detector.h"
@@ -35,6 +36,23 @@ InferenceEngine& engine() {
   return *e;
 }
 
+// The detector's settings, from the first byte (also the header's first character; a header
+// starting with 't' gives the defaults of `quadfdi detect`): file mode (look-ahead) or
+// streaming, `--stride` (1 … 1000), `--max-gap` (the longest hole bridged) and the model's dt.
+DetectorConfig configFor(std::uint8_t first, bool& look_ahead) {
+  static constexpr int kStrides[4] = {4, 1, 37, 1000};
+  static constexpr double kMaxGaps[4] = {0.02, 0.5, 10.0, 1000.0};  // [s]
+  static constexpr double kDts[4] = {0.002, 0.001, 0.0005, 0.0001};  // [s]
+  const unsigned bits = first ^ static_cast<unsigned>('t');
+  DetectorConfig c;
+  c.window = engine().window();
+  c.stride = kStrides[bits & 3];
+  look_ahead = (bits & 4) == 0;
+  c.resampler.max_gap = kMaxGaps[(bits >> 3) & 3];
+  c.resampler.dt = kDts[(bits >> 5) & 3];
+  return c;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -43,20 +61,19 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  // The detector's configuration varies with the first byte, so both file mode (look-ahead)
-  // and streaming, and strides 1 … 4, are exercised on the same rows.
-  const std::uint8_t mode = size > 0 ? data[0] : 0;
+  bool look_ahead = true;
+  const DetectorConfig config = configFor(size > 0 ? data[0] : 0, look_ahead);
   std::istringstream in(fuzz::text(data, size));
   try {
     TelemetryReader reader(in, "fuzz.csv");
-    ResamplerConfig rc;
-    Resampler resampler(rc);
-    DetectorConfig dc;
-    dc.window = engine().window();
-    dc.stride = 1 + (mode & 3);
-    const bool look_ahead = (mode & 4) != 0;
-    Detector detector(dc, engine());
-    bool detector_stopped = false;
+    std::unique_ptr<Detector> detector;
+    std::unique_ptr<Resampler> resampler;
+    try {
+      detector = std::make_unique<Detector>(config, engine());
+      resampler = std::make_unique<Resampler>(config.resampler);
+    } catch (const std::invalid_argument& e) {  // settings the detector refuses (max_gap / dt too large)
+      fuzz::report(e);
+    }
     double last_grid_t = -std::numeric_limits<double>::infinity();
     TelemetrySample sample;
     std::string problem;
@@ -68,30 +85,34 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         continue;
       }
       QUADFDI_FUZZ_CHECK(std::isfinite(sample.t) && std::abs(sample.t) <= 1e9);
-      const ResampleStatus status = resampler.push(sample, [&](const TelemetrySample& s) {
-        // Grid samples: finite, in time order (a restart may only move the grid forward).
-        QUADFDI_FUZZ_CHECK(std::isfinite(s.t) && s.t > last_grid_t);
-        for (double v : s.y) QUADFDI_FUZZ_CHECK(std::isfinite(v));
-        for (double v : s.u) QUADFDI_FUZZ_CHECK(std::isfinite(v));
-        last_grid_t = s.t;
-      });
-      (void)status;
-      if (detector_stopped) continue;
+      if (resampler) {
+        // Grid samples: finite, in time order (a restart only moves the grid forward). The
+        // resampler alone also takes samples after one it refused.
+        resampler->push(sample, [&](const TelemetrySample& s) {
+          QUADFDI_FUZZ_CHECK(std::isfinite(s.t) && s.t > last_grid_t);
+          for (double v : s.y) QUADFDI_FUZZ_CHECK(std::isfinite(v));
+          for (double v : s.u) QUADFDI_FUZZ_CHECK(std::isfinite(v));
+          last_grid_t = s.t;
+        });
+      }
+      if (!detector) continue;
       // As `quadfdi detect`: a refused sample (time not increasing, log too coarse) ends the run.
-      const ResampleStatus ds = detector.push(sample, look_ahead);
-      if (ds == ResampleStatus::kNotIncreasing || ds == ResampleStatus::kTooCoarse) {
-        detector_stopped = true;
+      const ResampleStatus status = detector->push(sample, look_ahead);
+      if (status == ResampleStatus::kNotIncreasing || status == ResampleStatus::kTooCoarse) {
+        detector.reset();
         continue;
       }
       DetectorOutput out;
-      while (detector.pop(out)) {
+      while (detector->pop(out)) {
         QUADFDI_FUZZ_CHECK(out.motor >= 0 && out.motor <= 4);
         for (float th : out.theta) QUADFDI_FUZZ_CHECK(th >= 0.0f && th <= 1.0f);
       }
     }
-    detector.finish();
-    DetectorOutput out;
-    while (detector.pop(out)) QUADFDI_FUZZ_CHECK(out.motor >= 0 && out.motor <= 4);
+    if (detector) {
+      detector->finish();
+      DetectorOutput out;
+      while (detector->pop(out)) QUADFDI_FUZZ_CHECK(out.motor >= 0 && out.motor <= 4);
+    }
   } catch (const TelemetryError& e) {
     fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.csv", 0) == 0);

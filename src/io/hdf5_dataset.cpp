@@ -146,6 +146,15 @@ class Reader {
              std::to_string(actual[i]) + " instead of " + std::to_string(dims[i]) + ")");
       total *= dims[i];
     }
+    // The file must hold what the shape claims before we allocate for it: writeDataset stores
+    // every dataset in full, and compression (deflate) cannot shrink data below 1/1100.
+    if (total > 0) {
+      Handle dcpl(H5Dget_create_plist(ds.get()), H5Pclose);
+      const hsize_t ratio = dcpl.valid() && H5Pget_nfilters(dcpl.get()) > 0 ? 1100 : 1;
+      const hsize_t element = H5Tget_size(type.get());
+      if (element == 0 || H5Dget_storage_size(ds.get()) / element < total / ratio)
+        fail("dataset '" + full + "' stores less data than its shape needs (truncated or corrupt file?)");
+    }
     out.resize(static_cast<std::size_t>(total));
     if (total > 0 && H5Dread(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
       fail("cannot read dataset '" + full + "' (truncated or corrupt file?)");
