@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
     std::cerr << "quadfdi: error: " << e.what() << " (see --help)\n";
     return 2;
   }
+  // The long-running commands stop at a safe point on SIGINT/SIGTERM; the others keep the default.
+  if (generate_cmd->parsed() || train_cmd->parsed() || evaluate_cmd->parsed() || reproduce_cmd->parsed())
+    quadfdi::cli::interruptFlag();
   try {
     if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate, *simulate_cmd);
     if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate, *generate_cmd);

@@ -10,6 +10,7 @@ namespace quadfdi {
 namespace {
 constexpr long kSpareSamples = 4096;  // history beyond T before it is compacted
 constexpr int kMaxPoints = 8;         // evaluations per engine pass, at most
+constexpr double kMaxBridged = 1e6;   // model samples one input sample may complete (max_gap / dt)
 }
 
 Detector::Detector(const DetectorConfig& config, InferenceEngine& engine)
@@ -17,6 +18,8 @@ Detector::Detector(const DetectorConfig& config, InferenceEngine& engine)
   if (config.window != engine.window() || engine.channels() != featureChannels(FeatureSet::kModelFree))
     throw std::invalid_argument("detector: the network must read model-free windows of T samples");
   if (config.stride < 1) throw std::invalid_argument("detector: stride must be at least 1");
+  if (!(config.resampler.dt > 0.0) || !(config.resampler.max_gap / config.resampler.dt <= kMaxBridged))
+    throw std::invalid_argument("detector: max_gap / dt must be at most 1e6 model samples (a hole the resampler fills)");
   if (config.trained_motor != 2) throw std::invalid_argument("detector: only networks trained on motor 2 are supported");
   for (int k = 1; k <= 4; ++k) maps_[static_cast<std::size_t>(k - 1)] = mapMotorToMotor2(k, config.symmetry);
   capacity_ = config.window + kSpareSamples;
@@ -39,6 +42,10 @@ void Detector::restart() {
 
 void Detector::appendModelSample(const TelemetrySample& s) {
   if (count_ - first_index_ == capacity_) {  // compact: keep what the next windows need
+    // One input sample can complete more model samples than the spare room (a hole up to max_gap
+    // filled at dt) while evaluations are due: make them now so that compaction frees their
+    // samples. Same windows, same estimates: only the batching changes.
+    if (std::min(next_due_, count_) - config_.window + 1 <= first_index_) evaluateDue(false);
     const long keep_from = std::max(first_index_, std::min(next_due_, count_) - config_.window + 1);
     const long n = count_ - keep_from, off = keep_from - first_index_;
     std::memmove(outputs_.data(), outputs_.data() + off * kOutputDim, sizeof(float) * static_cast<std::size_t>(n * kOutputDim));

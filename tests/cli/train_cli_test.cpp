@@ -93,6 +93,20 @@ pid_t start(const std::string& args, const std::string& err_path) {
   return pid;
 }
 
+// Waits until `pid` has a handler for `signal_number` (Linux: SigCgt in /proc/PID/status), so a
+// signal sent next meets the program's handler, not its start-up.
+bool waitForHandler(pid_t pid, int signal_number) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(status, line);)
+      if (line.rfind("SigCgt:", 0) == 0 && (std::stoull(line.substr(7), nullptr, 16) >> (signal_number - 1)) & 1u)
+        return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
 int waitExit(pid_t pid) {
   int status = 0;
   waitpid(pid, &status, 0);
@@ -147,7 +161,8 @@ TEST(GenerateCli, SigtermLeavesNoOutputAndNoTemporaryFile) {
   // Big enough to be running when the signal comes (44 000 trajectories, seconds on one thread).
   const pid_t pid = start("generate --scale default --iterations 100 --threads 1 -o " + out, err);
   ASSERT_GT(pid, 0);
-  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  ASSERT_TRUE(waitForHandler(pid, SIGTERM));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // into the generation
   kill(pid, SIGTERM);
   const int code = waitExit(pid);
   if (exists(out)) GTEST_SKIP() << "generation finished before the signal arrived";
