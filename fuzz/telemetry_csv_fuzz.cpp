@@ -41,8 +41,10 @@ InferenceEngine& engine() {
 // streaming, `--stride` (1 … 1000), `--max-gap` (the longest hole bridged) and the model's dt.
 DetectorConfig configFor(std::uint8_t first, bool& look_ahead) {
   static constexpr int kStrides[4] = {4, 1, 37, 1000};
-  static constexpr double kMaxGaps[4] = {0.02, 0.5, 10.0, 1000.0};  // [s]
-  static constexpr double kDts[4] = {0.002, 0.001, 0.0005, 0.0001};  // [s]
+  // Holes up to 10 s bridged at dt down to 0.5 ms: up to 2e4 model samples from one input sample
+  // (the history holds T + 4096); 1e5 s is past what the detector accepts.
+  static constexpr double kMaxGaps[4] = {0.02, 0.5, 10.0, 1e5};     // [s]
+  static constexpr double kDts[4] = {0.002, 0.001, 0.0005, 0.002};  // [s]
   const unsigned bits = first ^ static_cast<unsigned>('t');
   DetectorConfig c;
   c.window = engine().window();

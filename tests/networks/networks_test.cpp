@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -13,7 +14,10 @@
 namespace quadfdi {
 namespace {
 
-std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_nn_" + name; }
+// Per process: two builds' suites (test, asan) may run at once.
+std::string temp(const std::string& name) {
+  return ::testing::TempDir() + "quadfdi_nn_" + std::to_string(getpid()) + "_" + name;
+}
 
 // A tiny but real Algorithm 1 run: T = 10, hidden 16, 12 trajectories an iteration.
 TrainConfig tinyConfig(Architecture arch = Architecture::kLstm, FeatureSet features = FeatureSet::kModelFree) {
