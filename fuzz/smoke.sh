@@ -17,7 +17,7 @@ export LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 # malloc that cannot be satisfied returns null (as glibc's does) instead of aborting: libhdf5
 # checks for it. Our own `new` still reports out-of-memory.
-export ASAN_OPTIONS="allocator_may_return_null=1:fast_unwind_on_malloc=0"
+export ASAN_OPTIONS="allocator_may_return_null=1"
 limits=(-timeout=10 -rss_limit_mb=4096 -malloc_limit_mb=2048)
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/quadfdi-smoke.XXXXXX")
@@ -65,9 +65,15 @@ for t in "${targets[@]}"; do
   "$bin" "${limits[@]}" "${dict[@]}" -max_total_time="$seconds" -fork=1 -ignore_crashes=1 -ignore_ooms=1 \
     -ignore_timeouts=1 -artifact_prefix="$work/$t/artifacts/" "$work/$t/corpus" > "$work/$t.fuzz.log" 2>&1
   execs=$(grep -oE '^#[0-9]+' "$work/$t.fuzz.log" | tail -1)
+  if [[ -z $execs ]]; then
+    echo "smoke: $t: the fuzzer did not run:" >&2
+    tail -20 "$work/$t.fuzz.log" >&2
+    failed=1
+    continue
+  fi
   for artifact in "$work/$t/artifacts/"*; do
     [[ -e $artifact ]] || continue
-    "$bin" "${limits[@]}" "$artifact" > "$artifact.log" 2>&1
+    ASAN_OPTIONS="$ASAN_OPTIONS:fast_unwind_on_malloc=0" "$bin" "${limits[@]}" "$artifact" > "$artifact.log" 2>&1
     verdict=$(classify "$artifact.log")
     if [[ $verdict == ours ]]; then
       echo "smoke: $t: $(basename "$artifact") is a bug in our code:" >&2
@@ -79,7 +85,7 @@ for t in "${targets[@]}"; do
       echo "smoke: $t: $(basename "$artifact"): $verdict, known, not ours"
     fi
   done
-  echo "smoke: $t: ${seconds} s of fuzzing (${execs:-#0} executions) done"
+  echo "smoke: $t: ${seconds} s of fuzzing, ${execs#\#} executions"
 done
 
 if ((failed)); then

@@ -117,24 +117,30 @@ std::string markdownOf(const ExperimentResult& e, double dt) {
 }
 
 // The project's aim (issue 5): ≥ 99 % isolation of complete faults within 50 ms of onset
-// (L = 25 faulty samples) in all four motors, and ≤ 0.1 % false-alarm windows. Stated plainly.
-std::string aimVerdict(const ExperimentResult& e1, double dt) {
+// (L = 25 faulty samples) in all four motors, and ≤ 0.1 % false-alarm windows. Stated plainly for
+// every complete-fault condition (E2's partial faults use another threshold and are left out).
+std::string aimVerdict(const std::vector<ExperimentResult>& experiments, double dt) {
   constexpr double kMinIsolation = 0.99, kMaxFalseAlarms = 0.001, kWithin = 0.050;  // [-], [-], [s]
   const auto l = static_cast<std::size_t>(kWithin / dt + 0.5);
   std::ostringstream s;
-  s << "### Against our aim (E1)\n\nAim: at least " << fmt(100 * kMinIsolation, 0)
+  s << "### Against our aim\n\nAim: at least " << fmt(100 * kMinIsolation, 0)
     << " % isolation of complete faults within " << fmt(kWithin * 1000, 0) << " ms of onset (L = " << l
     << ") in every motor, at most " << fmt(100 * kMaxFalseAlarms, 1) << " % false-alarm windows.\n\n";
-  bool all = true;
-  for (const auto& c : e1.conditions) {
-    const double acc = l < c.isolation.accuracy.size() ? c.isolation.accuracy[l] : 0.0;
-    const bool iso_ok = acc >= kMinIsolation, fa_ok = c.false_alarm_rate <= kMaxFalseAlarms;
-    all = all && iso_ok && fa_ok;
-    s << "- " << c.name << ": isolation at L = " << l << " is " << fmt(100 * acc, 1) << " % ("
-      << (iso_ok ? "meets" : "FALLS SHORT of") << " the aim); false alarms " << fmt(100 * c.false_alarm_rate, 2)
-      << " % (" << (fa_ok ? "meets" : "FALLS SHORT of") << " the aim)\n";
+  int short_of = 0, checked = 0;
+  for (const ExperimentResult& e : experiments) {
+    if (e.id == "e2") continue;
+    for (const auto& c : e.conditions) {
+      const double acc = l < c.isolation.accuracy.size() ? c.isolation.accuracy[l] : 0.0;
+      const bool iso_ok = acc >= kMinIsolation, fa_ok = c.false_alarm_rate <= kMaxFalseAlarms;
+      ++checked;
+      short_of += !(iso_ok && fa_ok);
+      s << "- " << e.id << ", " << c.name << ": isolation at L = " << l << " " << fmt(100 * acc, 1) << " %, false alarms "
+        << fmt(100 * c.false_alarm_rate, 2) << " % — " << (iso_ok && fa_ok ? "meets the aim" : "FALLS SHORT") << "\n";
+    }
   }
-  s << "\n" << (all ? "All four motors meet the aim at this scale." : "The aim is NOT met at this scale (see above).")
+  s << "\n" << (short_of == 0 ? "Every condition meets the aim at this scale."
+                                : std::to_string(short_of) + " of " + std::to_string(checked) +
+                                      " conditions fall short of the aim at this scale (see above).")
     << "\n\n";
   return s.str();
 }
@@ -184,6 +190,7 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
   std::ostringstream report;
   report << "# quadfdi evaluation report\n\n";
   std::ostringstream body;
+  std::vector<ExperimentResult> done;
   const double dt = 0.002;
   for (const std::string& id : o.experiments) {
     if (interruptFlag().load())
@@ -203,8 +210,9 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
     writeFile(o.output + "/" + e.id + ".md", md);
     if (!plot(o.output, e) && !o.quiet) std::fprintf(stderr, "evaluate: warning: gnuplot failed, no %s.png\n", e.id.c_str());
     body << md << '\n';
-    if (e.id == "e1") body << aimVerdict(e, dt);
+    done.push_back(std::move(e));
   }
+  body << aimVerdict(done, dt);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report << "- command: `" << command_line << "`\n- scale: " << scale.name << " (" << scale.flights_per_class
          << " test flights per class; SPEC §7's protocol uses 2 000)\n- test-set seed: " << o.seed

@@ -256,7 +256,7 @@ FaultIdentifier FaultIdentifier::load(const std::string& path) {
   }
   if (const std::int64_t floats = parameterCount(impl->metadata); size < 4 * static_cast<std::size_t>(floats))
     throw ModelError(path + ":3: weights do not match the architecture in the metadata (" + std::to_string(size) +
-                     " bytes, it has " + std::to_string(floats) + " float parameters)");
+                     " bytes for " + std::to_string(floats) + " float parameters)");
   std::string w(size, '\0');
   in.read(w.data(), static_cast<std::streamsize>(size));
   if (static_cast<std::size_t>(in.gcount()) != size) throw ModelError(path + ": truncated (weights incomplete)");
