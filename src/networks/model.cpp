@@ -1,6 +1,9 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <caffe2/serialize/inline_container.h>
+
+#include <array>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -190,6 +193,75 @@ std::vector<std::string> layout(const FaultNet& net) {
   return out;
 }
 
+// CRC-32 as zip uses it (IEEE 802.3, reflected).
+std::uint32_t crc32(const char* data, std::size_t size) {
+  static const std::array<std::uint32_t, 256> table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      std::uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) != 0 ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (std::size_t i = 0; i < size; ++i) c = table[(c ^ static_cast<unsigned char>(data[i])) & 0xFFu] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+// Name and CRC-32 of every record in a zip's central directory (zip64 too, as torch::save writes).
+// Throws std::out_of_range where the structure does not fit in the bytes.
+std::vector<std::pair<std::string, std::uint32_t>> zipDirectory(const std::string& z) {
+  auto le = [&](std::uint64_t at, int bytes) {
+    if (at > z.size() || static_cast<std::uint64_t>(bytes) > z.size() - at) throw std::out_of_range("zip");
+    std::uint64_t v = 0;
+    for (int i = bytes - 1; i >= 0; --i) v = v << 8 | static_cast<unsigned char>(z[static_cast<std::size_t>(at) + i]);
+    return v;
+  };
+  const std::size_t eocd = z.rfind(std::string("PK\x05\x06", 4));  // end of central directory
+  if (eocd == std::string::npos || eocd < 20) throw std::out_of_range("zip");
+  std::uint64_t entries = le(eocd + 10, 2), at = le(eocd + 16, 4);
+  if (entries == 0xFFFF || at == 0xFFFFFFFF) {  // zip64: the locator before it points at the zip64 record
+    const std::uint64_t record = le(eocd - 20 + 8, 8);
+    if (le(record, 4) != 0x06064b50) throw std::out_of_range("zip");
+    entries = le(record + 32, 8);
+    at = le(record + 48, 8);
+  }
+  std::vector<std::pair<std::string, std::uint32_t>> out;
+  for (std::uint64_t e = 0; e < entries; ++e) {  // each entry is at least 46 bytes: ends within the data
+    if (le(at, 4) != 0x02014b50) throw std::out_of_range("zip");
+    const std::uint64_t name = le(at + 28, 2), extra = le(at + 30, 2), comment = le(at + 32, 2);
+    if (name > 0) le(at + 46 + name - 1, 1);
+    out.emplace_back(z.substr(static_cast<std::size_t>(at) + 46, static_cast<std::size_t>(name)),
+                     static_cast<std::uint32_t>(le(at + 16, 4)));
+    at += 46 + name + extra + comment;
+  }
+  return out;
+}
+
+// LibTorch's archive reader is built without CRC checks and trusts every byte: one flipped bit
+// loads silently wrong weights or crashes its unpickler. So every record is read (and inflated)
+// by LibTorch's zip reader first and checked against its CRC-32. Returns "" or the problem.
+std::string checkArchive(const std::string& weights) {
+  try {
+    const auto directory = zipDirectory(weights);
+    std::istringstream in(weights);
+    caffe2::serialize::PyTorchStreamReader reader(&in);
+    for (const auto& [name, crc] : directory) {
+      const std::size_t slash = name.find('/');  // records are named relative to the archive's folder
+      if (slash == std::string::npos) return "weights record '" + name + "' is outside the archive (corrupt file?)";
+      const auto [data, size] = reader.getRecord(name.substr(slash + 1));
+      if (crc32(static_cast<const char*>(data.get()), size) != crc)
+        return "weights record '" + name + "' fails its CRC-32 check (corrupt file?)";
+    }
+  } catch (const std::out_of_range&) {
+    return "weights are not a LibTorch zip archive (corrupt file?)";
+  } catch (const c10::Error&) {
+    return "cannot read the weights archive (corrupt file?)";
+  }
+  return {};
+}
+
 }  // namespace
 
 void FaultIdentifier::save(const std::string& path) const {
@@ -261,6 +333,7 @@ FaultIdentifier FaultIdentifier::load(const std::string& path) {
   in.read(w.data(), static_cast<std::streamsize>(size));
   if (static_cast<std::size_t>(in.gcount()) != size) throw ModelError(path + ": truncated (weights incomplete)");
   if (in.peek() != std::char_traits<char>::eof()) throw ModelError(path + ": trailing data after the weights");
+  if (const std::string problem = checkArchive(w); !problem.empty()) throw ModelError(path + ": " + problem);
   impl->net = FaultNet(impl->metadata);
   const std::vector<std::string> expected_layout = layout(impl->net);
   try {
