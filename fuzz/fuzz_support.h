@@ -22,6 +22,7 @@ inline const std::string& writeTempFile(const std::uint8_t* data, std::size_t si
     std::atexit([] { std::remove(removed_at_exit.c_str()); });
     return p;
   }();
+  std::remove(path.c_str());  // a new file (inode) every time, as a real file would be
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) std::abort();
   if (size > 0 && std::fwrite(data, 1, size, f) != size) std::abort();

@@ -1,6 +1,8 @@
 // HDF5 dataset files (io/hdf5_dataset.h, docs/dataset-format.md): any bytes give a validated
 // TrajectoryBatch or one DatasetError naming the file. An accepted batch must be safe for its
 // consumers: every window enumerateWindows lists gathers its features within bounds.
+#include <hdf5.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,5 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind(path, 0) == 0);
   }
+  // Every identifier the reader opened is closed again, on success and on every error path.
+  QUADFDI_FUZZ_CHECK(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL) == 0);
   return 0;
 }

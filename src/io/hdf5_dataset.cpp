@@ -247,7 +247,7 @@ TrajectoryBatch readDataset(const std::string& path, DatasetMetadata* meta_out) 
   meta.integrator = r.stringAttribute("integrator");
   meta.generator = r.stringAttribute("generator");
   if (!(meta.dt > 0.0 && std::isfinite(meta.dt))) r.fail("attribute 'dt' must be > 0");
-  if (meta.window < 1 || samples < meta.window + 1 || samples > 10000000) r.fail("inconsistent window / samples_per_trajectory");
+  if (meta.window < 1 || samples <= meta.window || samples > 10000000) r.fail("inconsistent window / samples_per_trajectory");
   if (meta.output != "position-euler" && meta.output != "position-rates") r.fail("unknown output kind '" + meta.output + "'");
 
   const std::vector<hsize_t> outputs_shape = r.shape("outputs");

@@ -349,6 +349,11 @@ FaultIdentifier FaultIdentifier::load(const std::string& path) {
     if (loaded_layout[i] != expected_layout[i])
       throw ModelError(path + ": weights do not match the architecture in the metadata (" + loaded_layout[i] +
                        ", expected " + expected_layout[i] + ")");
+  // A NaN weight makes every estimate NaN or constant: the detector would never raise an alarm.
+  for (const auto& tensors : {impl->net->named_parameters(), impl->net->named_buffers()})
+    for (const auto& t : tensors)
+      if (!torch::isfinite(t.value()).all().item<bool>())
+        throw ModelError(path + ": weights hold non-finite values (in '" + t.key() + "')");
   return FaultIdentifier(impl);
 }
 

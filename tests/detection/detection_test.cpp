@@ -288,6 +288,23 @@ TEST_F(ShippedDetector, HandlesFasterJitteredAndGappyLogs) {
   EXPECT_EQ(s.first_alarm_motor, 3);
 }
 
+// Found by fuzzing: a hole shorter than --max-gap but longer than the history (here 9 s with a
+// 10-s max gap) is interpolated across; the history must make room instead of overflowing.
+TEST_F(ShippedDetector, InterpolatesAcrossALongAllowedHole) {
+  const Flight f = fly(0, 1.0, 0, 400, 61);
+  std::vector<TelemetrySample> samples = f.samples;
+  for (std::size_t k = 200; k < samples.size(); ++k) samples[k].t += 9.0;
+  DetectorConfig c = config();
+  c.resampler.max_gap = 10.0;
+  c.resampler.max_input_period = 10.0;
+  DetectorSummary s;
+  const std::vector<DetectorOutput> out = run(samples, true, &s, c);
+  EXPECT_EQ(s.restarts, 0);
+  EXPECT_EQ(out.size(), samples.size() - 99);
+  for (const DetectorOutput& o : out)
+    for (float t : o.theta) EXPECT_TRUE(t >= 0.0f && t <= 1.0f);
+}
+
 TEST(Detector, RefusesNetworksItCannotRun) {
   ModelMetadata m;
   m.window = 20;
