@@ -137,7 +137,6 @@ int runDetect(const DetectOptions& o) {
       ++skipped;
       continue;
     }
-    const long restarts = detector.summary().restarts;
     const bool look_ahead = !streaming || moreInputReady();
     const ResampleStatus status = detector.push(sample, look_ahead);
     if (status == ResampleStatus::kNotIncreasing)
@@ -145,7 +144,7 @@ int runDetect(const DetectOptions& o) {
     if (status == ResampleStatus::kTooCoarse)
       throw TelemetryError(reader.where() + ": the log is sampled too coarsely: most of its first intervals exceed " +
                            fmtMs(o.max_input_period) + " (--max-input-period); the model needs " + fmtMs(m.dt) + " samples");
-    if (!o.quiet && detector.summary().restarts > restarts)
+    if (!o.quiet && status == ResampleStatus::kRestarted)
       std::fprintf(stderr, "detect: warning: %s: gap of more than %.0f ms in the log; the detector starts again (needs %.2f s)\n",
                    reader.where().c_str(), 1000.0 * o.max_gap, m.window * m.dt);
     DetectorOutput d;

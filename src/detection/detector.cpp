@@ -61,18 +61,17 @@ void Detector::appendModelSample(const TelemetrySample& s) {
 }
 
 ResampleStatus Detector::push(const TelemetrySample& sample, bool look_ahead) {
-  if (summary_.input_samples > 0 && sample.t > last_t_ && sample.t - last_t_ > config_.resampler.max_gap) {
-    // A hole in the log: finish the stretch before it with what it has, then start again.
-    evaluateDue(false);
-    resolve();
-    pending_.clear();  // samples that never saw a full window get no output
-    restart();
-    ++summary_.restarts;
-  }
-  const ResampleStatus status = resampler_.push(sample, [&](const TelemetrySample& s) { appendModelSample(s); });
+  const ResampleStatus status = resampler_.push(
+      sample, [&](const TelemetrySample& s) { appendModelSample(s); },
+      [&] {  // a hole in the log: finish the stretch before it with what it has, then start again
+        evaluateDue(false);
+        resolve();
+        pending_.clear();  // samples that never saw a full window get no output
+        restart();
+        ++summary_.restarts;
+      });
   if (status == ResampleStatus::kNotIncreasing || status == ResampleStatus::kTooCoarse) return status;
   ++summary_.input_samples;
-  last_t_ = sample.t;
   pending_.push_back({sample.t, count_ - 1});
   evaluateDue(look_ahead);
   resolve();

@@ -91,7 +91,6 @@ class Detector {
   long next_due_ = 0;
   bool dense_ = false;  // evaluating every sample
   int watch_left_ = 0;  // dense evaluations left in the watch band
-  double last_t_ = 0.0;  // [s] of the last accepted input sample
   std::vector<float> features_, raw_;
   struct Pending {
     double t;

@@ -34,11 +34,15 @@ class Resampler {
   explicit Resampler(const ResamplerConfig& config) : config_(config) {}
 
   // Feeds one input sample; calls emit(const TelemetrySample&) for every grid sample it completes
-  // (time t0 + j·dt, j counting from the last (re)start). No allocation.
+  // (time t0 + j·dt, j counting from the last (re)start), and on_restart() after a gap, before the
+  // new stretch's first sample is emitted. No allocation.
+  template <class Emit, class OnRestart>
+  ResampleStatus push(const TelemetrySample& s, Emit&& emit, OnRestart&& on_restart);
   template <class Emit>
-  ResampleStatus push(const TelemetrySample& s, Emit&& emit);
+  ResampleStatus push(const TelemetrySample& s, Emit&& emit) {
+    return push(s, emit, [] {});
+  }
 
-  double lastInterval() const { return last_interval_; }  // [s]
 
  private:
   static TelemetrySample interpolate(const TelemetrySample& a, const TelemetrySample& b, double t);
@@ -48,11 +52,10 @@ class Resampler {
   double t0_ = 0.0;        // grid origin [s]
   long next_ = 0;          // next grid index to emit
   int intervals_ = 0, coarse_intervals_ = 0;
-  double last_interval_ = 0.0;
 };
 
-template <class Emit>
-ResampleStatus Resampler::push(const TelemetrySample& s, Emit&& emit) {
+template <class Emit, class OnRestart>
+ResampleStatus Resampler::push(const TelemetrySample& s, Emit&& emit, OnRestart&& on_restart) {
   if (!started_) {
     started_ = true;
     previous_ = s;
@@ -63,13 +66,13 @@ ResampleStatus Resampler::push(const TelemetrySample& s, Emit&& emit) {
   }
   const double interval = s.t - previous_.t;
   if (!(interval > 0.0)) return ResampleStatus::kNotIncreasing;
-  last_interval_ = interval;
   if (intervals_ < config_.coarse_check_intervals) {
     ++intervals_;
     if (interval > config_.max_input_period) ++coarse_intervals_;
     if (2 * coarse_intervals_ > config_.coarse_check_intervals) return ResampleStatus::kTooCoarse;
   }
   if (interval > config_.max_gap) {
+    on_restart();
     previous_ = s;
     t0_ = s.t;
     next_ = 1;

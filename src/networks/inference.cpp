@@ -91,6 +91,13 @@ InferenceEngine::InferenceEngine(const NetworkWeights& wts)
   }
   if (in != 4) throw std::invalid_argument("InferenceEngine: the network must end in four outputs");
   if (head_.size() > kMaxLayers) throw std::invalid_argument("InferenceEngine: too many layers");
+  for (const Packed& p : head_) {
+    head_w_.push_back(p.w.data());
+    head_b_.push_back(p.b.data());
+    head_in_.push_back(p.in);
+    head_out_.push_back(p.out);
+    head_blocks_.push_back(p.blocks);
+  }
   padded_.assign(static_cast<std::size_t>(window_) * n * lanes, 0.0f);
   act_a_.assign(widest * lanes, 0.0f);
   act_b_.assign(widest * lanes, 0.0f);
@@ -113,19 +120,9 @@ void InferenceEngine::predictGroup(const float* windows, int count, float* theta
   } else {
     normalise_(group, static_cast<int>(per), channels_, mean_.data(), scale_.data(), act_a_.data());
   }
-  const float* w[kMaxLayers];
-  const float* b[kMaxLayers];
-  int in[kMaxLayers], out[kMaxLayers], blocks[kMaxLayers];
   const int layers = static_cast<int>(head_.size());
-  for (int l = 0; l < layers; ++l) {
-    const Packed& p = head_[static_cast<std::size_t>(l)];
-    w[l] = p.w.data();
-    b[l] = p.b.data();
-    in[l] = p.in;
-    out[l] = p.out;
-    blocks[l] = p.blocks;
-  }
-  dense_stack_({w, b, in, out, blocks, layers, act_a_.data(), act_b_.data()});
+  dense_stack_({head_w_.data(), head_b_.data(), head_in_.data(), head_out_.data(), head_blocks_.data(), layers,
+                act_a_.data(), act_b_.data()});
   const float* result = (layers % 2 == 0) ? act_a_.data() : act_b_.data();
   for (int i = 0; i < count; ++i)
     for (int m = 0; m < 4; ++m) theta[i * 4 + m] = result[m * lanes_ + i];

@@ -38,6 +38,8 @@ class InferenceEngine {
  public:
   // setup: packs the weights, picks the kernel, allocates scratch. Throws std::invalid_argument.
   explicit InferenceEngine(const NetworkWeights& weights);
+  InferenceEngine(const InferenceEngine&) = delete;  // the layer tables point into its own weights
+  InferenceEngine& operator=(const InferenceEngine&) = delete;
 
   int lanes() const { return lanes_; }  // windows per pass: 8 (generic, AVX2) or 16 (AVX-512)
   const char* kernel() const { return kernel_name_; }
@@ -65,6 +67,9 @@ class InferenceEngine {
   Packed gates_;
   std::vector<Packed> head_;
   static constexpr std::size_t kMaxLayers = 16;
+  // head_ as the kernel's tables, built once at setup.
+  std::vector<const float*> head_w_, head_b_;
+  std::vector<int> head_in_, head_out_, head_blocks_;
   std::vector<float> z_, gate_out_, cell_, act_a_, act_b_;  // [rows][lanes] scratch
   std::vector<float> padded_;                               // a short group, padded to lanes windows
 };
