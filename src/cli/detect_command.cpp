@@ -154,12 +154,12 @@ int runDetect(const DetectOptions& o) {
   detector.finish();
   DetectorOutput d;
   while (detector.pop(d)) writeJson(out, d);
+  const DetectorSummary& s = detector.summary();
+  // Before the commit: a header-only log must not replace an existing output file.
+  if (s.input_samples == 0) throw TelemetryError(name + ": no telemetry rows after the header");
   out.flush();
   if (!out) throw std::runtime_error(o.output + ": write failed");
   if (file_out) file_out->commit();
-
-  const DetectorSummary& s = detector.summary();
-  if (s.input_samples == 0) throw TelemetryError(name + ": no telemetry rows after the header");
   if (!o.quiet) {
     if (skipped > 10) std::fprintf(stderr, "detect: warning: %ld rows skipped in all (non-finite or empty cells)\n", skipped);
     if (s.outputs == 0)

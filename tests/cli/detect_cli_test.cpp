@@ -122,6 +122,10 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
     EXPECT_EQ(countLines(r.out), 1) << c.name << ": " << r.out;
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.name << ": " << r.out;
   }
+  // A header-only log does not replace an existing output either.
+  std::ofstream(temp("kept-header.jsonl")) << "precious\n";
+  EXPECT_EQ(run("detect --input " + temp("header-only.csv") + " --output " + temp("kept-header.jsonl")).exit_code, 1);
+  EXPECT_EQ(readFile(temp("kept-header.jsonl")), "precious\n");
   // A log at 100 Hz is refused; nothing already written is lost.
   std::ostringstream coarse;
   coarse << good_header;
