@@ -4,15 +4,9 @@
 // flight controller holds it, from one logged command to the next.
 #pragma once
 
-#include <array>
+#include "core/types.h"
 
 namespace quadfdi {
-
-struct TelemetrySample {
-  double t = 0.0;                  // [s]
-  std::array<double, 6> y{};       // x, y, z [m] (z up), roll, pitch, yaw [rad] (SPEC §2)
-  std::array<double, 4> u{};       // commanded thrust per motor [N], Crazyflie numbering
-};
 
 struct ResamplerConfig {
   double dt = 0.002;                // [s] the model's sample period (from the model file)

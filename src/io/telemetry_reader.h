@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "detection/resampler.h"
+#include "core/types.h"
 
 namespace quadfdi {
 

@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross products
 
+#include "core/types.h"
+
 namespace quadfdi {
 
 // 12-state rigid body, SPEC §2. World frame: z up. Body frame: x forward, y left, z up.
@@ -21,8 +23,6 @@ inline constexpr int kPos = 0, kVel = 3, kAtt = 6, kRate = 9;  // block starts
 }  // namespace idx
 
 inline constexpr int kStateDim = 12;
-inline constexpr int kInputDim = 4;   // per-motor thrusts f1..f4 [N], Crazyflie numbering
-inline constexpr int kOutputDim = 6;  // y, see OutputKind
 
 using State = Eigen::Matrix<double, kStateDim, 1>;
 using Input = Eigen::Matrix<double, kInputDim, 1>;

@@ -1,0 +1,26 @@
+// The stage types every step of quadfdi's pipeline speaks (in the spirit of the Crazyflie
+// firmware's stabilizer_types.h): log readers and the simulator produce TelemetrySample, the
+// resampler puts it on the model's clock, the estimator turns windows of it into a MotorTheta,
+// and the decision rules turn that into alarms. Plain data only: no Eigen, no allocation.
+// Conventions (frames, units, motor numbering): docs/conventions.md.
+#pragma once
+
+#include <array>
+
+namespace quadfdi {
+
+inline constexpr int kMotors = 4;     // quad-X
+inline constexpr int kInputDim = 4;   // per-motor thrusts f1..f4 [N], quadfdi (Crazyflie) numbering
+inline constexpr int kOutputDim = 6;  // y = position (3) then attitude or rates (3), see OutputKind
+
+// One measured sample of a flight: what a flight controller has, in quadfdi's conventions.
+struct TelemetrySample {
+  double t = 0.0;                     // [s]
+  std::array<double, kOutputDim> y{};  // x, y, z [m] (world, z up), roll, pitch, yaw [rad] (ZYX, body FLU)
+  std::array<double, kInputDim> u{};   // commanded thrust per motor [N], before any fault
+};
+
+// Θ̂: estimated effectiveness per motor, 1 = healthy, 0 = no thrust; index k is motor k + 1.
+using MotorTheta = std::array<float, kMotors>;
+
+}  // namespace quadfdi
