@@ -1,0 +1,55 @@
+// The signals the detector needs, taken out of a decoded log by an autopilot's extractor
+// (PX4, ArduPilot, Crazyflie) and already in quadfdi's conventions (docs/conventions.md), each
+// at its own native rate. What is still open here — putting them on the model's clock, turning
+// thrust fractions into newtons, choosing the airborne phases — is done once, for every
+// autopilot, by the conventions layer.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace quadfdi {
+
+// Where a signal came from, for the import report and for refusals ("vehicle_local_position
+// at 5.2 Hz is too coarse: …").
+struct SignalSource {
+  std::string topic;   // message/topic/variable group, e.g. "vehicle_attitude", "ATT", "stateEstimate"
+  std::string fields;  // e.g. "q[0..3]", "Roll,Pitch,Yaw"
+  std::string note;    // conventions applied, e.g. "NED→ENU, FRD→FLU, quaternion → ZYX Euler"
+};
+
+template <int N>
+struct SignalSeries {
+  std::vector<double> t;                   // [s] from the log's time origin, increasing
+  std::vector<std::array<double, N>> v;    // values, in the units the owner says
+  SignalSource source;
+  bool empty() const { return t.empty(); }
+};
+
+enum class CommandKind {
+  kThrustNewton,    // the log (or a known thrust map) gives thrust per motor [N]
+  kThrustFraction,  // thrust as a fraction of the motor's maximum [0, 1], already linear in thrust
+                    // (the autopilot's thrust curve inverted); scaled to N by the conventions layer
+};
+
+// Armed / landed state as the autopilot logged it (PX4 vehicle_status + vehicle_land_detected,
+// ArduPilot EV/ARM/MODE); empty when the log has none.
+struct FlightStateEvent {
+  double t = 0.0;         // [s]
+  bool armed = false;
+  bool landed = true;     // the autopilot's own landed/maybe-landed flag
+};
+
+struct FlightSignals {
+  SignalSeries<3> position;        // x, y, z [m], world frame, z up
+  SignalSeries<3> attitude;        // roll, pitch, yaw [rad], ZYX, body x forward, y left, z up
+  SignalSeries<kMotors> command;   // per motor, quadfdi numbering (1 FR, 2 BR, 3 BL, 4 FL)
+  CommandKind command_kind = CommandKind::kThrustFraction;
+  std::vector<FlightStateEvent> states;  // in time order
+  std::vector<std::string> conventions;  // one line per convention applied, for the report
+};
+
+}  // namespace quadfdi
