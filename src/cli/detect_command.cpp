@@ -1,8 +1,5 @@
 #include "cli/detect_command.h"
 
-#include <poll.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -10,13 +7,13 @@
 #include <memory>
 
 #include "cli/cli_util.h"
-#include "detection/detector.h"
+#include "detection/session.h"
 #include "io/atomic_file.h"
+#include "io/model_file.h"
 #include "io/telemetry_reader.h"
-#include "networks/inference.h"
 
 #ifndef QUADFDI_DEFAULT_MODEL
-#define QUADFDI_DEFAULT_MODEL "models/lstm-model-free.qfdi"
+#define QUADFDI_DEFAULT_MODEL "models/lstm-model-free.qfdw"
 #endif
 
 namespace quadfdi::cli {
@@ -56,30 +53,34 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
 
 namespace {
 
-// True when more standard input is ready without waiting: the stream then reads ahead like a
-// file (same output, since a window's estimate does not depend on its batch), and only a
-// live, idle pipe gets each sample evaluated the moment it arrives.
-bool moreInputReady() {
-  if (std::cin.rdbuf()->in_avail() > 0) return true;
-  pollfd p{STDIN_FILENO, POLLIN, 0};
-  return poll(&p, 1, 0) > 0 && (p.revents & POLLIN) != 0;
-}
-
 std::string fmtMs(double seconds) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g ms", 1000.0 * seconds);
   return buf;
 }
 
-void writeJson(std::ostream& out, const DetectorOutput& d) {
-  char buf[256];
-  const int n = std::snprintf(buf, sizeof buf, "{\"t\": %.10g, \"theta\": [%.4f, %.4f, %.4f, %.4f], \"alarm\": %s, \"motor\": ", d.t,
-                              static_cast<double>(d.theta[0]), static_cast<double>(d.theta[1]),
-                              static_cast<double>(d.theta[2]), static_cast<double>(d.theta[3]), d.alarm ? "true" : "false");
-  out.write(buf, n);
-  if (d.motor > 0) out << d.motor << "}\n";
-  else out << "null}\n";
-}
+// JSON Lines on a stream; warnings on stderr.
+class JsonLinesSink : public DetectionSink {
+ public:
+  JsonLinesSink(std::ostream& out, bool quiet) : out_(out), quiet_(quiet) {}
+  void output(const DetectorOutput& d) override {
+    char buf[256];
+    const int n = std::snprintf(buf, sizeof buf, "{\"t\": %.10g, \"theta\": [%.4f, %.4f, %.4f, %.4f], \"alarm\": %s, \"motor\": ", d.t,
+                                static_cast<double>(d.theta[0]), static_cast<double>(d.theta[1]),
+                                static_cast<double>(d.theta[2]), static_cast<double>(d.theta[3]), d.alarm ? "true" : "false");
+    out_.write(buf, n);
+    if (d.motor > 0) out_ << d.motor << "}\n";
+    else out_ << "null}\n";
+  }
+  void warning(const std::string& text) override {
+    if (!quiet_) std::fprintf(stderr, "detect: warning: %s\n", text.c_str());
+  }
+  void idle() override { out_.flush(); }  // a live pipe sees each decision at once
+
+ private:
+  std::ostream& out_;
+  bool quiet_;
+};
 
 }  // namespace
 
@@ -88,16 +89,10 @@ int runDetect(const DetectOptions& o) {
   require(o.watch >= o.raise_below, "--watch must not be below --raise-below (the alarm must be decided at full rate)");
   require(o.max_input_period > 0.0 && o.max_gap >= o.max_input_period, "--max-gap must be at least --max-input-period (> 0)");
   const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
-  const FaultIdentifier model = FaultIdentifier::load(model_path);
-  const ModelMetadata& m = model.metadata();
-  require(m.features == FeatureSet::kModelFree && m.output == OutputKind::kPositionEuler,
-          model_path + ": the detector needs a model-free (y, u) network on position and Euler angles; this one reads " +
-              toString(m.features) + " features");
-  InferenceEngine engine(exportWeights(model));
+  const TrainedModel model = readModelFile(model_path);
+  const ModelMetadata& m = model.metadata;
 
   DetectorConfig config;
-  config.window = m.window;
-  config.trained_motor = m.trained_motor;
   config.symmetry = m.symmetry;
   config.stride = o.stride;
   config.watch = o.watch;
@@ -109,59 +104,42 @@ int runDetect(const DetectOptions& o) {
   config.alarm.clear_above = o.clear_above;
   config.alarm.raise_after = o.raise_after;
   config.alarm.clear_after = o.clear_after;
-  Detector detector(config, engine);
+  std::unique_ptr<Detector> detector;
+  try {
+    detector = std::make_unique<Detector>(config, model);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(model_path + ": " + e.what());
+  }
 
-  const bool streaming = o.input == "-";
-  std::ios::sync_with_stdio(false);  // buffered standard input: see moreInputReady
+  const bool live = o.input == "-";
+  std::ios::sync_with_stdio(false);  // buffered standard input: the reader asks it what is waiting
   std::ifstream file;
-  if (!streaming) {
+  if (!live) {
     file.open(o.input);
     require(file.is_open(), o.input + ": cannot open");
   }
-  std::istream& in = streaming ? std::cin : file;
-  const std::string name = streaming ? std::string("<stdin>") : o.input;
-  TelemetryReader reader(in, name);  // throws on an empty file or a bad header
+  const std::string name = live ? std::string("<stdin>") : o.input;
+  TelemetryReader reader(live ? std::cin : file, name);  // throws on an empty file or a bad header
 
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;
-
-  long skipped = 0;
-  TelemetrySample sample;
-  std::string problem;
-  for (;;) {
-    const TelemetryReader::Row row = reader.next(sample, problem);
-    if (row == TelemetryReader::Row::kEnd) break;
-    if (row == TelemetryReader::Row::kSkipped) {
-      if (!o.quiet && skipped < 10) std::fprintf(stderr, "detect: warning: %s\n", problem.c_str());
-      ++skipped;
-      continue;
-    }
-    const bool look_ahead = !streaming || moreInputReady();
-    const ResampleStatus status = detector.push(sample, look_ahead);
-    if (status == ResampleStatus::kNotIncreasing)
-      throw TelemetryError(reader.where() + ": time goes backwards or repeats (t = " + std::to_string(sample.t) + " s)");
-    if (status == ResampleStatus::kTooCoarse)
-      throw TelemetryError(reader.where() + ": the log is sampled too coarsely: most of its first intervals exceed " +
-                           fmtMs(o.max_input_period) + " (--max-input-period); the model needs " + fmtMs(m.dt) + " samples");
-    if (!o.quiet && status == ResampleStatus::kRestarted)
-      std::fprintf(stderr, "detect: warning: %s: gap of more than %.0f ms in the log; the detector starts again (needs %.2f s)\n",
-                   reader.where().c_str(), 1000.0 * o.max_gap, m.window * m.dt);
-    DetectorOutput d;
-    while (detector.pop(d)) writeJson(out, d);
-    if (streaming && !look_ahead) out.flush();  // a live pipe sees each decision at once
-  }
-  detector.finish();
-  DetectorOutput d;
-  while (detector.pop(d)) writeJson(out, d);
-  const DetectorSummary& s = detector.summary();
+  JsonLinesSink sink(out, o.quiet);
+  SessionConfig session;
+  session.live = live;
+  const SessionResult r = runDetection(*detector, reader, sink, session);
+  if (r.status == SessionStatus::kNotIncreasing)
+    throw TelemetryError(r.where + ": time goes backwards or repeats (t = " + std::to_string(r.t) + " s)");
+  if (r.status == SessionStatus::kTooCoarse)
+    throw TelemetryError(r.where + ": the log is sampled too coarsely: most of its first intervals exceed " +
+                         fmtMs(o.max_input_period) + " (--max-input-period); the model needs " + fmtMs(m.dt) + " samples");
+  const DetectorSummary& s = detector->summary();
   // Before the commit: a header-only log must not replace an existing output file.
   if (s.input_samples == 0) throw TelemetryError(name + ": no telemetry rows after the header");
   out.flush();
   if (!out) throw std::runtime_error(o.output + ": write failed");
   if (file_out) file_out->commit();
   if (!o.quiet) {
-    if (skipped > 10) std::fprintf(stderr, "detect: warning: %ld rows skipped in all (non-finite or empty cells)\n", skipped);
     if (s.outputs == 0)
       std::fprintf(stderr, "detect: %s: %ld samples, shorter than one window (%.2f s): no decision\n", name.c_str(),
                    s.input_samples, m.window * m.dt);

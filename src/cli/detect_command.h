@@ -24,7 +24,7 @@ struct DetectOptions {
 CLI::App* addDetectCommand(CLI::App& app, DetectOptions& options);
 int runDetect(const DetectOptions& options);
 
-// The shipped model: $QUADFDI_MODEL if set, else models/lstm-model-free.qfdi of the source tree.
+// The shipped model: $QUADFDI_MODEL if set, else models/lstm-model-free.qfdw of the source tree.
 std::string defaultModelPath();
 
 }  // namespace quadfdi::cli

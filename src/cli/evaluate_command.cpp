@@ -14,6 +14,7 @@
 #include "cli/interrupt.h"
 #include "evaluation/experiments.h"
 #include "io/atomic_file.h"
+#include "io/model_file.h"
 
 namespace quadfdi::cli {
 
@@ -174,12 +175,12 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
   in.seed = o.seed;
   in.theta_tol = o.theta_tol;
   in.threads = o.threads;
-  std::vector<std::unique_ptr<FaultIdentifier>> owned;
+  std::vector<std::unique_ptr<TrainedModel>> owned;
   std::vector<std::pair<std::string, std::string>> used;
   for (const auto& [role, path] : {std::pair<std::string, std::string>{"model-free", o.model_free},
                                    {"model-based", o.model_based}, {"residual", o.residual}, {"mlp", o.mlp}}) {
     if (path.empty()) continue;
-    owned.push_back(std::make_unique<FaultIdentifier>(FaultIdentifier::load(path)));
+    owned.push_back(std::make_unique<TrainedModel>(readModelFile(path)));
     in.models[role] = owned.back().get();
     used.emplace_back(role, path);
   }
@@ -215,11 +216,11 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
   body << aimVerdict(done, dt);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report << "- command: `" << command_line << "`\n- scale: " << scale.name << " (" << scale.flights_per_class
-         << " test flights per class; SPEC §7's protocol uses 2 000)\n- test-set seed: " << o.seed
+         << " test flights per class; the paper's protocol uses 2 000)\n- test-set seed: " << o.seed
          << ", Θ_tol: " << o.theta_tol << "\n- machine: " << machine() << "\n- wall time: " << fmt(seconds, 1)
          << " s\n- models:\n";
   for (const auto& [role, path] : used) {
-    const ModelMetadata& m = in.models[role]->metadata();
+    const ModelMetadata& m = in.models[role]->metadata;
     report << "  - " << role << ": `" << path << "` (" << toString(m.architecture) << ", " << toString(m.features)
            << ", trained at scale " << m.scale << " with seed " << m.seed << ", " << m.iterations
            << " outer iterations, held-out accuracy " << fmt(m.heldout_accuracy) << ")\n";

@@ -7,10 +7,13 @@
 #include "cli/evaluate_command.h"
 #include "cli/generate_command.h"
 #include "cli/interrupt.h"
-#include "cli/reproduce_command.h"
 #include "cli/simulate_command.h"
+#ifdef QUADFDI_WITH_TRAINING
+#include "cli/convert_model_command.h"
+#include "cli/reproduce_command.h"
 #include "cli/train_command.h"
 #include "networks/trainer.h"
+#endif
 
 int main(int argc, char** argv) {
   CLI::App app{"quadfdi — detect, isolate and size motor faults on quadrotors (Garg & Fan, dynamic symmetry)"};
@@ -20,12 +23,16 @@ int main(int argc, char** argv) {
   CLI::App* simulate_cmd = quadfdi::cli::addSimulateCommand(app, simulate);
   quadfdi::cli::GenerateOptions generate;
   CLI::App* generate_cmd = quadfdi::cli::addGenerateCommand(app, generate);
+#ifdef QUADFDI_WITH_TRAINING
   quadfdi::cli::TrainOptions train;
   CLI::App* train_cmd = quadfdi::cli::addTrainCommand(app, train);
-  quadfdi::cli::EvaluateOptions evaluate;
-  CLI::App* evaluate_cmd = quadfdi::cli::addEvaluateCommand(app, evaluate);
   quadfdi::cli::ReproduceOptions reproduce;
   CLI::App* reproduce_cmd = quadfdi::cli::addReproduceCommand(app, reproduce);
+  quadfdi::cli::ConvertModelOptions convert;
+  CLI::App* convert_cmd = quadfdi::cli::addConvertModelCommand(app, convert);
+#endif
+  quadfdi::cli::EvaluateOptions evaluate;
+  CLI::App* evaluate_cmd = quadfdi::cli::addEvaluateCommand(app, evaluate);
   quadfdi::cli::DetectOptions detect;
   CLI::App* detect_cmd = quadfdi::cli::addDetectCommand(app, detect);
   try {
@@ -41,21 +48,27 @@ int main(int argc, char** argv) {
     return 2;
   }
   // The long-running commands stop at a safe point on SIGINT/SIGTERM; the others keep the default.
-  if (generate_cmd->parsed() || train_cmd->parsed() || evaluate_cmd->parsed() || reproduce_cmd->parsed())
-    quadfdi::cli::interruptFlag();
+  bool long_running = generate_cmd->parsed() || evaluate_cmd->parsed();
+#ifdef QUADFDI_WITH_TRAINING
+  long_running = long_running || train_cmd->parsed() || reproduce_cmd->parsed();
+#endif
+  if (long_running) quadfdi::cli::interruptFlag();
   try {
     if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate, *simulate_cmd);
     if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate, *generate_cmd);
     if (detect_cmd->parsed()) return quadfdi::cli::runDetect(detect);
     std::string command_line = "quadfdi";
     for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
-    if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, *train_cmd, command_line);
     if (evaluate_cmd->parsed()) return quadfdi::cli::runEvaluate(evaluate, command_line);
+#ifdef QUADFDI_WITH_TRAINING
+    if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, *train_cmd, command_line);
     if (reproduce_cmd->parsed()) return quadfdi::cli::runReproduce(reproduce, command_line);
-  } catch (const quadfdi::cli::Interrupted& e) {
+    if (convert_cmd->parsed()) return quadfdi::cli::runConvertModel(convert);
+  } catch (const quadfdi::TrainingInterrupted& e) {
     std::cerr << "quadfdi: interrupted: " << e.what() << "\n";
     return 130;
-  } catch (const quadfdi::TrainingInterrupted& e) {
+#endif
+  } catch (const quadfdi::cli::Interrupted& e) {
     std::cerr << "quadfdi: interrupted: " << e.what() << "\n";
     return 130;
   } catch (const std::exception& e) {

@@ -61,7 +61,7 @@ int runReproduce(const ReproduceOptions& o, const std::string& command_line) {
     t.device = o.device;
     t.quiet = o.quiet;
     t.resume = true;  // a re-run picks up where a killed one stopped
-    t.output = models + "/" + r.name + ".qfdi";
+    t.output = models + "/" + r.name + ".qfdw";
     if (o.scale == "quick") {  // ≈ 2 min an LSTM on 2 cores: the default data scale, fewer iterations
       t.scale = "default";
       t.max_iterations = 5;

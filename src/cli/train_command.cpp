@@ -8,6 +8,7 @@
 #include "cli/interrupt.h"
 #include "cli/progress.h"
 #include "io/key_value.h"
+#include "io/model_file.h"
 #include "io/params_file.h"
 #include "networks/trainer.h"
 
@@ -123,8 +124,14 @@ static TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& com
   require(o.preroll >= 0.0 && std::isfinite(o.preroll), "--preroll must be >= 0");
   c.data.rollout.preroll_max_steps = static_cast<int>(std::lround(o.preroll / c.data.rollout.dt));
   c.data.rollout.seed = o.seed;
-  require(parseArchitecture(o.architecture, c.model.architecture), "--architecture must be lstm or mlp");
-  require(parseFeatureSet(o.features, c.model.features), "--features must be model-free, model-based or residual");
+  require(parseArchitecture(o.architecture, c.model.architecture), "--architecture must be lstm, mlp or tcn");
+  require(parseFeatureSet(o.features, c.model.features),
+          "--features must be model-free, model-free-heading, model-based or residual");
+  require(c.model.features != FeatureSet::kModelFreeHeading || c.data.rollout.output == OutputKind::kPositionEuler,
+          "--features model-free-heading needs --output-kind position-euler (it reads the yaw angle)");
+  require(c.model.architecture != Architecture::kTcn || c.model.tcn.receptiveField() <= c.data.rollout.window - 1,
+          "--architecture tcn: the receptive field (" + std::to_string(c.model.tcn.receptiveField()) +
+              " samples) must fit in the window minus one (" + std::to_string(c.data.rollout.window - 1) + ")");
   require(parseSymmetryMode(o.symmetry, c.model.symmetry), "--symmetry must be exact or paper");
   require(o.loss == "norm" || o.loss == "per-motor", "--loss must be norm or per-motor");
   c.loss = o.loss == "norm" ? LossKind::kNorm : LossKind::kPerMotor;
@@ -171,7 +178,7 @@ int trainAndSave(const TrainOptions& o, const std::string& command_line) {
       },
       [&](int done, int total) { bar.update(done, total, last); });
   bar.finish();
-  r.model.save(o.output);
+  writeModelFile(o.output, r.model.metadata(), exportWeights(r.model));
   if (r.optimizer_state_reset)
     std::fprintf(stderr, "quadfdi train: warning: %s.optim was missing or did not match the checkpoint; "
                          "Adam restarted from fresh moments\n", c.checkpoint_path.c_str());

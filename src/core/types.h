@@ -24,3 +24,17 @@ struct TelemetrySample {
 using MotorTheta = std::array<float, kMotors>;
 
 }  // namespace quadfdi
+
+namespace quadfdi {
+
+// The isolation rule everywhere (evaluation, detector, alarm filter): the motor with the lowest
+// Θ̂, ties to the lowest motor number. Returns a 0-based index. Works on any 4-vector with [].
+template <class Theta>
+int weakestMotorIndex(const Theta& theta) {
+  int best = 0;
+  for (int k = 1; k < kMotors; ++k)
+    if (theta[k] < theta[best]) best = k;
+  return best;
+}
+
+}  // namespace quadfdi

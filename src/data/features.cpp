@@ -1,5 +1,7 @@
 #include "data/features.h"
 
+#include <cmath>
+
 namespace quadfdi {
 
 const char* toString(FeatureSet f) {
@@ -7,6 +9,7 @@ const char* toString(FeatureSet f) {
     case FeatureSet::kModelFree: return "model-free";
     case FeatureSet::kModelBased: return "model-based";
     case FeatureSet::kResidualOnly: return "residual";
+    case FeatureSet::kModelFreeHeading: return "model-free-heading";
   }
   return "?";
 }
@@ -15,6 +18,7 @@ bool parseFeatureSet(const std::string& text, FeatureSet& f) {
   if (text == "model-free") { f = FeatureSet::kModelFree; return true; }
   if (text == "model-based") { f = FeatureSet::kModelBased; return true; }
   if (text == "residual" || text == "residual-only") { f = FeatureSet::kResidualOnly; return true; }
+  if (text == "model-free-heading") { f = FeatureSet::kModelFreeHeading; return true; }
   return false;
 }
 
@@ -23,6 +27,7 @@ int featureChannels(FeatureSet f) {
     case FeatureSet::kModelFree: return kOutputDim + kInputDim;
     case FeatureSet::kModelBased: return 2 * kOutputDim + kInputDim;
     case FeatureSet::kResidualOnly: return kOutputDim;
+    case FeatureSet::kModelFreeHeading: return kOutputDim + kInputDim;
   }
   return 0;
 }
@@ -34,8 +39,39 @@ void gatherWindowFeatures(const TrajectoryBatch& b, const WindowRef& w, int leng
                  b.residuals.empty() ? nullptr : &b.residuals[o * kOutputDim], length, features, output, map, out);
 }
 
+void headingFeatureRow(const Output& previous, const Output& current, const Input& u, float* out) {
+  const double dx = current(0) - previous(0), dy = current(1) - previous(1);
+  const double c = std::cos(current(5)), s = std::sin(current(5));
+  constexpr double kTwoPi = 6.28318530717958647692;
+  const double dpsi = std::remainder(current(5) - previous(5), kTwoPi);  // the short way round
+  out[0] = static_cast<float>(c * dx + s * dy);   // forward (heading frame)
+  out[1] = static_cast<float>(-s * dx + c * dy);  // left
+  out[2] = static_cast<float>(current(2) - previous(2));
+  out[3] = static_cast<float>(current(3));
+  out[4] = static_cast<float>(current(4));
+  out[5] = static_cast<float>(dpsi);
+  for (int i = 0; i < kInputDim; ++i) out[6 + i] = static_cast<float>(u(i));
+}
+
 void gatherFeatures(const float* outputs, const float* inputs, const float* residuals, int length, FeatureSet features,
                     OutputKind output, const SymmetryMap* map, float* out) {
+  if (features == FeatureSet::kModelFreeHeading) {
+    Output previous = Output::Zero();
+    for (int k = 0; k < length; ++k) {
+      Output y;
+      Input u;
+      for (int c = 0; c < kOutputDim; ++c) y(c) = outputs[k * kOutputDim + c];
+      for (int c = 0; c < kInputDim; ++c) u(c) = inputs[k * kInputDim + c];
+      if (map) {
+        y = map->applyToOutput(y, output);
+        u = map->applyToInput(u);
+      }
+      headingFeatureRow(k == 0 ? y : previous, y, u, out);  // the first row has no predecessor: zero increments
+      previous = y;
+      out += kOutputDim + kInputDim;
+    }
+    return;
+  }
   const bool use_y = features != FeatureSet::kResidualOnly;
   const bool use_res = features != FeatureSet::kModelFree;
   Output origin = Output::Zero();

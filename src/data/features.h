@@ -14,6 +14,11 @@ enum class FeatureSet {
   kModelFree,     // (y, u): 10 channels — the paper's contribution
   kModelBased,    // (y, u, ỹ): 16 channels
   kResidualOnly,  // ỹ: 6 channels
+  kModelFreeHeading,  // (y, u) as local increments: 10 channels per sample, each a function of this
+                      // sample and the one before only, so a network can run on a stream
+                      // (docs/networks.md): velocity increment Δp in the heading frame Rz(−ψ)
+                      // (3), roll, pitch (2), yaw increment Δψ wrapped to (−π, π] (1), u (4).
+                      // Independent of position offset and of heading. Needs Euler-angle outputs.
 };
 const char* toString(FeatureSet f);
 bool parseFeatureSet(const std::string& text, FeatureSet& f);  // model-free | model-based | residual
@@ -29,6 +34,9 @@ void gatherWindowFeatures(const TrajectoryBatch& batch, const WindowRef& window,
 // The same from `length` consecutive samples held elsewhere (the online detector's history):
 // outputs [length][kOutputDim], inputs [length][kInputDim], residuals likewise (may be null
 // for model-free features).
+// One kModelFreeHeading row from a (mapped) sample and its (mapped) predecessor.
+void headingFeatureRow(const Output& previous, const Output& current, const Input& u, float* out);
+
 void gatherFeatures(const float* outputs, const float* inputs, const float* residuals, int length, FeatureSet features,
                     OutputKind output, const SymmetryMap* map, float* out);
 

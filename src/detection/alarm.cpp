@@ -3,9 +3,7 @@
 namespace quadfdi {
 
 AlarmState AlarmFilter::update(const std::array<float, 4>& theta, long index) {
-  int weakest = 0;
-  for (int k = 1; k < 4; ++k)
-    if (theta[static_cast<std::size_t>(k)] < theta[static_cast<std::size_t>(weakest)]) weakest = k;
+  const int weakest = weakestMotorIndex(theta);
   const double lowest = static_cast<double>(theta[static_cast<std::size_t>(weakest)]);
   state_.raised = state_.cleared = false;
   if (!state_.active) {

@@ -6,6 +6,8 @@
 
 #include <array>
 
+#include "core/types.h"
+
 namespace quadfdi {
 
 struct AlarmConfig {

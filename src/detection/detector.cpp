@@ -4,7 +4,6 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "data/features.h"
 
 namespace quadfdi {
 namespace {
@@ -13,27 +12,34 @@ constexpr int kMaxPoints = 8;         // evaluations per engine pass, at most
 constexpr double kMaxBridged = 1e6;   // model samples one input sample may complete (max_gap / dt)
 }
 
-Detector::Detector(const DetectorConfig& config, InferenceEngine& engine)
-    : config_(config), engine_(engine), resampler_(config.resampler), alarm_(config.alarm) {
-  if (config.window != engine.window() || engine.channels() != featureChannels(FeatureSet::kModelFree))
-    throw std::invalid_argument("detector: the network must read model-free windows of T samples");
+Detector::Detector(const DetectorConfig& config, const TrainedModel& model)
+    : config_(config), window_(model.metadata.window), resampler_(config.resampler), alarm_(config.alarm) {
+  const ModelMetadata& m = model.metadata;
+  if (m.features == FeatureSet::kModelBased || m.features == FeatureSet::kResidualOnly || m.output != OutputKind::kPositionEuler)
+    throw std::invalid_argument(std::string("detector: the model reads ") + toString(m.features) +
+                                " features; the detector needs model-free features of position and Euler angles");
+  if (StreamingMotorEstimator::canStream(m))
+    streaming_ = std::make_unique<StreamingMotorEstimator>(model, config.symmetry);
+  else
+    windowed_ = std::make_unique<MotorEstimator>(model, config.symmetry);
   if (config.stride < 1) throw std::invalid_argument("detector: stride must be at least 1");
   if (!(config.resampler.dt > 0.0) || !(config.resampler.max_gap / config.resampler.dt <= kMaxBridged))
     throw std::invalid_argument("detector: max_gap / dt must be at most 1e6 model samples (a hole the resampler fills)");
-  if (config.trained_motor != 2) throw std::invalid_argument("detector: only networks trained on motor 2 are supported");
-  for (int k = 1; k <= 4; ++k) maps_[static_cast<std::size_t>(k - 1)] = mapMotorToMotor2(k, config.symmetry);
-  capacity_ = config.window + kSpareSamples;
+  capacity_ = window_ + kSpareSamples;
   outputs_.assign(static_cast<std::size_t>(capacity_) * kOutputDim, 0.0f);
   inputs_.assign(static_cast<std::size_t>(capacity_) * kInputDim, 0.0f);
   times_.assign(static_cast<std::size_t>(capacity_), 0.0);
-  features_.assign(static_cast<std::size_t>(engine.lanes()) * config.window * engine.channels(), 0.0f);
-  raw_.assign(static_cast<std::size_t>(engine.lanes()) * 4, 0.0f);
+  if (windowed_) {
+    features_.assign(static_cast<std::size_t>(kMaxPoints) * kMotors * windowed_->featuresPerWindow(), 0.0f);
+    estimates_.assign(kMaxPoints, MotorTheta{});
+  }
   restart();
 }
 
 void Detector::restart() {
   first_index_ = count_ = 0;
-  next_due_ = config_.window - 1;  // the first full window
+  next_due_ = window_ - 1;  // the first full window
+  if (streaming_) streaming_->reset();
   dense_ = false;
   watch_left_ = config_.watch_samples;
   alarm_.reset();
@@ -45,8 +51,8 @@ void Detector::appendModelSample(const TelemetrySample& s) {
     // One input sample can complete more model samples than the spare room (a hole up to max_gap
     // filled at dt) while evaluations are due: make them now so that compaction frees their
     // samples. Same windows, same estimates: only the batching changes.
-    if (std::min(next_due_, count_) - config_.window + 1 <= first_index_) evaluateDue(false);
-    const long keep_from = std::max(first_index_, std::min(next_due_, count_) - config_.window + 1);
+    if (std::min(next_due_, count_) - window_ + 1 <= first_index_) evaluateDue(false);
+    const long keep_from = std::max(first_index_, std::min(next_due_, count_) - window_ + 1);
     const long n = count_ - keep_from, off = keep_from - first_index_;
     std::memmove(outputs_.data(), outputs_.data() + off * kOutputDim, sizeof(float) * static_cast<std::size_t>(n * kOutputDim));
     std::memmove(inputs_.data(), inputs_.data() + off * kInputDim, sizeof(float) * static_cast<std::size_t>(n * kInputDim));
@@ -58,6 +64,14 @@ void Detector::appendModelSample(const TelemetrySample& s) {
   for (int i = 0; i < kInputDim; ++i) inputs_[static_cast<std::size_t>(at * kInputDim + i)] = static_cast<float>(s.u[static_cast<std::size_t>(i)]);
   times_[static_cast<std::size_t>(at)] = s.t;
   ++count_;
+  if (streaming_) {  // every sample is evaluated as it arrives
+    Output y;
+    Input u;
+    for (int i = 0; i < kOutputDim; ++i) y(i) = s.y[static_cast<std::size_t>(i)];
+    for (int i = 0; i < kInputDim; ++i) u(i) = s.u[static_cast<std::size_t>(i)];
+    MotorTheta theta;
+    if (streaming_->push(y, u, theta)) apply(count_ - 1, theta);
+  }
 }
 
 ResampleStatus Detector::push(const TelemetrySample& sample, bool look_ahead) {
@@ -84,18 +98,10 @@ void Detector::finish() {
   pending_.clear();
 }
 
-void Detector::gather(long end_index, float* out) const {
-  const int t = config_.window;
-  const long first = end_index - t + 1 - first_index_;
-  const std::size_t per = static_cast<std::size_t>(t) * static_cast<std::size_t>(engine_.channels());
-  for (std::size_t k = 0; k < 4; ++k)
-    gatherFeatures(&outputs_[static_cast<std::size_t>(first * kOutputDim)], &inputs_[static_cast<std::size_t>(first * kInputDim)],
-                   nullptr, t, FeatureSet::kModelFree, OutputKind::kPositionEuler, &maps_[k], out + k * per);
-}
-
 void Detector::evaluateDue(bool look_ahead) {
-  const std::size_t per = static_cast<std::size_t>(config_.window) * static_cast<std::size_t>(engine_.channels());
-  const int points = std::min(kMaxPoints, engine_.lanes() / 4);  // evaluations sharing one engine pass
+  if (streaming_) return;  // evaluated on arrival
+  const std::size_t per = kMotors * windowed_->featuresPerWindow();
+  const int points = std::min(kMaxPoints, std::max(1, windowed_->preferredBatch()));  // evaluations sharing one engine pass
   long due[kMaxPoints];
   while (next_due_ <= count_ - 1) {
     // The looks that follow if each changes nothing; a look whose result changes the plan ends the chain.
@@ -103,17 +109,20 @@ void Detector::evaluateDue(bool look_ahead) {
     int n = 0;
     for (long c = next_due_; n < points && c <= count_ - 1; c += step) due[n++] = c;
     if (n < points && look_ahead) break;  // file mode: wait for a full pass
-    for (int i = 0; i < n; ++i) gather(due[i], features_.data() + static_cast<std::size_t>(i) * 4 * per);
-    engine_.predict(features_.data(), 4 * n, raw_.data());
-    for (int i = 0; i < n && due[i] == next_due_; ++i) apply(due[i], raw_.data() + 16 * i);
+    for (int i = 0; i < n; ++i) {
+      const long first = due[i] - window_ + 1 - first_index_;
+      windowed_->gather(&outputs_[static_cast<std::size_t>(first * kOutputDim)], &inputs_[static_cast<std::size_t>(first * kInputDim)],
+                        nullptr, features_.data() + static_cast<std::size_t>(i) * per);
+    }
+    windowed_->estimate(features_.data(), n, estimates_.data());
+    for (int i = 0; i < n && due[i] == next_due_; ++i) apply(due[i], estimates_[static_cast<std::size_t>(i)]);
   }
 }
 
-void Detector::apply(long index, const float* raw) {
+void Detector::apply(long index, const MotorTheta& theta) {
   Evaluation e;
   e.index = index;
-  const auto trained = static_cast<std::size_t>(config_.trained_motor - 1);
-  for (std::size_t k = 0; k < 4; ++k) e.theta[k] = raw[k * 4 + trained];
+  e.theta = theta;
   e.alarm = alarm_.update(e.theta, index);
   ++summary_.evaluations;
   const float lowest = *std::min_element(e.theta.begin(), e.theta.end());
@@ -143,14 +152,14 @@ void Detector::apply(long index, const float* raw) {
     dense_ = false;
     watch_left_ = config_.watch_samples;
   }
-  next_due_ = index + (dense_ ? 1 : config_.stride);
+  next_due_ = index + (dense_ || streaming_ ? 1 : config_.stride);
   evaluations_.push_back(e);
 }
 
 void Detector::resolve() {
   while (!pending_.empty()) {
     const Pending& p = pending_.front();
-    if (p.last_index < config_.window - 1) {  // before the first full window: no output
+    if (p.last_index < window_ - 1) {  // before the first full window: no output
       pending_.pop_front();
       continue;
     }

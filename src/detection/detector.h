@@ -9,6 +9,9 @@
 // stride delays only the first look, by at most stride − 1 samples. Once raised, the alarm is
 // tracked (and cleared) at the stride.
 //
+// Streaming networks (a TCN on model-free-heading features) need none of this: every model
+// sample is evaluated as it arrives, at a cost independent of T (docs/decisions.md).
+//
 // Determinism. Which samples are evaluated depends only on earlier estimates, and the inference
 // engine gives a window the same bits in any batch, so reading a file (with look-ahead) and
 // streaming (without) give identical output.
@@ -18,18 +21,18 @@
 #include <deque>
 #include <vector>
 
+#include <memory>
+
 #include "detection/alarm.h"
 #include "detection/resampler.h"
-#include "networks/inference.h"
-#include "symmetry/symmetry.h"
+#include "estimation/motor_estimator.h"
 
 namespace quadfdi {
 
 struct DetectorConfig {
-  int window = 100;        // T [samples] (from the model file)
-  int trained_motor = 2;   // the network's motor (from the model file)
-  SymmetryMode symmetry = SymmetryMode::kExactGroup;  // maps for the other motors (from the model file)
-  int stride = 4;          // [samples] evaluation period while healthy (extra first-look delay ≤ stride − 1)
+  SymmetryMode symmetry = SymmetryMode::kExactGroup;  // maps for the other motors (normally the model's own)
+  int stride = 4;          // [samples] windowed networks: evaluation period while healthy (extra first-look
+                           //     delay ≤ stride − 1); streaming networks evaluate every sample
   double watch = 0.9;      // [-] below this min Θ̂, evaluate every sample …
   int watch_samples = 16;  // [evaluations] … for at most this many, unless Θ̂ < raise_below
   ResamplerConfig resampler;
@@ -38,7 +41,7 @@ struct DetectorConfig {
 
 struct DetectorOutput {
   double t = 0.0;                        // [s] of the input sample
-  std::array<float, 4> theta{1, 1, 1, 1};  // Θ̂ per motor from the latest evaluation at or before t
+  MotorTheta theta{1, 1, 1, 1};          // Θ̂ per motor from the latest evaluation at or before t
   bool alarm = false;
   int motor = 0;                         // 1..4 while alarm, else 0
 };
@@ -54,8 +57,11 @@ struct DetectorSummary {
 
 class Detector {
  public:
-  // setup: allocates the history and the feature buffers. The engine is borrowed.
-  Detector(const DetectorConfig& config, InferenceEngine& engine);
+  // setup: builds the estimator (streaming when the model can), allocates the history and the
+  // feature buffers. Throws std::invalid_argument for a model the detector cannot use.
+  Detector(const DetectorConfig& config, const TrainedModel& model);
+  bool streaming() const { return streaming_ != nullptr; }
+  const char* kernel() const { return streaming_ ? streaming_->kernel() : windowed_->kernel(); }
 
   // Feeds one input sample. kNotIncreasing and kTooCoarse refuse it (the caller reports and stops);
   // kRestarted means a gap emptied the history. Evaluates what is due; with `look_ahead`, waits
@@ -69,21 +75,21 @@ class Detector {
  private:
   struct Evaluation {
     long index;  // model sample it was made at
-    std::array<float, 4> theta;
+    MotorTheta theta;
     AlarmState alarm;
   };
   void appendModelSample(const TelemetrySample& s);
   void evaluateDue(bool look_ahead);
-  void gather(long end_index, float* out) const;  // the four mapped windows ending at end_index
-  void apply(long index, const float* raw);        // one evaluation's four network outputs ×4 maps
+  void apply(long index, const MotorTheta& theta);  // one evaluation
   void resolve();                                  // pending input samples → ready outputs
   void restart();
 
   DetectorConfig config_;
-  InferenceEngine& engine_;
+  int window_ = 0;  // T [samples]
+  std::unique_ptr<MotorEstimator> windowed_;             // one of the two
+  std::unique_ptr<StreamingMotorEstimator> streaming_;
   Resampler resampler_;
   AlarmFilter alarm_;
-  std::array<SymmetryMap, 4> maps_{};
   // History of model-rate samples since the last restart, contiguous: [capacity][6] and [capacity][4].
   std::vector<float> outputs_, inputs_;
   std::vector<double> times_;
@@ -91,7 +97,8 @@ class Detector {
   long next_due_ = 0;
   bool dense_ = false;  // evaluating every sample
   int watch_left_ = 0;  // dense evaluations left in the watch band
-  std::vector<float> features_, raw_;
+  std::vector<float> features_;
+  std::vector<MotorTheta> estimates_;
   struct Pending {
     double t;
     long last_index;  // model samples up to here are its evidence

@@ -3,15 +3,13 @@
 #include <algorithm>
 #include <thread>
 
-#include "networks/inference.h"
+#include "estimation/motor_estimator.h"
 
 namespace quadfdi {
 
 Decision decide(const Input& theta_hat, double theta_tol) {
   Decision d;
-  int best = 0;
-  for (int k = 1; k < kInputDim; ++k)
-    if (theta_hat(k) < theta_hat(best)) best = k;
+  const int best = weakestMotorIndex(theta_hat);
   d.min_theta = theta_hat(best);
   d.alarm = d.min_theta < theta_tol;
   d.motor = d.alarm ? best + 1 : 0;
@@ -37,39 +35,41 @@ Decision decidePaperRule(const std::array<Input, 4>& out, SymmetryMode mode, dou
   return d;
 }
 
-std::vector<Input> estimateAllMotors(const FaultIdentifier& model, SymmetryMode mode, const TrajectoryBatch& batch,
+std::vector<Input> estimateAllMotors(const TrainedModel& model, SymmetryMode mode, const TrajectoryBatch& batch,
                                      const std::vector<WindowRef>& windows, std::vector<std::array<Input, 4>>* raw,
                                      int threads) {
-  const ModelMetadata& m = model.metadata();
-  const std::size_t per = static_cast<std::size_t>(m.window) * static_cast<std::size_t>(m.channels());
-  std::array<SymmetryMap, 4> maps{};
-  for (int k = 1; k <= 4; ++k) maps[static_cast<std::size_t>(k - 1)] = mapMotorToMotor2(k, mode);
-  const int trained = m.trained_motor - 1;
+  const ModelMetadata& m = model.metadata;
   std::vector<Input> theta(windows.size(), Input::Ones());
   if (raw) raw->assign(windows.size(), {});
-  const NetworkWeights weights = exportWeights(model);
-  // Each worker owns an engine and a contiguous share of the windows; the engine's results do not
-  // depend on batching, so the output is the same for any number of workers.
+  // Each worker owns an estimator and a contiguous share of the windows; the engine's results do
+  // not depend on batching, so the output is the same for any number of workers.
   const std::size_t workers = std::max<std::size_t>(
       1, std::min<std::size_t>(windows.size() / 256 + 1,
                                threads > 0 ? static_cast<std::size_t>(threads) : std::thread::hardware_concurrency()));
   auto work = [&](std::size_t begin, std::size_t end) {
-    InferenceEngine engine(weights);
-    constexpr std::size_t kChunk = 64;  // windows per pass (×4 maps)
-    std::vector<float> features(kChunk * 4 * per), out(kChunk * 4 * 4);
+    MotorEstimator estimator(model, mode);
+    constexpr std::size_t kChunk = 64;  // windows per call (×4 maps)
+    const std::size_t per = estimator.featuresPerWindow();
+    std::vector<float> features(kChunk * kMotors * per);
+    std::vector<MotorTheta> est(kChunk);
+    std::vector<std::array<MotorTheta, kMotors>> outs(kChunk);
     for (std::size_t first = begin; first < end; first += kChunk) {
       const std::size_t n = std::min(kChunk, end - first);
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t k = 0; k < 4; ++k)
-          gatherWindowFeatures(batch, windows[first + i], m.window, m.features, m.output, &maps[k],
-                               &features[(i * 4 + k) * per]);
-      engine.predict(features.data(), static_cast<int>(n * 4), out.data());
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t k = 0; k < 4; ++k) {
-          const float* o = &out[(i * 4 + k) * 4];
-          theta[first + i](static_cast<int>(k)) = o[trained];
-          if (raw) (*raw)[first + i][k] = Input(o[0], o[1], o[2], o[3]);
-        }
+      for (std::size_t i = 0; i < n; ++i) {
+        const WindowRef& w = windows[first + i];
+        const std::size_t o = batch.sampleOffset(w.trajectory, w.end_sample - m.window + 1);  // samples are contiguous
+        estimator.gather(&batch.outputs[o * kOutputDim], &batch.inputs[o * kInputDim],
+                         batch.residuals.empty() ? nullptr : &batch.residuals[o * kOutputDim], &features[i * kMotors * per]);
+      }
+      estimator.estimate(features.data(), static_cast<int>(n), est.data(), raw ? outs.data() : nullptr);
+      for (std::size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < kMotors; ++k) theta[first + i](k) = est[i][static_cast<std::size_t>(k)];
+        if (raw)
+          for (std::size_t k = 0; k < kMotors; ++k) {
+            const MotorTheta& o = outs[i][k];
+            (*raw)[first + i][k] = Input(o[0], o[1], o[2], o[3]);
+          }
+      }
     }
   };
   std::vector<std::thread> pool;

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "data/features.h"
-#include "networks/model.h"
+#include "inference/weights_file.h"
 
 namespace quadfdi {
 
@@ -29,8 +29,8 @@ Decision decidePaperRule(const std::array<Input, 4>& outputs_per_map, SymmetryMo
 // inference engine (networks/inference.h), `threads` workers (0 = all cores), with results that do
 // not depend on the thread count. If `raw` is given it receives the network's four outputs for
 // each (window, map) pair, for the paper rule.
-// `mode` chooses the maps (normally the model's own metadata().symmetry).
-std::vector<Input> estimateAllMotors(const FaultIdentifier& model, SymmetryMode mode, const TrajectoryBatch& batch,
+// `mode` chooses the maps (normally the model's own metadata.symmetry).
+std::vector<Input> estimateAllMotors(const TrainedModel& model, SymmetryMode mode, const TrajectoryBatch& batch,
                                      const std::vector<WindowRef>& windows,
                                      std::vector<std::array<Input, 4>>* raw = nullptr, int threads = 0);
 

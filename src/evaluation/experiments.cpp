@@ -72,7 +72,7 @@ ConditionResult summarise(const std::string& name, const std::vector<WindowOutco
   return r;
 }
 
-const FaultIdentifier* need(const ExperimentInputs& in, const std::string& role, std::string& missing) {
+const TrainedModel* need(const ExperimentInputs& in, const std::string& role, std::string& missing) {
   const auto it = in.models.find(role);
   if (it == in.models.end()) {
     missing = role;
@@ -82,9 +82,9 @@ const FaultIdentifier* need(const ExperimentInputs& in, const std::string& role,
 }
 
 // Evaluates one model on one test set, one condition per fault motor (or one for all).
-std::vector<ConditionResult> perMotor(const FaultIdentifier& model, const TestSetConfig& c, const TestSet& set,
+std::vector<ConditionResult> perMotor(const TrainedModel& model, const TestSetConfig& c, const TestSet& set,
                                       double tol, DecisionRule rule, const std::string& prefix) {
-  const std::vector<WindowOutcome> outcomes = evaluateTestSet(model, c, set, tol, rule, model.metadata().symmetry);
+  const std::vector<WindowOutcome> outcomes = evaluateTestSet(model, c, set, tol, rule, model.metadata.symmetry);
   std::vector<ConditionResult> out;
   for (int motor = 1; motor <= 4; ++motor)
     out.push_back(summarise(prefix + "motor " + std::to_string(motor), outcomes, c.rollout.window,
@@ -92,7 +92,7 @@ std::vector<ConditionResult> perMotor(const FaultIdentifier& model, const TestSe
   return out;
 }
 
-ConditionResult allMotors(const FaultIdentifier& model, const TestSetConfig& c, const TestSet& set, double tol,
+ConditionResult allMotors(const TrainedModel& model, const TestSetConfig& c, const TestSet& set, double tol,
                           const std::string& name, SymmetryMode mode) {
   const std::vector<WindowOutcome> outcomes = evaluateTestSet(model, c, set, tol, DecisionRule::kOurs, mode);
   return summarise(name, outcomes, c.rollout.window, [](const WindowOutcome&) { return true; });
@@ -115,7 +115,7 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
   out.id = id;
   auto say = [&](const std::string& s) { if (progress) progress(id + ": " + s); };
   if (id == "e1") {
-    const FaultIdentifier* m = need(in, "model-free", missing);
+    const TrainedModel* m = need(in, "model-free", missing);
     if (!m) return false;
     out.title = "E1: complete failure of each motor, one network trained on motor 2 (LQR, nominal)";
     out.paper_claim = "Fig. 4: high accuracy for all four motors from one motor-2 network (no numbers printed)";
@@ -127,8 +127,8 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
     return true;
   }
   if (id == "e2") {
-    const FaultIdentifier* lstm = need(in, "model-free", missing);
-    const FaultIdentifier* mlp = lstm ? need(in, "mlp", missing) : nullptr;
+    const TrainedModel* lstm = need(in, "model-free", missing);
+    const TrainedModel* mlp = lstm ? need(in, "mlp", missing) : nullptr;
     if (!lstm || !mlp) return false;
     out.title = "E2: LSTM vs MLP over partial faults of motor 2 (LQR, nominal; Θ_tol 0.95, identification |Θ̂−Θ| ≤ 0.05)";
     out.paper_claim = "Fig. 6: the LSTM identifies every Θ₂; the MLP has very low accuracy";
@@ -136,16 +136,16 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
       const TestSetConfig c = testSet(in, ControllerKind::kLqr, "nominal", {{0, 1.0}, {2, theta}});
       const TestSet set = generateTestSet(c);
       char name[64];
-      for (auto [role, model] : {std::pair<const char*, const FaultIdentifier*>{"LSTM", lstm}, {"MLP", mlp}}) {
+      for (auto [role, model] : {std::pair<const char*, const TrainedModel*>{"LSTM", lstm}, {"MLP", mlp}}) {
         std::snprintf(name, sizeof name, "%s, theta2 = %.1f", role, theta);
         say(name);
-        out.conditions.push_back(allMotors(*model, c, set, 0.95, name, model->metadata().symmetry));
+        out.conditions.push_back(allMotors(*model, c, set, 0.95, name, model->metadata.symmetry));
       }
     }
     return true;
   }
   if (id == "e3" || id == "e4" || id == "e5") {
-    std::vector<std::pair<std::string, const FaultIdentifier*>> models;
+    std::vector<std::pair<std::string, const TrainedModel*>> models;
     for (const char* role : {"model-free", "model-based", "residual"}) {
       const auto it = in.models.find(role);
       if (it != in.models.end()) models.emplace_back(role, it->second);
@@ -180,7 +180,7 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
         if (id == "e3" && role != "model-free" && models.size() > 1 && role == "residual") continue;
         ConditionResult r = allMotors(*model, c, set, in.theta_tol,
                                       role + ", " + (kind == ControllerKind::kLqr ? "LQR" : "CBF-QP") + ", " + params,
-                                      model->metadata().symmetry);
+                                      model->metadata.symmetry);
         r.constraint_active = activity;
         out.conditions.push_back(std::move(r));
       }
@@ -188,7 +188,7 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
     return true;
   }
   if (id == "e6") {
-    const FaultIdentifier* m = need(in, "model-free", missing);
+    const TrainedModel* m = need(in, "model-free", missing);
     if (!m) return false;
     out.title = "E6: the paper's rotation map vs the exact symmetry group (LQR, nominal, complete faults)";
     out.paper_claim = "the paper uses the rotation map (approximate: yaw torque sign, Euler angles)";

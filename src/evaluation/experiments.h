@@ -38,7 +38,7 @@ struct EvaluationScale {
 bool evaluationScale(const std::string& name, EvaluationScale& scale);  // quick | default | paper
 
 struct ExperimentInputs {
-  std::map<std::string, const FaultIdentifier*> models;  // by role: "model-free", "model-based", "residual", "mlp"
+  std::map<std::string, const TrainedModel*> models;  // by role: "model-free", "model-based", "residual", "mlp"
   EvaluationScale scale;
   std::uint64_t seed = 7;  // test-set seed (training uses others)
   double theta_tol = 0.2;  // complete faults (paper)

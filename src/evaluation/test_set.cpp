@@ -26,7 +26,7 @@ TestSet generateTestSet(const TestSetConfig& c) {
   return set;
 }
 
-std::vector<WindowOutcome> evaluateTestSet(const FaultIdentifier& model, const TestSetConfig& c, const TestSet& set,
+std::vector<WindowOutcome> evaluateTestSet(const TrainedModel& model, const TestSetConfig& c, const TestSet& set,
                                            double theta_tol, DecisionRule rule, SymmetryMode mode) {
   std::vector<std::array<Input, 4>> raw;
   const std::vector<Input> theta =

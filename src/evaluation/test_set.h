@@ -35,7 +35,7 @@ TestSet generateTestSet(const TestSetConfig& config);
 enum class DecisionRule { kOurs, kPaper };
 
 // Runs the model on every window through the symmetry maps and decides each one.
-std::vector<WindowOutcome> evaluateTestSet(const FaultIdentifier& model, const TestSetConfig& config,
+std::vector<WindowOutcome> evaluateTestSet(const TrainedModel& model, const TestSetConfig& config,
                                            const TestSet& set, double theta_tol, DecisionRule rule,
                                            SymmetryMode mode);
 

@@ -1,6 +1,10 @@
 #include "io/telemetry_reader.h"
 
+#include <poll.h>
+#include <unistd.h>
+
 #include <cerrno>
+#include <iostream>
 #include <cmath>
 #include <cstdlib>
 #include <vector>
@@ -65,7 +69,7 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name) : in_(in), 
                            "' (needs t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4; others are ignored)");
 }
 
-TelemetryReader::Row TelemetryReader::next(TelemetrySample& sample, std::string& problem) {
+SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& problem) {
   std::string text;
   if (!readLine(text)) {
     if (in_.bad()) throw TelemetryError(name_ + ": read error after line " + std::to_string(line_));
@@ -101,6 +105,13 @@ TelemetryReader::Row TelemetryReader::next(TelemetrySample& sample, std::string&
   for (int i = 0; i < 6; ++i) sample.y[static_cast<std::size_t>(i)] = values[1 + i];
   for (int i = 0; i < 4; ++i) sample.u[static_cast<std::size_t>(i)] = values[7 + i];
   return Row::kSample;
+}
+
+bool TelemetryReader::moreReady() const {
+  if (in_.rdbuf()->in_avail() > 0) return true;
+  if (&in_ != &std::cin) return true;  // a file: everything is there
+  pollfd p{STDIN_FILENO, POLLIN, 0};
+  return poll(&p, 1, 0) > 0 && (p.revents & POLLIN) != 0;
 }
 
 }  // namespace quadfdi

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/types.h"
+#include "core/sample_source.h"
 
 namespace quadfdi {
 
@@ -18,23 +18,23 @@ class TelemetryError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-class TelemetryReader {
+class TelemetryReader : public SampleSource {
  public:
   // Reads the header (blank lines and lines starting with '#' are skipped). Throws TelemetryError
   // for an empty input or a header without the required columns.
   TelemetryReader(std::istream& in, std::string name);
 
-  enum class Row {
-    kSample,   // `sample` holds the row
-    kSkipped,  // a NaN, infinite, empty or absurd (|v| > 1e9) cell: `problem` says which; the row is dropped
-    kEnd,
-  };
+  using Row = SampleSource::Next;
+  // kSample: `sample` holds the row; kSkipped: a NaN, infinite, empty or absurd (|v| > 1e9) cell,
+  // `problem` says which, the row is dropped; kEnd.
+
   // Throws TelemetryError for a row that is not telemetry (wrong cell count, text in a number).
-  Row next(TelemetrySample& sample, std::string& problem);
+  Next next(TelemetrySample& sample, std::string& problem) override;
+  std::string where() const override { return name_ + ":" + std::to_string(line_); }
+  bool moreReady() const override;  // standard input: buffered or pollable data; files: always
 
   long line() const { return line_; }  // 1-based number of the last line read
   const std::string& name() const { return name_; }
-  std::string where() const { return name_ + ":" + std::to_string(line_); }
 
   static const char* const kRequiredColumns[11];  // t, x, y, z, roll, pitch, yaw, u1 … u4
 

@@ -7,21 +7,12 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "networks/torch_net.h"
-#include "networks/inference.h"
+#include "inference/weights_file.h"
 
 namespace quadfdi {
-
-const char* toString(Architecture a) { return a == Architecture::kLstm ? "lstm" : "mlp"; }
-
-bool parseArchitecture(const std::string& text, Architecture& a) {
-  if (text == "lstm") { a = Architecture::kLstm; return true; }
-  if (text == "mlp") { a = Architecture::kMlp; return true; }
-  return false;
-}
 
 FaultNetImpl::FaultNetImpl(const ModelMetadata& m) : architecture(m.architecture) {
   const int n = m.channels();
@@ -30,6 +21,15 @@ FaultNetImpl::FaultNetImpl(const ModelMetadata& m) : architecture(m.architecture
   if (architecture == Architecture::kLstm) {
     lstm = register_module("lstm", torch::nn::LSTM(torch::nn::LSTMOptions(n, m.hidden).batch_first(true)));
     head1 = register_module("head1", torch::nn::Linear(m.hidden, 64));
+    head2 = register_module("head2", torch::nn::Linear(64, 4));
+  } else if (architecture == Architecture::kTcn) {
+    const TcnShape& s = m.tcn;
+    for (std::size_t i = 0; i < s.dilations.size(); ++i) {
+      const int in = i == 0 ? n : s.channels;
+      convs.push_back(register_module("conv" + std::to_string(i),
+                                      torch::nn::Conv1d(torch::nn::Conv1dOptions(in, s.channels, s.kernel).dilation(s.dilations[i]))));
+    }
+    head1 = register_module("head1", torch::nn::Linear(s.channels, 64));
     head2 = register_module("head2", torch::nn::Linear(64, 4));
   } else {
     mlp = register_module(
@@ -46,6 +46,17 @@ torch::Tensor FaultNetImpl::forward(torch::Tensor x) {
   if (architecture == Architecture::kLstm) {
     const torch::Tensor out = std::get<0>(lstm->forward(x));       // [B, T, H]
     const torch::Tensor last = torch::relu(out.select(1, out.size(1) - 1));
+    return torch::sigmoid(head2->forward(torch::relu(head1->forward(last))));
+  }
+  if (architecture == Architecture::kTcn) {
+    // Valid (unpadded) causal convolutions over the window; the last position sees exactly the
+    // last receptive-field samples, as the streaming form does (inference/engine.h).
+    torch::Tensor h = x.transpose(1, 2);  // [B, n, T]
+    for (std::size_t i = 0; i < convs.size(); ++i) {
+      const torch::Tensor y = torch::relu(convs[i]->forward(h));
+      h = i == 0 ? y : y + h.narrow(2, h.size(2) - y.size(2), y.size(2));  // residual, aligned on the end
+    }
+    const torch::Tensor last = h.select(2, h.size(2) - 1);
     return torch::sigmoid(head2->forward(torch::relu(head1->forward(last))));
   }
   return torch::sigmoid(mlp->forward(x.flatten(1)));
@@ -90,92 +101,17 @@ void FaultIdentifier::predict(const float* windows, int count, float* theta) con
 
 namespace {
 
-nlohmann::json toJson(const ModelMetadata& m) {
-  return {{"architecture", toString(m.architecture)},
-          {"features", toString(m.features)},
-          {"output", m.output == OutputKind::kPositionEuler ? "position-euler" : "position-rates"},
-          {"symmetry", toString(m.symmetry)},
-          {"trained_motor", m.trained_motor},
-          {"window", m.window},
-          {"dt", m.dt},
-          {"hidden", m.hidden},
-          {"params", m.params},
-          {"controller", m.controller},
-          {"feature_mean", m.feature_mean},
-          {"feature_std", m.feature_std},
-          {"provenance",
-           {{"command", m.command},
-            {"scale", m.scale},
-            {"seed", m.seed},
-            {"iterations", m.iterations},
-            {"training_seconds", m.training_seconds},
-            {"final_loss", m.final_loss},
-            {"heldout_loss", m.heldout_loss},
-            {"heldout_accuracy", m.heldout_accuracy},
-            {"generator", m.generator}}}};
-}
-
-ModelMetadata fromJson(const nlohmann::json& j, const std::string& path) {
-  auto fail = [&](const std::string& problem) -> ModelError { return ModelError(path + ": " + problem); };
-  // get<int> would cast a float or an out-of-range integer (undefined for 1e10): integers only.
-  auto integer = [&](const nlohmann::json& object, const char* key) {
-    constexpr std::int64_t kMin = std::numeric_limits<int>::min(), kMax = std::numeric_limits<int>::max();
-    const nlohmann::json& v = object.at(key);
-    const bool fits = v.is_number_unsigned() ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(kMax)
-                                             : v.is_number_integer() && v.get<std::int64_t>() >= kMin && v.get<std::int64_t>() <= kMax;
-    if (!fits) throw fail(std::string("bad metadata: '") + key + "' must be an integer in the range of int");
-    return static_cast<int>(v.get<std::int64_t>());
-  };
-  ModelMetadata m;
-  try {
-    if (!parseArchitecture(j.at("architecture").get<std::string>(), m.architecture)) throw fail("unknown architecture");
-    if (!parseFeatureSet(j.at("features").get<std::string>(), m.features)) throw fail("unknown feature set");
-    const std::string out = j.at("output").get<std::string>();
-    if (out == "position-euler") m.output = OutputKind::kPositionEuler;
-    else if (out == "position-rates") m.output = OutputKind::kPositionRates;
-    else throw fail("unknown output kind '" + out + "'");
-    if (!parseSymmetryMode(j.at("symmetry").get<std::string>(), m.symmetry)) throw fail("unknown symmetry mode");
-    m.trained_motor = integer(j, "trained_motor");
-    m.window = integer(j, "window");
-    m.dt = j.at("dt").get<double>();
-    m.hidden = integer(j, "hidden");
-    m.params = j.at("params").get<std::string>();
-    m.controller = j.at("controller").get<std::string>();
-    m.feature_mean = j.at("feature_mean").get<std::vector<float>>();
-    m.feature_std = j.at("feature_std").get<std::vector<float>>();
-    const auto& p = j.at("provenance");
-    m.command = p.at("command").get<std::string>();
-    m.scale = p.at("scale").get<std::string>();
-    if (!p.at("seed").is_number_integer()) throw fail("bad metadata: 'seed' must be an integer");
-    m.seed = p.at("seed").get<std::uint64_t>();
-    m.iterations = integer(p, "iterations");
-    m.training_seconds = p.at("training_seconds").get<double>();
-    m.final_loss = p.at("final_loss").get<double>();
-    m.heldout_loss = p.at("heldout_loss").get<double>();
-    m.heldout_accuracy = p.at("heldout_accuracy").get<double>();
-    m.generator = p.at("generator").get<std::string>();
-  } catch (const nlohmann::json::exception& e) {
-    throw fail(std::string("bad metadata: ") + e.what());
-  }
-  const auto n = static_cast<std::size_t>(m.channels());
-  if (m.window < 1 || m.window > 100000 || m.hidden < 1 || m.hidden > 4096 || !(m.dt > 0.0))
-    throw fail("metadata out of range (window, hidden or dt)");
-  if (m.trained_motor < 1 || m.trained_motor > 4) throw fail("trained_motor must be 1..4");
-  if ((!m.feature_mean.empty() && m.feature_mean.size() != n) || (!m.feature_std.empty() && m.feature_std.size() != n))
-    throw fail("normalisation statistics do not match the feature set");
-  for (float s : m.feature_std)
-    if (!(s > 0.0f) || !std::isfinite(s)) throw fail("normalisation scale must be finite and > 0");
-  for (float v : m.feature_mean)
-    if (!std::isfinite(v)) throw fail("normalisation mean must be finite");
-  return m;
-}
-
 // Floats in the parameters and buffers of the network `m` describes (FaultNetImpl's layers). The
 // weights block stores them uncompressed, so a smaller block cannot hold them.
 std::int64_t parameterCount(const ModelMetadata& m) {
   const std::int64_t n = m.channels(), h = m.hidden, t = m.window;
   const std::int64_t buffers = 2 * n, head = (h * 64 + 64) + (64 * 4 + 4);
   if (m.architecture == Architecture::kLstm) return buffers + 4 * h * (n + h) + 8 * h + head;
+  if (m.architecture == Architecture::kTcn) {
+    const std::int64_t c = m.tcn.channels, k = m.tcn.kernel;
+    const auto layers = static_cast<std::int64_t>(m.tcn.dilations.size());
+    return buffers + (c * n * k + c) + (layers - 1) * (c * c * k + c) + (c * 64 + 64) + (64 * 4 + 4);
+  }
   return buffers + (n * t * h + h) + 3 * (h * h + h) + head;
 }
 
@@ -191,22 +127,6 @@ std::vector<std::string> layout(const FaultNet& net) {
   for (const auto& p : net->named_parameters()) add(p.key(), p.value());
   for (const auto& b : net->named_buffers()) add(b.key(), b.value());
   return out;
-}
-
-// CRC-32 as zip uses it (IEEE 802.3, reflected).
-std::uint32_t crc32(const char* data, std::size_t size) {
-  static const std::array<std::uint32_t, 256> table = [] {
-    std::array<std::uint32_t, 256> t{};
-    for (std::uint32_t i = 0; i < 256; ++i) {
-      std::uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1u) != 0 ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  std::uint32_t c = 0xFFFFFFFFu;
-  for (std::size_t i = 0; i < size; ++i) c = table[(c ^ static_cast<unsigned char>(data[i])) & 0xFFu] ^ (c >> 8);
-  return c ^ 0xFFFFFFFFu;
 }
 
 // Name and CRC-32 of every record in a zip's central directory (zip64 too, as torch::save writes).
@@ -251,7 +171,7 @@ std::string checkArchive(const std::string& weights) {
       const std::size_t slash = name.find('/');  // records are named relative to the archive's folder
       if (slash == std::string::npos) return "weights record '" + name + "' is outside the archive (corrupt file?)";
       const auto [data, size] = reader.getRecord(name.substr(slash + 1));
-      if (crc32(static_cast<const char*>(data.get()), size) != crc)
+      if (crc32(static_cast<const std::uint8_t*>(data.get()), size) != crc)
         return "weights record '" + name + "' fails its CRC-32 check (corrupt file?)";
     }
   } catch (const std::out_of_range&) {
@@ -276,7 +196,7 @@ void FaultIdentifier::save(const std::string& path) const {
   {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
     if (!out) throw ModelError(path + ": cannot write");
-    out << kModelFormat << ' ' << kModelVersion << '\n' << toJson(impl_->metadata).dump() << '\n';
+    out << kModelFormat << ' ' << kModelVersion << '\n' << metadataToJson(impl_->metadata) << '\n';
     out << "weights " << w.size() << '\n';
     out.write(w.data(), static_cast<std::streamsize>(w.size()));
     out.flush();
@@ -303,14 +223,8 @@ FaultIdentifier FaultIdentifier::load(const std::string& path) {
                      std::to_string(kModelVersion) + ")");
   std::string json_line;
   if (!std::getline(in, json_line)) throw ModelError(path + ": truncated (no metadata)");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(json_line);
-  } catch (const nlohmann::json::exception&) {  // parse_error, or out_of_range for a number like 1e400
-    throw ModelError(path + ":2: metadata is not valid JSON (truncated or corrupt file?)");
-  }
   auto impl = std::make_shared<Impl>();
-  impl->metadata = fromJson(j, path);
+  impl->metadata = metadataFromJson(json_line, path + ":2");
   std::string header;
   if (!std::getline(in, header) || header.rfind("weights ", 0) != 0) throw ModelError(path + ": truncated (no weights)");
   std::size_t size = 0;
@@ -411,6 +325,19 @@ NetworkWeights exportWeights(const FaultIdentifier& model) {
     w.gates.out = 4 * w.hidden;
     w.gates.weight = toVector(torch::cat({w_ih, w_hh}, 1));
     w.gates.bias = toVector(b_ih + b_hh);
+    w.head = {denseOf(*net->head1), denseOf(*net->head2)};
+  } else if (m.architecture == Architecture::kTcn) {
+    for (std::size_t i = 0; i < net->convs.size(); ++i) {
+      const torch::nn::Conv1dImpl& c = *net->convs[i];
+      ConvWeights cw;
+      cw.out = static_cast<int>(c.weight.size(0));
+      cw.in = static_cast<int>(c.weight.size(1));
+      cw.kernel = static_cast<int>(c.weight.size(2));
+      cw.dilation = m.tcn.dilations[i];
+      cw.weight = toVector(c.weight);
+      cw.bias = toVector(c.bias);
+      w.convs.push_back(std::move(cw));
+    }
     w.head = {denseOf(*net->head1), denseOf(*net->head2)};
   } else {
     for (const auto& module : net->mlp->children())

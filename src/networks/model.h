@@ -1,6 +1,8 @@
-// Fault identifiers (SPEC §6): LSTM and MLP networks that read a window and output the four
-// motor effectivenesses Θ̂ ∈ [0, 1]⁴. This header is free of LibTorch (pimpl), so only the
-// networks' own .cpp files pay for its headers.
+// Trainable fault identifiers (docs/networks.md): LSTM, MLP and TCN networks in LibTorch that
+// read a window and output the four motor effectivenesses Θ̂ ∈ [0, 1]⁴. The training library's
+// own archive (save/load) holds checkpoints; a finished model leaves it as plain weights
+// (exportWeights → inference/weights_file.h), which the LibTorch-free inference library runs.
+// This header is free of LibTorch (pimpl).
 #pragma once
 
 #include <cstdint>
@@ -9,51 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "data/features.h"
-#include "symmetry/symmetry.h"
+#include "inference/model_metadata.h"
+#include "inference/network_weights.h"
 
 namespace quadfdi {
 
-enum class Architecture { kLstm, kMlp };
-const char* toString(Architecture a);
-bool parseArchitecture(const std::string& text, Architecture& a);  // lstm | mlp
-
-inline constexpr const char* kModelFormat = "quadfdi-model";
+inline constexpr const char* kModelFormat = "quadfdi-model";  // the LibTorch archive (checkpoints, format 1 models)
 inline constexpr int kModelVersion = 1;
-
-// Everything needed to use a model file without guessing (SPEC §6).
-struct ModelMetadata {
-  Architecture architecture = Architecture::kLstm;
-  FeatureSet features = FeatureSet::kModelFree;
-  OutputKind output = OutputKind::kPositionEuler;
-  SymmetryMode symmetry = SymmetryMode::kExactGroup;  // how other motors are mapped to motor 2
-  int trained_motor = 2;
-  int window = 100;        // T [samples]
-  double dt = 0.002;       // [s]
-  int hidden = 128;        // LSTM hidden size / MLP width
-  std::string params = "nominal";  // plant parameter set of the training data
-  std::string controller = "lqr";
-  // Per-channel normalisation, applied inside the network: (x − mean) / std.
-  std::vector<float> feature_mean, feature_std;
-  // Provenance.
-  std::string command;            // how it was trained
-  std::string scale;
-  std::uint64_t seed = 0;
-  int iterations = 0;             // outer iterations run
-  double training_seconds = 0.0;
-  double final_loss = 0.0;
-  double heldout_loss = 0.0;
-  double heldout_accuracy = 0.0;  // fraction of held-out windows with max_i |Θ̂_i − Θ_i| ≤ 0.05
-  std::string generator = "quadfdi 0.1.0";
-
-  int channels() const { return featureChannels(features); }
-};
-
-// "FILE: problem" for unreadable, foreign, truncated or inconsistent model files.
-class ModelError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 class FaultIdentifier {
  public:
@@ -82,5 +46,8 @@ class FaultIdentifier {
 // slower than one thread).
 void configureCpuThreads(int threads);
 bool cudaAvailable();
+
+// The network's weights in the plain form the inference engine and the weights file use.
+NetworkWeights exportWeights(const FaultIdentifier& model);
 
 }  // namespace quadfdi

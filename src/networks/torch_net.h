@@ -9,6 +9,7 @@ namespace quadfdi {
 
 // LSTM (seed §IV, authors' code): LSTM(n_in → H) → ReLU(last step) → 128→64 → ReLU → 64→4 → Sigmoid.
 // MLP: flattened window (n_in·T) → H → three H×H → 64 → 4 → Sigmoid, ReLU between.
+// TCN: causal dilated convolutions (ReLU, residual from layer 1) → last sample → C→64 → ReLU → 64→4 → Sigmoid.
 struct FaultNetImpl : torch::nn::Module {
   explicit FaultNetImpl(const ModelMetadata& m);
   torch::Tensor forward(torch::Tensor windows);  // [B, T, n_in] raw features → [B, 4]
@@ -18,6 +19,7 @@ struct FaultNetImpl : torch::nn::Module {
   torch::nn::LSTM lstm{nullptr};
   torch::nn::Linear head1{nullptr}, head2{nullptr};
   torch::nn::Sequential mlp{nullptr};
+  std::vector<torch::nn::Conv1d> convs;  // TCN
 };
 TORCH_MODULE(FaultNet);
 

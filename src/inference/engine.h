@@ -7,32 +7,58 @@
 // x86-64, AVX2 + FMA and AVX-512 are built in and the fastest the CPU runs is used.
 #pragma once
 
+#include <memory>
 #include <vector>
 
-#include "networks/inference_kernel.h"
-#include "networks/model.h"
+#include "inference/kernel.h"
+#include "inference/network_weights.h"
 
 namespace quadfdi {
 
-// Plain weights of a trained identifier (row-major, PyTorch's conventions), exported once from
-// the LibTorch module by exportWeights (networks/model.cpp).
-struct DenseWeights {
-  int in = 0, out = 0;
-  std::vector<float> weight;  // out × in
-  std::vector<float> bias;    // out
+// Packed dense layer: rows in blocks of kRowBlock, each block stored column-major: w[block][k][row].
+struct PackedDense {
+  int in = 0, out = 0, blocks = 0;
+  std::vector<float> w, b;
 };
-struct NetworkWeights {
-  Architecture architecture = Architecture::kLstm;
-  int window = 0;    // T [samples]
-  int channels = 0;  // n_in
-  int hidden = 0;    // H
-  std::vector<float> mean, scale;  // normalisation (x − mean) / scale, per channel
-  // LSTM: gate pre-activations of z = [x; h] (4H × (n_in + H), gate order i, f, g, o; bias b_ih + b_hh),
-  // then the head (relu(h_T) → H→64 → ReLU → 64→4 → sigmoid). MLP: the layers, ReLU between, sigmoid last.
-  DenseWeights gates;
-  std::vector<DenseWeights> head;
+PackedDense packDense(const DenseWeights& d);  // throws std::invalid_argument on inconsistent shapes
+
+// The TCN as a stream (docs/networks.md): each of `streams` sequences (the four symmetry-mapped
+// copies of one flight) is advanced one sample at a time, with ring buffers holding what each
+// dilated layer still needs. Cost per sample is independent of the window length; after
+// receptiveField() samples the output is exactly the windowed network's on the last T samples
+// (same arithmetic in the same order: bitwise equal to InferenceEngine::predict).
+class TcnStreamer {
+ public:
+  // setup: packs the weights and allocates every buffer; step() allocates nothing.
+  TcnStreamer(const NetworkWeights& weights, int streams);
+  TcnStreamer(const TcnStreamer&) = delete;
+  TcnStreamer& operator=(const TcnStreamer&) = delete;
+
+  void reset();  // forget the history of every stream
+  // rows: streams × channels raw features of one sample → theta: streams × 4. Meaningful once
+  // samples() ≥ receptiveField().
+  void step(const float* rows, float* theta);
+  long samples() const { return samples_; }
+  int receptiveField() const { return receptive_field_; }
+  int streams() const { return streams_; }
+  int channels() const { return channels_; }
+  const char* kernel() const { return kernel_name_; }
+
+ private:
+  struct Layer {
+    PackedDense dense;  // taps flattened: input [x(t−(K−1)d); …; x(t)]
+    int in = 0, kernel = 0, dilation = 0, ring = 0;  // ring: history length, a power of two
+    std::vector<float> history;                       // [ring][streams][in]
+  };
+  const char* kernel_name_ = "";
+  void (*dense_rows_)(const inference::DenseRowsArgs&) = nullptr;
+  int streams_ = 0, channels_ = 0, receptive_field_ = 0;
+  long samples_ = 0;
+  std::vector<float> mean_, scale_;
+  std::vector<Layer> layers_;
+  std::vector<PackedDense> head_;
+  std::vector<float> taps_, out_, head_a_, head_b_;  // scratch
 };
-NetworkWeights exportWeights(const FaultIdentifier& model);
 
 class InferenceEngine {
  public:
@@ -49,11 +75,7 @@ class InferenceEngine {
   void predict(const float* windows, int count, float* theta);
 
  private:
-  struct Packed {  // rows in blocks of kRowBlock, each block stored column-major: w[block][k][row]
-    int in = 0, out = 0, blocks = 0;
-    std::vector<float> w, b;
-  };
-  static Packed pack(const DenseWeights& d);
+  using Packed = PackedDense;
   void predictGroup(const float* windows, int count, float* theta);
 
   const char* kernel_name_ = "";
@@ -72,6 +94,8 @@ class InferenceEngine {
   std::vector<int> head_in_, head_out_, head_blocks_;
   std::vector<float> z_, gate_out_, cell_, act_a_, act_b_;  // [rows][lanes] scratch
   std::vector<float> padded_;                               // a short group, padded to lanes windows
+  std::unique_ptr<TcnStreamer> tcn_;                        // kTcn: windows run as streams
+  std::vector<float> tcn_rows_, tcn_theta_;
 };
 
 }  // namespace quadfdi

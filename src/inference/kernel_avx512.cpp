@@ -2,4 +2,4 @@
 #define QUADFDI_LANES 16
 #define QUADFDI_KERNEL avx512Kernel
 #define QUADFDI_KERNEL_NAME "avx512"
-#include "networks/inference_kernel.inc"
+#include "inference/kernel.inc"

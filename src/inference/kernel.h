@@ -24,6 +24,20 @@ struct DenseStackArgs {
                  // layers is even, else in y
 };
 
+// Row-vectorised dense layer for a few streams at once (the TCN's streaming step): for each of
+// `streams` inputs x_s (in values each), y_s = W·x_s + b, with W packed in blocks of kRowBlock
+// rows, column-major within a block (the same packing as the lane kernels). Each stream's sum
+// runs in input order: its result does not depend on the other streams.
+struct DenseRowsArgs {
+  const float *w, *b;
+  int in, blocks;
+  const float* x;  // [streams][x_stride]
+  int x_stride;
+  int streams;
+  float* y;        // [streams][y_stride], y_stride ≥ blocks·kRowBlock
+  int y_stride;
+};
+
 struct Kernel {
   const char* name;
   int lanes;  // windows per group
@@ -31,6 +45,7 @@ struct Kernel {
   void (*dense_stack)(const DenseStackArgs&);
   void (*normalise)(const float* windows, int per_window, int channels, const float* mean, const float* scale,
                     float* out);  // MLP input: [per_window][lanes]
+  void (*dense_rows)(const DenseRowsArgs&);
 };
 
 inline constexpr int kRowBlock = 8;  // output rows per block: eight accumulators hide FMA latency

@@ -2,4 +2,4 @@
 #define QUADFDI_LANES 8
 #define QUADFDI_KERNEL avx2Kernel
 #define QUADFDI_KERNEL_NAME "avx2"
-#include "networks/inference_kernel.inc"
+#include "inference/kernel.inc"

@@ -2,4 +2,4 @@
 #define QUADFDI_LANES 8
 #define QUADFDI_KERNEL genericKernel
 #define QUADFDI_KERNEL_NAME "generic"
-#include "networks/inference_kernel.inc"
+#include "inference/kernel.inc"

@@ -1,0 +1,38 @@
+#include "detection/session.h"
+
+#include <cstdio>
+
+namespace quadfdi {
+
+SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSink& sink, const SessionConfig& config) {
+  SessionResult result;
+  TelemetrySample sample;
+  std::string problem;
+  DetectorOutput d;
+  for (;;) {
+    const SampleSource::Next next = source.next(sample, problem);
+    if (next == SampleSource::Next::kEnd) break;
+    if (next == SampleSource::Next::kSkipped) {
+      if (result.skipped++ < config.max_warnings) sink.warning(problem);
+      continue;
+    }
+    const bool look_ahead = !config.live || source.moreReady();
+    const ResampleStatus status = detector.push(sample, look_ahead);
+    if (status == ResampleStatus::kNotIncreasing || status == ResampleStatus::kTooCoarse) {
+      result.status = status == ResampleStatus::kNotIncreasing ? SessionStatus::kNotIncreasing : SessionStatus::kTooCoarse;
+      result.where = source.where();
+      result.t = sample.t;
+      return result;
+    }
+    if (status == ResampleStatus::kRestarted) sink.warning(source.where() + ": gap in the log; the detector starts again");
+    while (detector.pop(d)) sink.output(d);
+    if (config.live && !look_ahead) sink.idle();
+  }
+  detector.finish();
+  while (detector.pop(d)) sink.output(d);
+  if (result.skipped > config.max_warnings)
+    sink.warning(std::to_string(result.skipped) + " rows skipped in all (non-finite or empty cells)");
+  return result;
+}
+
+}  // namespace quadfdi

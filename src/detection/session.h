@@ -1,0 +1,42 @@
+// A detection run: samples from a source → the detector → outputs to a sink, with warnings
+// passed back. The CLI, the fuzz target, the benchmark and the tests all drive this one loop.
+#pragma once
+
+#include <string>
+
+#include "core/sample_source.h"
+#include "detection/detector.h"
+
+namespace quadfdi {
+
+class DetectionSink {
+ public:
+  virtual ~DetectionSink() = default;
+  virtual void output(const DetectorOutput& d) = 0;
+  virtual void warning(const std::string& text) = 0;  // one line, no newline
+  virtual void idle() {}  // caught up with a live source: flush what was written
+};
+
+enum class SessionStatus {
+  kDone,           // the source ended
+  kNotIncreasing,  // a sample's time did not increase (where, t say which)
+  kTooCoarse,      // the source is sampled more coarsely than the detector accepts
+};
+
+struct SessionResult {
+  SessionStatus status = SessionStatus::kDone;
+  std::string where;   // the source's position of the offending sample
+  double t = 0.0;      // [s] its time
+  long skipped = 0;    // samples the source dropped
+};
+
+struct SessionConfig {
+  bool live = false;        // read ahead only while the source says more input is ready
+  int max_warnings = 10;    // [-] skipped-row warnings passed on individually; the rest are counted
+};
+
+// Runs to the end of the source (or the first refusal), then finishes the detector. Source
+// errors (exceptions) propagate.
+SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSink& sink, const SessionConfig& config);
+
+}  // namespace quadfdi
