@@ -200,8 +200,14 @@ class UlogReader {
     bool warned_backwards = false;
   };
   std::vector<Subscription> subscriptions_;
-  std::vector<std::int32_t> subscription_by_id_ = std::vector<std::int32_t>(65536, -1);
+  std::vector<std::int32_t> subscription_by_id_;  // by msg_id, −1: none; grows with the largest msg_id subscribed
+  std::int32_t subscriptionIndex(std::uint16_t id) const { return id < subscription_by_id_.size() ? subscription_by_id_[id] : -1; }
   std::map<std::pair<std::string, int>, int> topic_by_key_;
+
+  // Data messages per msg_id (and their bytes), counted ahead on large logs to reserve columns.
+  std::vector<std::uint32_t> data_count_by_id_;
+  std::vector<std::uint64_t> data_bytes_by_id_;
+  void countDataMessages(std::size_t from);
 
   std::size_t columns_used_ = 0;
   std::size_t name_bytes_used_ = 0;
@@ -220,6 +226,8 @@ LogIssue UlogReader::read() {
   if (LogIssue h = readHeader(); !h.ok()) return h;
   std::size_t pos = kHeaderSize;
   if (LogIssue b = readFlagBits(pos); !b.ok()) return b;
+
+  countDataMessages(pos);
 
   // The regular data runs up to the first appended offset (it may stop mid-message there); each
   // appended block up to the next one or the end of the file.
@@ -290,6 +298,25 @@ LogIssue UlogReader::readFlagBits(std::size_t& pos) {
   }
   pos += kMessageHeaderSize + n;
   return {};
+}
+
+void UlogReader::countDataMessages(std::size_t from) {
+  // Only worth its two tables on large logs: growing a column by doubling copies it again and
+  // touches twice the memory.
+  constexpr std::size_t kWorthFrom = std::size_t{1} << 20;  // [bytes]
+  if (size_ < kWorthFrom) return;
+  data_count_by_id_.assign(65536, 0);
+  data_bytes_by_id_.assign(65536, 0);
+  for (std::size_t pos = from; size_ - pos >= kMessageHeaderSize + 2;) {
+    const std::size_t n = load<std::uint16_t>(data_ + pos);
+    if (size_ - pos - kMessageHeaderSize < n) break;
+    if (data_[pos + 2] == 'D' && n >= 2) {
+      const std::uint16_t id = load<std::uint16_t>(data_ + pos + kMessageHeaderSize);
+      ++data_count_by_id_[id];
+      data_bytes_by_id_[id] += n - 2;
+    }
+    pos += kMessageHeaderSize + n;
+  }
 }
 
 std::size_t UlogReader::findSync(std::size_t from, std::size_t end) {
@@ -370,7 +397,7 @@ UlogReader::Outcome UlogReader::parseSegment(std::size_t begin, std::size_t end,
       case 'R':
         if (n >= 2) {
           const std::uint16_t id = load<std::uint16_t>(p);
-          subscription_by_id_[id] = -1;
+          if (id < subscription_by_id_.size()) subscription_by_id_[id] = -1;
         }
         break;
       case 'O':
@@ -637,8 +664,8 @@ bool UlogReader::handleAdd(std::size_t offset, const std::uint8_t* p, std::size_
   const int multi_id = p[0];
   const std::uint16_t msg_id = load<std::uint16_t>(p + 1);
   const std::string name(reinterpret_cast<const char*>(p + 3), n - 3);
-  if (subscription_by_id_[msg_id] >= 0) {
-    const Subscription& old = subscriptions_[static_cast<std::size_t>(subscription_by_id_[msg_id])];
+  if (subscriptionIndex(msg_id) >= 0) {
+    const Subscription& old = subscriptions_[static_cast<std::size_t>(subscriptionIndex(msg_id))];
     if (old.name == name && old.multi_id == multi_id) return true;  // repeated, harmless
     return recover(offset, name, "msg_id " + std::to_string(msg_id) + " already subscribed to " + old.name, end, next);
   }
@@ -679,11 +706,19 @@ bool UlogReader::handleAdd(std::size_t offset, const std::uint8_t* p, std::size_
       topic.instance = multi_id;
       topic.fields = sub.flat->fields;
       topic.columns.resize(topic.fields.size());
+      if (!data_count_by_id_.empty()) {
+        // At most as many rows as messages, and as the bytes allow: memory stays below 8× the file.
+        const std::size_t rows = std::min<std::uint64_t>(data_count_by_id_[msg_id],
+                                                         data_bytes_by_id_[msg_id] / std::max<std::uint32_t>(1, sub.flat->min_size));
+        topic.timestamp_us.reserve(rows);
+        for (auto& c : topic.columns) c.reserve(rows);
+      }
       sub.topic = static_cast<int>(out_.topics.size());
       out_.topics.push_back(std::move(topic));
       topic_by_key_.emplace(std::move(key), sub.topic);
     }
   }
+  if (msg_id >= subscription_by_id_.size()) subscription_by_id_.resize(std::size_t{msg_id} + 1, -1);
   subscription_by_id_[msg_id] = static_cast<std::int32_t>(subscriptions_.size());
   subscriptions_.push_back(std::move(sub));
   return true;
@@ -692,7 +727,7 @@ bool UlogReader::handleAdd(std::size_t offset, const std::uint8_t* p, std::size_
 bool UlogReader::handleData(std::size_t offset, const std::uint8_t* p, std::size_t n, std::size_t end, std::size_t& next) {
   if (n < 2) return recover(offset, "", "data message of " + std::to_string(n) + " bytes", end, next);
   const std::uint16_t msg_id = load<std::uint16_t>(p);
-  const std::int32_t index = subscription_by_id_[msg_id];
+  const std::int32_t index = subscriptionIndex(msg_id);
   if (index < 0) return recover(offset, "", "data for msg_id " + std::to_string(msg_id) + ", which is not subscribed", end, next);
   Subscription& sub = subscriptions_[static_cast<std::size_t>(index)];
   if (sub.topic < 0) return true;  // a format without timestamp: warned at subscription
