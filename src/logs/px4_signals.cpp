@@ -1,0 +1,278 @@
+#include "logs/px4_signals.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+// PX4 conventions applied here (sources: PX4 msg/VehicleLocalPosition.msg, VehicleAttitude.msg,
+// ActuatorMotors.msg, ActuatorOutputs.msg, VehicleStatus.msg, VehicleLandDetected.msg; the PX4
+// parameter reference for THR_MDL_FAC and PWM_*; the PX4 Airframe Reference, "Quadrotor X").
+//
+// Frames. PX4: world NED (x north, y east, z down), body FRD; vehicle_attitude.q = (w, x, y, z)
+// rotates FRD body vectors into NED. quadfdi: world z up, body FLU (x forward, y left, z up),
+// R = Rz(yaw)·Ry(pitch)·Rx(roll) maps body to world. We turn both PX4 frames by 180° about their
+// x axis, T = diag(1, −1, −1) (a proper rotation): world = north, west, up; body = FLU. Then
+// R_quadfdi = T·R_px4·T, so quadfdi (roll, pitch, yaw) = (φ, −θ, −ψ) of PX4's NED Euler angles:
+// nose down is positive pitch (README), a right turn (ψ growing in NED) is negative yaw.
+//
+// Motors. PX4 quad-X (airframe reference / mixer geometry quad_x), 1-based:
+//   PX4 1: front right, CCW    PX4 2: back left, CCW    PX4 3: front left, CW    PX4 4: back right, CW
+// quadfdi (README): 1 front right, 2 back right, 3 back left, 4 front left; yaw torque
+// κ(−f1 + f2 − f3 + f4) makes 1 and 3 the CCW propellers — the same spins as PX4's.
+//   quadfdi 1 (FR) = PX4 1,  quadfdi 2 (BR) = PX4 4,  quadfdi 3 (BL) = PX4 2,  quadfdi 4 (FL) = PX4 3
+//
+// Thrust. PX4 models thrust against the motor signal as rel_thrust = (1 − f)·x + f·x² with
+// f = THR_MDL_FAC and x the normalised signal in [0, 1]. actuator_motors.control is the thrust
+// setpoint *before* the output driver inverts that model, so it already is a thrust fraction;
+// actuator_outputs.output is the PWM *after* it, so x = (pwm − min) / (max − min) and the model
+// is applied to get the thrust fraction back.
+
+namespace quadfdi {
+namespace {
+
+LogIssue missing(const std::string& topic, const std::string& what) {
+  LogIssue issue;
+  issue.status = LogStatus::kCorrupt;
+  issue.topic = topic;
+  issue.message = what;
+  return issue;
+}
+
+// Column indices of the named fields, or a LogIssue naming the first that is absent.
+LogIssue columnsOf(const LogTopic& topic, const std::vector<std::string>& names, std::vector<const std::vector<double>*>& cols) {
+  cols.clear();
+  for (const std::string& n : names) {
+    const int i = topic.fieldIndex(n);
+    if (i < 0) return missing(topic.name, "topic " + topic.name + " has no field '" + n + "'");
+    cols.push_back(&topic.columns[static_cast<std::size_t>(i)]);
+  }
+  return {};
+}
+
+const LogTopic* findNonEmpty(const DecodedLog& log, const std::string& name, int instance = 0) {
+  const LogTopic* t = log.find(name, instance);
+  return t && t->rows() > 0 ? t : nullptr;
+}
+
+double seconds(std::int64_t us) { return static_cast<double>(us) * 1e-6; }
+
+// Appends a sample if its time is after the last one and every value is finite; counts the rest.
+template <int N>
+void append(SignalSeries<N>& s, double t, const std::array<double, N>& v, std::size_t& skipped) {
+  bool finite = std::isfinite(t);
+  for (double x : v) finite = finite && std::isfinite(x);
+  if (!finite || (!s.t.empty() && t <= s.t.back())) {
+    ++skipped;
+    return;
+  }
+  s.t.push_back(t);
+  s.v.push_back(v);
+}
+
+void noteSkipped(FlightSignals& out, const std::string& topic, std::size_t skipped) {
+  if (skipped > 0)
+    out.conventions.push_back(topic + ": " + std::to_string(skipped) +
+                              " rows skipped (non-finite values or time not increasing)");
+}
+
+double parameter(const DecodedLog& log, const std::string& name, double fallback, bool& found) {
+  auto it = log.parameters.find(name);
+  found = it != log.parameters.end();
+  return found ? it->second : fallback;
+}
+
+// PWM range of output channel `channel` (0-based): per-channel PWM_MAIN_MIN<n>/MAX<n> (PX4 ≥ 1.13;
+// −1 means "not set"), else PWM_MAIN_MIN/MAX, else PWM_MIN/MAX (older PX4), else the defaults.
+double pwmLimit(const DecodedLog& log, const char* which, int channel, double fallback, std::string& source) {
+  const std::string w(which);
+  const std::string names[] = {"PWM_MAIN_" + w + std::to_string(channel + 1), "PWM_MAIN_" + w, "PWM_" + w};
+  for (const std::string& n : names) {
+    auto it = log.parameters.find(n);
+    if (it != log.parameters.end() && it->second > 0.0) {
+      source = n;
+      return it->second;
+    }
+  }
+  source = "default";
+  return fallback;
+}
+
+LogIssue extractPosition(const DecodedLog& log, FlightSignals& out) {
+  const LogTopic* t = findNonEmpty(log, "vehicle_local_position");
+  if (!t) return missing("vehicle_local_position", "the log has no vehicle_local_position data (needed for position)");
+  std::vector<const std::vector<double>*> c;
+  if (LogIssue e = columnsOf(*t, {"x", "y", "z"}, c); !e.ok()) return e;
+  std::size_t skipped = 0;
+  for (std::size_t r = 0; r < t->rows(); ++r)
+    append<3>(out.position, seconds(t->timestamp_us[r]), {(*c[0])[r], -(*c[1])[r], -(*c[2])[r]}, skipped);
+  out.position.source = {"vehicle_local_position", "x,y,z", "NED → north, west, up: (x, −y, −z)"};
+  noteSkipped(out, "vehicle_local_position", skipped);
+  return {};
+}
+
+LogIssue extractAttitude(const DecodedLog& log, FlightSignals& out) {
+  const LogTopic* t = findNonEmpty(log, "vehicle_attitude");
+  if (!t) return missing("vehicle_attitude", "the log has no vehicle_attitude data (needed for attitude)");
+  std::vector<const std::vector<double>*> c;
+  if (LogIssue e = columnsOf(*t, {"q[0]", "q[1]", "q[2]", "q[3]"}, c); !e.ok()) return e;
+  std::size_t skipped = 0;
+  for (std::size_t r = 0; r < t->rows(); ++r) {
+    double w = (*c[0])[r], x = (*c[1])[r], y = (*c[2])[r], z = (*c[3])[r];
+    const double norm = std::sqrt(w * w + x * x + y * y + z * z);
+    if (!(norm > 1e-6) || !std::isfinite(norm)) {
+      ++skipped;
+      continue;
+    }
+    w /= norm, x /= norm, y /= norm, z /= norm;
+    // Elements of R_px4 (FRD → NED) that ZYX Euler needs, then signs of T·R·T.
+    const double r11 = 1.0 - 2.0 * (y * y + z * z);
+    const double r21 = 2.0 * (x * y + w * z);
+    const double r31 = 2.0 * (x * z - w * y);
+    const double r32 = 2.0 * (y * z + w * x);
+    const double r33 = 1.0 - 2.0 * (x * x + y * y);
+    const double roll = std::atan2(r32, r33);
+    const double pitch = std::asin(std::clamp(r31, -1.0, 1.0));  // −θ: −asin(−r31)
+    const double yaw = std::atan2(-r21, r11);                     // −ψ
+    append<3>(out.attitude, seconds(t->timestamp_us[r]), {roll, pitch, yaw}, skipped);
+  }
+  out.attitude.source = {"vehicle_attitude", "q[0..3]",
+                         "q (w,x,y,z) FRD→NED; both frames turned 180° about x: ZYX Euler (φ, −θ, −ψ)"};
+  noteSkipped(out, "vehicle_attitude", skipped);
+  return {};
+}
+
+std::string motorTable(const Px4SignalOptions& o) {
+  std::string s;
+  for (int k = 0; k < kMotors; ++k)
+    s += (k ? ", " : "") + std::to_string(k + 1) + "←PX4 " + std::to_string(o.px4_motor_for_quadfdi[static_cast<std::size_t>(k)] + 1);
+  return s;
+}
+
+LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options, FlightSignals& out) {
+  for (int index : options.px4_motor_for_quadfdi)
+    if (index < 0 || index > 15)
+      return missing("", "px4_motor_for_quadfdi holds " + std::to_string(index) + ", not a PX4 motor index 0..15");
+  out.command_kind = CommandKind::kThrustFraction;
+  std::size_t skipped = 0;
+  const LogTopic* motors = options.prefer_actuator_motors ? findNonEmpty(log, "actuator_motors") : nullptr;
+  if (motors) {
+    std::vector<std::string> names;
+    for (int index : options.px4_motor_for_quadfdi) names.push_back("control[" + std::to_string(index) + "]");
+    std::vector<const std::vector<double>*> c;
+    if (LogIssue e = columnsOf(*motors, names, c); !e.ok()) return e;
+    for (std::size_t r = 0; r < motors->rows(); ++r) {
+      std::array<double, kMotors> u{};
+      for (std::size_t k = 0; k < kMotors; ++k) {
+        const double v = (*c[k])[r];
+        u[k] = std::isnan(v) ? 0.0 : std::clamp(v, 0.0, 1.0);  // NaN: disarmed, motor stopped
+      }
+      append<kMotors>(out.command, seconds(motors->timestamp_us[r]), u, skipped);
+    }
+    out.command.source = {"actuator_motors", "control[0..3]", "thrust setpoints (already linear in thrust); NaN → 0"};
+    out.conventions.push_back("commands: actuator_motors.control as thrust fractions (PX4 applies THR_MDL_FAC after "
+                              "this topic); NaN (disarmed) → 0; clamped to [0, 1]");
+  } else {
+    const LogTopic* outputs = findNonEmpty(log, "actuator_outputs", options.outputs_instance);
+    if (!outputs)
+      return missing("actuator_motors",
+                     "the log has neither actuator_motors nor actuator_outputs (instance " +
+                         std::to_string(options.outputs_instance) + ") data (needed for motor commands)");
+    std::vector<std::string> names;
+    for (int index : options.px4_motor_for_quadfdi) names.push_back("output[" + std::to_string(index) + "]");
+    std::vector<const std::vector<double>*> c;
+    if (LogIssue e = columnsOf(*outputs, names, c); !e.ok()) return e;
+    bool has_factor = false;
+    const double f = std::clamp(parameter(log, "THR_MDL_FAC", 0.0, has_factor), 0.0, 1.0);
+    std::array<double, kMotors> lo{}, hi{};
+    std::string limits;
+    for (std::size_t k = 0; k < kMotors; ++k) {
+      const int channel = options.px4_motor_for_quadfdi[k];
+      std::string lo_source, hi_source;
+      lo[k] = pwmLimit(log, "MIN", channel, options.default_pwm_min, lo_source);
+      hi[k] = pwmLimit(log, "MAX", channel, options.default_pwm_max, hi_source);
+      if (!(hi[k] > lo[k]))
+        return missing("actuator_outputs", "PWM range of output " + std::to_string(channel + 1) + " is empty (" +
+                                               lo_source + " " + std::to_string(lo[k]) + ", " + hi_source + " " +
+                                               std::to_string(hi[k]) + ")");
+      limits += (k ? ", " : "") + std::to_string(static_cast<int>(lo[k])) + "–" + std::to_string(static_cast<int>(hi[k])) +
+                " (" + lo_source + "/" + hi_source + ")";
+    }
+    for (std::size_t r = 0; r < outputs->rows(); ++r) {
+      std::array<double, kMotors> u{};
+      for (std::size_t k = 0; k < kMotors; ++k) {
+        const double x = std::clamp(((*c[k])[r] - lo[k]) / (hi[k] - lo[k]), 0.0, 1.0);
+        u[k] = (1.0 - f) * x + f * x * x;
+      }
+      append<kMotors>(out.command, seconds(outputs->timestamp_us[r]), u, skipped);
+    }
+    out.command.source = {"actuator_outputs", "output[0..3]",
+                          "PWM → x = (pwm − min)/(max − min) → thrust (1 − f)x + f x², f = THR_MDL_FAC"};
+    out.conventions.push_back("commands: actuator_outputs[" + std::to_string(options.outputs_instance) +
+                              "] PWM normalised with per-motor ranges " + limits + ", clamped to [0, 1]");
+    out.conventions.push_back("thrust model: thrust fraction = (1 − f)·x + f·x², f = THR_MDL_FAC = " + std::to_string(f) +
+                              (has_factor ? "" : " (not in the log: assumed 0, linear)"));
+  }
+  out.conventions.push_back("motors: PX4 quad-X order mapped to quadfdi's: " + motorTable(options));
+  noteSkipped(out, out.command.source.topic, skipped);
+  return {};
+}
+
+// Armed (vehicle_status.arming_state == 2, ARMED in every PX4 release) and landed
+// (vehicle_land_detected.landed || maybe_landed), merged in time order; an event whenever either changes.
+void extractStates(const DecodedLog& log, FlightSignals& out) {
+  struct Change {
+    std::int64_t t;
+    int which;  // 0 armed, 1 landed
+    bool value;
+  };
+  std::vector<Change> changes;
+  const LogTopic* status = findNonEmpty(log, "vehicle_status");
+  std::vector<const std::vector<double>*> c;
+  if (status && columnsOf(*status, {"arming_state"}, c).ok()) {
+    for (std::size_t r = 0; r < status->rows(); ++r) changes.push_back({status->timestamp_us[r], 0, (*c[0])[r] == 2.0});
+  } else {
+    out.conventions.push_back("states: no vehicle_status.arming_state; armed is reported false throughout");
+  }
+  const LogTopic* land = findNonEmpty(log, "vehicle_land_detected");
+  if (land && columnsOf(*land, {"landed"}, c).ok()) {
+    const int maybe = land->fieldIndex("maybe_landed");
+    for (std::size_t r = 0; r < land->rows(); ++r) {
+      const bool landed = (*c[0])[r] != 0.0 || (maybe >= 0 && land->columns[static_cast<std::size_t>(maybe)][r] != 0.0);
+      changes.push_back({land->timestamp_us[r], 1, landed});
+    }
+  } else {
+    out.conventions.push_back("states: no vehicle_land_detected.landed; landed is reported true throughout");
+  }
+  std::stable_sort(changes.begin(), changes.end(), [](const Change& a, const Change& b) { return a.t < b.t; });
+  bool armed = false, landed = true;
+  for (const Change& ch : changes) {
+    (ch.which == 0 ? armed : landed) = ch.value;
+    const double t = seconds(ch.t);
+    if (!out.states.empty() && out.states.back().armed == armed && out.states.back().landed == landed) continue;
+    if (!out.states.empty() && out.states.back().t == t)
+      out.states.back() = {t, armed, landed};  // both changed at the same instant
+    else
+      out.states.push_back({t, armed, landed});
+  }
+  if (status || land)
+    out.conventions.push_back("states: armed = vehicle_status.arming_state == 2; landed = vehicle_land_detected.landed "
+                              "or maybe_landed");
+}
+
+}  // namespace
+
+LogIssue extractPx4Signals(const DecodedLog& log, const Px4SignalOptions& options, FlightSignals& out) {
+  out = FlightSignals{};
+  out.conventions.push_back("time: the log's clock (µs since boot) in seconds");
+  out.conventions.push_back("world frame: x north, y west, z up (PX4 NED turned 180° about north: x, −y, −z)");
+  out.conventions.push_back("attitude: vehicle_attitude.q (FRD → NED) as ZYX Euler of the FLU body in that frame: "
+                            "roll = φ, pitch = −θ, yaw = −ψ of PX4's NED angles (positive pitch = nose down)");
+  if (LogIssue e = extractPosition(log, out); !e.ok()) return e;
+  if (LogIssue e = extractAttitude(log, out); !e.ok()) return e;
+  if (LogIssue e = extractCommands(log, options, out); !e.ok()) return e;
+  extractStates(log, out);
+  return {};
+}
+
+}  // namespace quadfdi

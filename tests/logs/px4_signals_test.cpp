@@ -1,0 +1,246 @@
+// PX4 extractor: synthetic logs written with the test writer (known values in → quadfdi
+// conventions out: frames, Euler signs, motor order, PWM and thrust model, states) and the real
+// sample log.
+#include "logs/px4_signals.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "logs/ulog.h"
+#include "logs/ulog_writer.h"
+
+namespace quadfdi {
+namespace {
+
+using testing::UlogPayload;
+using testing::UlogWriter;
+
+struct Quat {
+  double w, x, y, z;
+};
+Quat multiply(const Quat& a, const Quat& b) {
+  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+// PX4's FRD→NED attitude from its ZYX Euler angles: Rz(ψ)·Ry(θ)·Rx(φ).
+Quat px4Quaternion(double roll, double pitch, double yaw) {
+  const Quat qz{std::cos(yaw / 2), 0, 0, std::sin(yaw / 2)};
+  const Quat qy{std::cos(pitch / 2), 0, std::sin(pitch / 2), 0};
+  const Quat qx{std::cos(roll / 2), std::sin(roll / 2), 0, 0};
+  return multiply(multiply(qz, qy), qx);
+}
+
+struct Px4Flight {
+  std::vector<std::array<double, 3>> ned;    // position per sample [m]
+  std::vector<Quat> attitude;                // per sample
+  std::vector<std::array<float, 4>> motors;  // actuator_motors.control[0..3], PX4 order
+  bool with_motors = true;
+  bool with_position = true;
+  std::vector<std::array<float, 4>> pwm;     // actuator_outputs.output[0..3]
+};
+
+std::vector<std::uint8_t> writeFlight(const Px4Flight& f, UlogWriter w = UlogWriter()) {
+  w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
+  w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+  w.format("actuator_motors:uint64_t timestamp;uint64_t timestamp_sample;uint16_t reversible_flags;float[12] control;");
+  w.format("actuator_outputs:uint64_t timestamp;uint32_t noutputs;float[16] output;");
+  w.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;");
+  w.format("vehicle_land_detected:uint64_t timestamp;bool maybe_landed;bool landed;");
+  if (f.with_position) w.subscribe(0, 0, "vehicle_local_position");
+  w.subscribe(0, 1, "vehicle_attitude");
+  if (f.with_motors) w.subscribe(0, 2, "actuator_motors");
+  w.subscribe(0, 3, "actuator_outputs");
+  w.subscribe(0, 4, "vehicle_status");
+  w.subscribe(0, 5, "vehicle_land_detected");
+  for (std::size_t i = 0; i < f.attitude.size(); ++i) {
+    const std::uint64_t t = 1000000 + i * 10000;
+    if (f.with_position)
+      w.data(0, UlogPayload()
+                    .put(t)
+                    .put(static_cast<float>(f.ned[i][0]))
+                    .put(static_cast<float>(f.ned[i][1]))
+                    .put(static_cast<float>(f.ned[i][2]))
+                    .put(true));
+    const Quat& q = f.attitude[i];
+    w.data(1, UlogPayload().put(t + 1).put(static_cast<float>(q.w)).put(static_cast<float>(q.x)).put(static_cast<float>(q.y)).put(static_cast<float>(q.z)));
+    if (f.with_motors && i < f.motors.size()) {
+      UlogPayload p;
+      p.put(t + 2).put(t).put<std::uint16_t>(0);
+      for (int k = 0; k < 12; ++k) p.put(k < 4 ? f.motors[i][static_cast<std::size_t>(k)] : NAN);
+      w.data(2, p);
+    }
+    if (i < f.pwm.size()) {
+      UlogPayload p;
+      p.put(t + 3).put<std::uint32_t>(4);
+      for (int k = 0; k < 16; ++k) p.put(k < 4 ? f.pwm[i][static_cast<std::size_t>(k)] : 0.0f);
+      w.data(3, p);
+    }
+  }
+  return w.bytes();
+}
+
+FlightSignals extract(const std::vector<std::uint8_t>& bytes, LogIssue& issue, const Px4SignalOptions& o = {}) {
+  DecodedLog log;
+  const LogIssue read = readUlog(ByteSpan{bytes.data(), bytes.size()}, log);
+  EXPECT_TRUE(read.ok()) << read.message;
+  FlightSignals s;
+  issue = extractPx4Signals(log, o, s);
+  return s;
+}
+
+TEST(Px4Signals, FramesEulerSignsAndPosition) {
+  Px4Flight f;
+  // 0: level; 1: nose down 0.3 rad (negative PX4 pitch); 2: right turn 0.5 rad (positive PX4
+  // yaw); 3: right side down 0.2 rad; 4: all three.
+  const double px4_euler[5][3] = {{0, 0, 0}, {0, -0.3, 0}, {0, 0, 0.5}, {0.2, 0, 0}, {0.1, 0.2, 0.3}};
+  for (const auto& e : px4_euler) {
+    f.attitude.push_back(px4Quaternion(e[0], e[1], e[2]));
+    f.ned.push_back({1.0, 2.0, -3.0});  // 1 m north, 2 m east, 3 m up
+    f.motors.push_back({0.5f, 0.5f, 0.5f, 0.5f});
+  }
+  LogIssue issue;
+  const FlightSignals s = extract(writeFlight(f), issue);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  ASSERT_EQ(s.attitude.v.size(), 5u);
+  const double tol = 1e-6;
+  EXPECT_NEAR(s.attitude.v[1][1], 0.3, tol);   // nose down: positive quadfdi pitch (README)
+  EXPECT_NEAR(s.attitude.v[1][0], 0.0, tol);
+  EXPECT_NEAR(s.attitude.v[2][2], -0.5, tol);  // turning right (clockwise from above) in z-up: negative yaw
+  EXPECT_NEAR(s.attitude.v[3][0], 0.2, tol);   // right side down: positive roll
+  EXPECT_NEAR(s.attitude.v[4][0], 0.1, tol);
+  EXPECT_NEAR(s.attitude.v[4][1], -0.2, tol);
+  EXPECT_NEAR(s.attitude.v[4][2], -0.3, tol);
+  ASSERT_EQ(s.position.v.size(), 5u);
+  EXPECT_NEAR(s.position.v[0][0], 1.0, tol);   // north
+  EXPECT_NEAR(s.position.v[0][1], -2.0, tol);  // west = −east
+  EXPECT_NEAR(s.position.v[0][2], 3.0, tol);   // up
+  EXPECT_DOUBLE_EQ(s.position.t[0], 1.0);
+  EXPECT_DOUBLE_EQ(s.attitude.t[1], 1.010001);
+  EXPECT_FALSE(s.conventions.empty());
+}
+
+TEST(Px4Signals, ActuatorMotorsInQuadfdiOrder) {
+  Px4Flight f;
+  f.attitude.assign(2, px4Quaternion(0, 0, 0));
+  f.ned = {{0, 0, 0}, {0, 0, 0}};
+  // PX4 motors 1 FR, 2 BL, 3 FL, 4 BR.
+  f.motors = {{0.1f, 0.2f, 0.3f, 0.4f}, {NAN, 1.5f, -0.2f, 0.5f}};
+  LogIssue issue;
+  const FlightSignals s = extract(writeFlight(f), issue);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  EXPECT_EQ(s.command_kind, CommandKind::kThrustFraction);
+  EXPECT_EQ(s.command.source.topic, "actuator_motors");
+  ASSERT_EQ(s.command.v.size(), 2u);
+  // quadfdi 1 FR, 2 BR, 3 BL, 4 FL.
+  EXPECT_FLOAT_EQ(static_cast<float>(s.command.v[0][0]), 0.1f);
+  EXPECT_FLOAT_EQ(static_cast<float>(s.command.v[0][1]), 0.4f);
+  EXPECT_FLOAT_EQ(static_cast<float>(s.command.v[0][2]), 0.2f);
+  EXPECT_FLOAT_EQ(static_cast<float>(s.command.v[0][3]), 0.3f);
+  EXPECT_EQ(s.command.v[1][0], 0.0);  // NaN = disarmed
+  EXPECT_EQ(s.command.v[1][2], 1.0);  // clamped
+  EXPECT_EQ(s.command.v[1][3], 0.0);  // negative (reverse) clamped
+}
+
+TEST(Px4Signals, ActuatorOutputsPwmAndThrustModel) {
+  Px4Flight f;
+  f.with_motors = false;
+  f.attitude.assign(2, px4Quaternion(0, 0, 0));
+  f.ned = {{0, 0, 0}, {0, 0, 0}};
+  f.pwm = {{1500, 1000, 2000, 1250}, {900, 1100, 1100, 1100}};
+  UlogWriter w;
+  w.paramFloat("THR_MDL_FAC", 0.5f);
+  w.paramInt("PWM_MAIN_MIN", 1000);
+  w.paramInt("PWM_MAIN_MAX", 2000);
+  w.paramInt("PWM_MAIN_MIN3", 1100);  // per channel (PX4 motor 3 = quadfdi 4) wins
+  LogIssue issue;
+  const FlightSignals s = extract(writeFlight(f, w), issue);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  EXPECT_EQ(s.command.source.topic, "actuator_outputs");
+  ASSERT_EQ(s.command.v.size(), 2u);
+  auto thrust = [](double x) { return 0.5 * x + 0.5 * x * x; };
+  EXPECT_NEAR(s.command.v[0][0], thrust(0.5), 1e-9);   // PX4 1: 1500 µs
+  EXPECT_NEAR(s.command.v[0][1], thrust(0.25), 1e-9);  // PX4 4: 1250 µs
+  EXPECT_NEAR(s.command.v[0][2], 0.0, 1e-9);           // PX4 2: 1000 µs
+  EXPECT_NEAR(s.command.v[0][3], 1.0, 1e-9);           // PX4 3: 2000 µs
+  EXPECT_NEAR(s.command.v[1][0], 0.0, 1e-9);           // disarmed PWM below min: 0
+  EXPECT_NEAR(s.command.v[1][3], 0.0, 1e-9);           // 1100 on a 1100–2000 channel
+  EXPECT_NEAR(s.command.v[1][1], thrust(0.1), 1e-9);
+}
+
+TEST(Px4Signals, ArmedAndLandedStates) {
+  Px4Flight f;
+  f.attitude.assign(1, px4Quaternion(0, 0, 0));
+  f.ned = {{0, 0, 0}};
+  f.motors = {{0, 0, 0, 0}};
+  std::vector<std::uint8_t> bytes = writeFlight(f);
+  UlogWriter tail;
+  tail.data(4, UlogPayload().put<std::uint64_t>(100).put<std::uint8_t>(1));
+  tail.data(5, UlogPayload().put<std::uint64_t>(100).put(false).put(true));
+  tail.data(4, UlogPayload().put<std::uint64_t>(200).put<std::uint8_t>(2));  // armed
+  tail.data(5, UlogPayload().put<std::uint64_t>(300).put(true).put(false));  // maybe landed: still landed
+  tail.data(5, UlogPayload().put<std::uint64_t>(400).put(false).put(false)); // airborne
+  tail.data(5, UlogPayload().put<std::uint64_t>(500).put(false).put(true));  // landed
+  tail.data(4, UlogPayload().put<std::uint64_t>(600).put<std::uint8_t>(1));  // disarmed
+  bytes.insert(bytes.end(), tail.bytes().begin() + 16, tail.bytes().end());
+  LogIssue issue;
+  const FlightSignals s = extract(bytes, issue);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  ASSERT_EQ(s.states.size(), 5u);
+  EXPECT_FALSE(s.states[0].armed);
+  EXPECT_TRUE(s.states[0].landed);
+  EXPECT_TRUE(s.states[1].armed);
+  EXPECT_DOUBLE_EQ(s.states[1].t, 200e-6);
+  EXPECT_FALSE(s.states[2].landed);
+  EXPECT_DOUBLE_EQ(s.states[2].t, 400e-6);
+  EXPECT_TRUE(s.states[3].landed);
+  EXPECT_FALSE(s.states[4].armed);
+}
+
+TEST(Px4Signals, MissingTopicIsNamed) {
+  Px4Flight f;
+  f.with_position = false;
+  f.attitude.assign(1, px4Quaternion(0, 0, 0));
+  f.motors = {{0, 0, 0, 0}};
+  LogIssue issue;
+  extract(writeFlight(f), issue);
+  EXPECT_FALSE(issue.ok());
+  EXPECT_EQ(issue.topic, "vehicle_local_position");
+  EXPECT_NE(issue.message.find("vehicle_local_position"), std::string::npos);
+
+  f.with_position = true;
+  f.with_motors = false;  // and no actuator_outputs rows either
+  f.ned = {{0, 0, 0}};
+  extract(writeFlight(f), issue);
+  EXPECT_FALSE(issue.ok());
+  EXPECT_EQ(issue.topic, "actuator_motors");
+}
+
+TEST(Px4Signals, RealSampleLog) {
+  std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/sample_log_small.ulg", std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.empty()) GTEST_SKIP() << "../shared/logs/px4/sample_log_small.ulg not found";
+  LogIssue issue;
+  const FlightSignals s = extract(bytes, issue);
+  ASSERT_TRUE(issue.ok()) << issue.topic << ": " << issue.message;
+  EXPECT_GT(s.position.v.size(), 500u);
+  EXPECT_GT(s.attitude.v.size(), 1000u) << s.position.t.back() - s.position.t.front();
+  EXPECT_EQ(s.command.source.topic, "actuator_outputs");  // this PX4 predates actuator_motors
+  EXPECT_NEAR(static_cast<double>(s.command.t.size() - 1) / (s.command.t.back() - s.command.t.front()), 10.0, 5.0);
+  for (const auto& u : s.command.v)
+    for (double x : u) ASSERT_TRUE(x >= 0.0 && x <= 1.0);
+  bool armed = false;
+  for (const FlightStateEvent& e : s.states) armed = armed || e.armed;
+  EXPECT_TRUE(armed);
+  for (const auto& a : s.attitude.v) {
+    ASSERT_LE(std::abs(a[0]), M_PI);
+    ASSERT_LE(std::abs(a[1]), M_PI / 2);
+  }
+}
+
+}  // namespace
+}  // namespace quadfdi
