@@ -251,9 +251,12 @@ LogIssue readCrazyflieUsd(ByteSpan b, DecodedLog& out, const CrazyflieUsdLimits&
   const std::size_t data_start = pos;
   out.info["usd.header_bytes"] = std::to_string(data_start);
 
-  // Event id → type, for the records (ids are 16-bit: a direct table).
-  std::vector<std::uint16_t> slot(65536, 0);  // index + 1 into `types`, 0 = unknown id
-  for (std::size_t i = 0; i < types.size(); ++i) slot[types[i].id] = static_cast<std::uint16_t>(i + 1);
+  // Event id → index + 1 into `types` (0 = unknown id); a real log has a handful of types.
+  auto slotOf = [&types](std::uint16_t id) -> std::size_t {
+    for (std::size_t i = 0; i < types.size(); ++i)
+      if (types[i].id == id) return i + 1;
+    return 0;
+  };
 
   // --- The records: walk them as far as whole records go. ---
   const std::size_t record_head = version == 1 ? 6 : 10;  // id (2) + timestamp (4 or 8)
@@ -270,7 +273,7 @@ LogIssue readCrazyflieUsd(ByteSpan b, DecodedLog& out, const CrazyflieUsdLimits&
       break;
     }
     const std::uint16_t id = readU16(b.data + pos);
-    const std::size_t k = slot[id];
+    const std::size_t k = slotOf(id);
     if (k == 0) {
       if (left <= kCrcBytes) {  // possibly the CRC: decided below
         partial = true;
