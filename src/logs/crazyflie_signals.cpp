@@ -1,0 +1,283 @@
+// Crazyflie micro-SD log → FlightSignals; conventions and sources: docs/logs/crazyflie-usd.md.
+#include "logs/crazyflie_signals.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace quadfdi {
+namespace {
+
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+constexpr const char* kPreferredTopic = "fixedFrequency";  // usddeck.c FIXED_FREQUENCY_EVENT_NAME
+
+// Where a set of variables lives: one topic holding all of them (fixedFrequency preferred).
+struct Located {
+  const LogTopic* topic = nullptr;
+  std::vector<int> columns;
+};
+
+bool hasAll(const LogTopic& t, const std::vector<std::string>& names) {
+  for (const std::string& n : names)
+    if (t.fieldIndex(n) < 0) return false;
+  return true;
+}
+
+Located locate(const DecodedLog& log, const std::vector<std::string>& names) {
+  Located l;
+  for (const LogTopic& t : log.topics) {
+    if (!hasAll(t, names)) continue;
+    if (l.topic == nullptr || (t.name == kPreferredTopic && l.topic->name != kPreferredTopic)) l.topic = &t;
+  }
+  if (l.topic != nullptr)
+    for (const std::string& n : names) l.columns.push_back(l.topic->fieldIndex(n));
+  return l;
+}
+
+// The names of `names` that no topic logs (all of them if they are split over topics).
+std::vector<std::string> missingOf(const DecodedLog& log, const std::vector<std::string>& names) {
+  std::vector<std::string> missing;
+  for (const std::string& n : names) {
+    bool found = false;
+    for (const LogTopic& t : log.topics) found = found || t.fieldIndex(n) >= 0;
+    if (!found) missing.push_back(n);
+  }
+  if (missing.empty() && locate(log, names).topic == nullptr) return names;  // split over events
+  return missing;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + v[i];
+  return s;
+}
+
+LogIssue refuse(const std::string& topic, const std::string& message) {
+  LogIssue i;
+  i.status = LogStatus::kCorrupt;
+  i.topic = topic;
+  i.message = message;
+  return i;
+}
+
+// Rows of `loc` → series; `convert(row, values)` fills one row's values (false: skip the row).
+template <int N, typename Convert>
+LogIssue fill(const Located& loc, std::int64_t origin_us, const std::string& fields, Convert convert,
+              SignalSeries<N>& s, std::size_t& skipped) {
+  const LogTopic& t = *loc.topic;
+  s = SignalSeries<N>{};
+  s.source.topic = t.name;
+  s.source.fields = fields;
+  skipped = 0;
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    std::array<double, N> v{};
+    if (!convert(r, v)) {
+      ++skipped;
+      continue;
+    }
+    const double time = static_cast<double>(t.timestamp_us[r] - origin_us) * 1e-6;
+    if (!s.t.empty() && !(time > s.t.back()))
+      return refuse(t.name, "event '" + t.name + "': time does not increase at row " + std::to_string(r) + " (t = " +
+                                std::to_string(time) + " s after " + std::to_string(s.t.back()) + " s)");
+    s.t.push_back(time);
+    s.v.push_back(v);
+  }
+  if (s.t.empty())
+    return refuse(t.name, "event '" + t.name + "' has no usable rows of " + fields +
+                              (t.rows() ? " (every row holds a non-finite value)" : " (no records)"));
+  return {};
+}
+
+std::string rateNote(const std::vector<double>& t) {
+  if (t.size() < 2 || !(t.back() > t.front())) return "one row";
+  const double hz = static_cast<double>(t.size() - 1) / (t.back() - t.front());
+  return std::to_string(static_cast<long long>(std::lround(hz))) + " Hz mean over " +
+         std::to_string(static_cast<long long>(std::lround(t.back() - t.front()))) + " s";
+}
+
+bool finite(double v) { return std::isfinite(v); }
+
+}  // namespace
+
+LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOptions& o, FlightSignals& out) {
+  out = FlightSignals{};
+  const std::vector<std::string> pos_names = {"stateEstimate.x", "stateEstimate.y", "stateEstimate.z"};
+  const std::vector<std::string> att_names = {"stateEstimate.roll", "stateEstimate.pitch", "stateEstimate.yaw"};
+  const std::vector<std::string> stab_names = {"stabilizer.roll", "stabilizer.pitch", "stabilizer.yaw"};
+  const std::vector<std::string> motor_names = {"motor.m1", "motor.m2", "motor.m3", "motor.m4"};
+  const std::vector<std::string> pwm_names = {"pwm.m1_pwm", "pwm.m2_pwm", "pwm.m3_pwm", "pwm.m4_pwm", "pm.vbatMV"};
+
+  if (!(o.command_full_scale > 0.0) || !(o.gravity > 0.0) || !(o.voltage_p1 > 0.0) || !(o.voltage_p2 <= 0.0) ||
+      !finite(o.duty_a) || !finite(o.duty_b) || !finite(o.duty_c))
+    return refuse("", "invalid CrazyflieSignalOptions (full scale, gravity and voltage_p1 must be > 0, voltage_p2 "
+                      "<= 0, duty coefficients finite)");
+
+  // --- What is there: every missing variable is named at once. ---
+  std::vector<std::string> missing;
+  const Located pos = locate(log, pos_names);
+  if (pos.topic == nullptr)
+    for (const std::string& n : missingOf(log, pos_names)) missing.push_back(n);
+  Located att = locate(log, att_names);
+  bool att_fallback = false;
+  if (att.topic == nullptr && o.stabilizer_fallback) {
+    att = locate(log, stab_names);
+    att_fallback = att.topic != nullptr;
+  }
+  std::string att_missing_note;
+  if (att.topic == nullptr) {
+    for (const std::string& n : missingOf(log, att_names)) missing.push_back(n);
+    if (o.stabilizer_fallback) att_missing_note = " (nor the fallback stabilizer.roll/pitch/yaw)";
+  }
+  bool battery = false;
+  Located cmd;
+  if (o.thrust_map != CrazyflieThrustMap::kQuadraticDuty) {
+    cmd = locate(log, pwm_names);
+    battery = cmd.topic != nullptr;
+  }
+  if (!battery && o.thrust_map == CrazyflieThrustMap::kBatteryVoltage) {
+    for (const std::string& n : missingOf(log, pwm_names)) missing.push_back(n);
+  } else if (!battery) {
+    cmd = locate(log, motor_names);
+    if (cmd.topic == nullptr)
+      for (const std::string& n : missingOf(log, motor_names)) missing.push_back(n);
+  }
+  if (!missing.empty()) {
+    std::string msg = "the log has no " + join(missing);
+    if (!att_missing_note.empty()) msg += att_missing_note;
+    msg += ": quadfdi needs position (stateEstimate.x/y/z), attitude (stateEstimate.roll/pitch/yaw";
+    msg += o.stabilizer_fallback ? " or stabilizer.roll/pitch/yaw)" : ")";
+    msg += o.thrust_map == CrazyflieThrustMap::kBatteryVoltage ? " and pwm.m1_pwm..m4_pwm with pm.vbatMV"
+                                                               : " and motor commands (motor.m1..m4)";
+    msg += "; add them to the deck's config.txt";
+    return refuse(missing.front(), msg);
+  }
+
+  // --- The time origin: the log's first record. ---
+  std::int64_t origin = std::numeric_limits<std::int64_t>::max();
+  for (const LogTopic& t : log.topics)
+    for (std::int64_t ts : t.timestamp_us) origin = std::min(origin, ts);
+
+  std::size_t skipped = 0;
+  // Position: the Crazyflie's world frame is already z up, metres.
+  const LogTopic& pt = *pos.topic;
+  if (LogIssue i = fill<3>(pos, origin, "stateEstimate.x,y,z",
+                           [&](std::size_t r, std::array<double, 3>& v) {
+                             for (int k = 0; k < 3; ++k) v[k] = pt.columns[pos.columns[k]][r];
+                             return finite(v[0]) && finite(v[1]) && finite(v[2]);
+                           },
+                           out.position, skipped);
+      !i.ok())
+    return i;
+  out.position.source.note = "world frame z up [m], as logged; " + rateNote(out.position.t);
+  out.conventions.push_back("position: " + pt.name + " stateEstimate.x/y/z [m] as logged (the Crazyflie world "
+                            "frame is z up, x/y those of its positioning system)");
+  if (skipped)
+    out.conventions.push_back("position: " + std::to_string(skipped) + " rows with a non-finite value skipped");
+
+  // Attitude: degrees → radians; the firmware logs pitch negated (positive = nose up).
+  const LogTopic& at = *att.topic;
+  const std::string group = att_fallback ? "stabilizer" : "stateEstimate";
+  if (LogIssue i = fill<3>(att, origin, group + ".roll,pitch,yaw",
+                           [&](std::size_t r, std::array<double, 3>& v) {
+                             v[0] = at.columns[att.columns[0]][r] * kDegToRad;
+                             v[1] = -at.columns[att.columns[1]][r] * kDegToRad;
+                             v[2] = at.columns[att.columns[2]][r] * kDegToRad;
+                             return finite(v[0]) && finite(v[1]) && finite(v[2]);
+                           },
+                           out.attitude, skipped);
+      !i.ok())
+    return i;
+  out.attitude.source.note = "deg → rad, pitch negated; " + rateNote(out.attitude.t);
+  out.conventions.push_back("attitude: " + at.name + " " + group + ".roll/pitch/yaw [deg] → [rad]; pitch negated "
+                            "(the firmware logs −pitch, positive = nose up: kalman_core.c 'legacy CF2 body "
+                            "coordinate system'; quadfdi: positive = nose down); roll (positive = right side down) "
+                            "and yaw (positive = counter-clockwise from above) unchanged, ZYX, body x forward, "
+                            "y left, z up");
+  if (att_fallback)
+    out.conventions.push_back("attitude: stateEstimate.roll/pitch/yaw not all logged; stabilizer.roll/pitch/yaw "
+                              "used instead (the same state estimate, same sign convention)");
+  if (skipped)
+    out.conventions.push_back("attitude: " + std::to_string(skipped) + " rows with a non-finite value skipped");
+
+  // Motors: Crazyflie M1..M4 are quadfdi 1..4 (FR, BR, BL, FL).
+  const LogTopic& ct = *cmd.topic;
+  const double fs = o.command_full_scale;
+  std::size_t clamped = 0;
+  std::size_t saturated = 0;
+  const double vertex_v = -o.voltage_p1 * o.voltage_p1 / (4.0 * o.voltage_p2);  // [V] top of the fit (∞ if p2 = 0)
+  auto duty = [&](double command) {
+    double r = command / fs;
+    if (r < 0.0 || r > 1.0) {
+      ++clamped;
+      r = std::clamp(r, 0.0, 1.0);
+    }
+    return r;
+  };
+  auto convert = [&](std::size_t r, std::array<double, kMotors>& v) {
+    if (battery) {
+      const double vbat = ct.columns[cmd.columns[4]][r] * 1e-3;  // [mV] → [V]
+      if (!finite(vbat)) return false;
+      for (int k = 0; k < kMotors; ++k) {
+        const double raw = ct.columns[cmd.columns[k]][r];
+        if (!finite(raw)) return false;
+        const double volts = duty(raw) * std::max(vbat, 0.0);
+        double total_g = 0.0;  // [g] thrust of all four motors at this voltage
+        if (o.voltage_p2 == 0.0) {
+          total_g = volts / o.voltage_p1;
+        } else if (volts >= vertex_v) {
+          ++saturated;
+          total_g = -o.voltage_p1 / (2.0 * o.voltage_p2);
+        } else {
+          const double disc = o.voltage_p1 * o.voltage_p1 + 4.0 * o.voltage_p2 * volts;
+          total_g = (-o.voltage_p1 + std::sqrt(disc)) / (2.0 * o.voltage_p2);
+        }
+        v[k] = total_g / 4.0 * 1e-3 * o.gravity;
+      }
+      return true;
+    }
+    for (int k = 0; k < kMotors; ++k) {
+      const double raw = ct.columns[cmd.columns[k]][r];
+      if (!finite(raw)) return false;
+      const double d = duty(raw);
+      v[k] = o.duty_a * d * d + o.duty_b * d + o.duty_c;
+    }
+    return true;
+  };
+  const std::string cmd_fields = battery ? "pwm.m1_pwm..m4_pwm, pm.vbatMV" : "motor.m1..m4";
+  if (LogIssue i = fill<kMotors>(cmd, origin, cmd_fields, convert, out.command, skipped); !i.ok()) return i;
+  out.command_kind = CommandKind::kThrustNewton;
+  out.command.source.note = (battery ? "battery-voltage thrust model; " : "quadratic duty → thrust map; ") +
+                            rateNote(out.command.t);
+  out.conventions.push_back("motors: Crazyflie M1..M4 → quadfdi motors 1..4 unchanged (M1 front-right, M2 "
+                            "back-right, M3 back-left, M4 front-left: power_distribution_quadrotor.c adds +roll "
+                            "torque to M3/M4 and +pitch torque to M2/M3)");
+  if (battery) {
+    out.conventions.push_back(
+        "thrust: battery-voltage model of the firmware's thrust compensation (motors.c): motor voltage V = " +
+        ct.name + " pwm.mN_pwm / " + std::to_string(static_cast<long long>(fs)) +
+        " · pm.vbatMV / 1000, V = " + std::to_string(o.voltage_p2) + "·T² + " + std::to_string(o.voltage_p1) +
+        "·T with T the thrust of all four motors [g]; each motor T/4 · " + std::to_string(o.gravity) + " mN/g");
+    if (saturated)
+      out.conventions.push_back("thrust: " + std::to_string(saturated) + " motor samples beyond the voltage fit's "
+                                "maximum, set to its maximum");
+  } else {
+    out.conventions.push_back(
+        "thrust: " + ct.name + " motor.mN / " + std::to_string(static_cast<long long>(fs)) + " = r, f = " +
+        std::to_string(o.duty_a) + "·r² + " + std::to_string(o.duty_b) + "·r + " + std::to_string(o.duty_c) +
+        " N (firmware pwmToThrustA/B, Förster 2015); no battery-voltage correction" +
+        (locate(log, {"pm.vbatMV"}).topic != nullptr ? " (pm.vbatMV is logged, but not pwm.m1_pwm..m4_pwm)" : ""));
+  }
+  if (clamped)
+    out.conventions.push_back("thrust: " + std::to_string(clamped) + " motor commands outside [0, " +
+                              std::to_string(static_cast<long long>(fs)) + "] clamped");
+  if (skipped)
+    out.conventions.push_back("motors: " + std::to_string(skipped) + " rows with a non-finite value skipped");
+  out.conventions.push_back("time: micro-SD timestamps [µs since boot] minus the log's first record, in seconds");
+  return {};
+}
+
+}  // namespace quadfdi
