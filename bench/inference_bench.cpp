@@ -4,7 +4,8 @@
 
 #include <vector>
 
-#include "networks/inference.h"
+#include "inference/engine.h"
+#include "networks/model.h"
 
 namespace quadfdi {
 namespace {
@@ -26,7 +27,7 @@ void predictBatch(benchmark::State& state, Architecture arch) {
   state.SetItemsProcessed(state.iterations() * batch);
 }
 
-// The LibTorch-free engine the detector uses (networks/inference.h).
+// The LibTorch-free engine the detector uses (inference/engine.h).
 void enginePredict(benchmark::State& state, Architecture arch) {
   const int batch = static_cast<int>(state.range(0));
   ModelMetadata m;

@@ -1,5 +1,5 @@
 // One-off generator of the fuzzers' binary seeds: tiny model files and a tiny dataset.
-//   build/fuzz/fuzz/fuzz_make_seeds DIR   → DIR/model/*.qfdi, DIR/dataset/*.h5
+//   build/fuzz/fuzz/fuzz_make_seeds DIR   → DIR/model/*.qfdi, DIR/weights/*.qfdw, DIR/dataset/*.h5
 // (The committed corpora in fuzz/corpus/ were started from these and minimised with -merge=1.)
 #include <hdf5.h>
 #include <sys/stat.h>
@@ -12,6 +12,7 @@
 
 #include "data/trajectory_batch.h"
 #include "io/hdf5_dataset.h"
+#include "inference/weights_file.h"
 #include "networks/model.h"
 
 using namespace quadfdi;
@@ -27,6 +28,23 @@ void saveModel(Architecture a, FeatureSet f, int window, int hidden, const std::
   m.scale = "fuzz-seed";
   m.command = "fuzz_make_seeds";
   FaultIdentifier::create(m, 1).save(path);
+}
+
+// The same as a weights file (.qfdw), what detect and evaluate load.
+void saveWeights(Architecture a, FeatureSet f, int window, int hidden, const std::string& path) {
+  ModelMetadata m;
+  m.architecture = a;
+  m.features = f;
+  m.window = window;
+  m.hidden = hidden;
+  m.tcn.channels = 8;
+  m.tcn.kernel = 2;
+  m.tcn.dilations = {1, 2};
+  m.scale = "fuzz-seed";
+  m.command = "fuzz_make_seeds";
+  const FaultIdentifier net = FaultIdentifier::create(m, 1);
+  const std::string bytes = encodeWeightsFile(net.metadata(), exportWeights(net));
+  std::ofstream(path, std::ios::binary) << bytes;
 }
 
 std::string slurp(const std::string& path) {
@@ -47,6 +65,10 @@ int main(int argc, char** argv) {
   ::mkdir(dir.c_str(), 0755);
   ::mkdir((dir + "/model").c_str(), 0755);
   ::mkdir((dir + "/dataset").c_str(), 0755);
+  ::mkdir((dir + "/weights").c_str(), 0755);
+  saveWeights(Architecture::kLstm, FeatureSet::kModelFree, 3, 4, dir + "/weights/lstm-tiny.qfdw");
+  saveWeights(Architecture::kMlp, FeatureSet::kModelFree, 2, 3, dir + "/weights/mlp-tiny.qfdw");
+  saveWeights(Architecture::kTcn, FeatureSet::kModelFreeHeading, 4, 4, dir + "/weights/tcn-tiny.qfdw");
   saveModel(Architecture::kLstm, FeatureSet::kModelFree, 3, 4, dir + "/model/lstm-tiny.qfdi");
   saveModel(Architecture::kMlp, FeatureSet::kResidualOnly, 2, 3, dir + "/model/mlp-tiny.qfdi");
   // Metadata that disagrees with the weights: saved with H = 4, the metadata then says H = 5

@@ -1,4 +1,5 @@
-// Model files (networks/model.h, docs/model-format.md): any bytes give a model that runs, or
+// LibTorch model archives (training checkpoints and format-1 models; networks/model.h,
+// docs/model-format.md): any bytes give a model that runs, or
 // one ModelError naming the file. An accepted model must export to the inference engine
 // (`quadfdi detect`) and predict through LibTorch (`quadfdi evaluate`) without complaint.
 #include <cstdint>
@@ -6,7 +7,7 @@
 #include <vector>
 
 #include "fuzz_support.h"
-#include "networks/inference.h"
+#include "inference/engine.h"
 #include "networks/model.h"
 
 using namespace quadfdi;

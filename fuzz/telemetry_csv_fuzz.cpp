@@ -9,37 +9,48 @@
 #include <stdexcept>
 #include <string>
 
-#include "detection/detector.h"
+#include <vector>
+
 #include "detection/resampler.h"
+#include "detection/session.h"
 #include "fuzz_support.h"
 #include "io/telemetry_reader.h"
-#include "networks/inference.h"
 #include "networks/model.h"
 
 using namespace quadfdi;
 
 namespace {
 
-// A tiny model-free LSTM (T = 10, H = 8) with seeded weights: cheap enough to run per input,
-// and its untrained Θ̂ near 0.5 drives the alarm logic both ways.
-InferenceEngine& engine() {
-  static const std::unique_ptr<InferenceEngine> e = [] {
-    ModelMetadata m;
-    m.architecture = Architecture::kLstm;
-    m.features = FeatureSet::kModelFree;
-    m.output = OutputKind::kPositionEuler;
-    m.window = 10;
-    m.hidden = 8;
-    configureCpuThreads(1);
-    return std::make_unique<InferenceEngine>(exportWeights(FaultIdentifier::create(m, 1)));
-  }();
-  return *e;
+// Tiny seeded networks (T = 10), cheap enough to run per input; their untrained Θ̂ near 0.5
+// drives the alarm logic both ways: the paper's windowed LSTM, and a streaming TCN.
+const TrainedModel& model(bool streaming) {
+  static const std::unique_ptr<TrainedModel> models[2] = {
+      [] {
+        ModelMetadata m;
+        m.window = 10;
+        m.hidden = 8;
+        configureCpuThreads(1);
+        const FaultIdentifier net = FaultIdentifier::create(m, 1);
+        return std::make_unique<TrainedModel>(TrainedModel{net.metadata(), exportWeights(net)});
+      }(),
+      [] {
+        ModelMetadata m;
+        m.architecture = Architecture::kTcn;
+        m.features = FeatureSet::kModelFreeHeading;
+        m.window = 10;
+        m.tcn.channels = 8;
+        m.tcn.dilations = {1, 2, 1};  // receptive field 9 = T − 1
+        const FaultIdentifier net = FaultIdentifier::create(m, 1);
+        return std::make_unique<TrainedModel>(TrainedModel{net.metadata(), exportWeights(net)});
+      }()};
+  return *models[streaming ? 1 : 0];
 }
 
 // The detector's settings, from the first byte (also the header's first character; a header
 // starting with 't' gives the defaults of `quadfdi detect`): file mode (look-ahead) or
-// streaming, `--stride` (1 … 1000), `--max-gap` (the longest hole bridged) and the model's dt.
-DetectorConfig configFor(std::uint8_t first, bool& look_ahead) {
+// streaming, `--stride` (1 … 1000), `--max-gap` (the longest hole bridged), the model's dt and
+// the network (windowed LSTM or streaming TCN).
+DetectorConfig configFor(std::uint8_t first, bool& live, bool& tcn) {
   static constexpr int kStrides[4] = {4, 1, 37, 1000};
   // Holes up to 10 s bridged at dt down to 0.5 ms: up to 2e4 model samples from one input sample
   // (the history holds T + 4096); 1e5 s is past what the detector accepts.
@@ -47,77 +58,96 @@ DetectorConfig configFor(std::uint8_t first, bool& look_ahead) {
   static constexpr double kDts[4] = {0.002, 0.001, 0.0005, 0.002};  // [s]
   const unsigned bits = first ^ static_cast<unsigned>('t');
   DetectorConfig c;
-  c.window = engine().window();
   c.stride = kStrides[bits & 3];
-  look_ahead = (bits & 4) == 0;
+  live = (bits & 4) != 0;
   c.resampler.max_gap = kMaxGaps[(bits >> 3) & 3];
   c.resampler.dt = kDts[(bits >> 5) & 3];
+  tcn = (bits & 0x80) != 0;
   return c;
 }
+
+// Every output in range.
+class CheckingSink : public DetectionSink {
+ public:
+  void output(const DetectorOutput& out) override {
+    QUADFDI_FUZZ_CHECK(out.motor >= 0 && out.motor <= 4);
+    for (float th : out.theta) QUADFDI_FUZZ_CHECK(th >= 0.0f && th <= 1.0f);
+  }
+  void warning(const std::string& text) override { QUADFDI_FUZZ_CHECK(!text.empty()); }
+};
+
+// The samples read before the end or the first error, replayed as a source.
+class ReplaySource : public SampleSource {
+ public:
+  explicit ReplaySource(const std::vector<TelemetrySample>& samples) : samples_(samples) {}
+  Next next(TelemetrySample& sample, std::string&) override {
+    if (at_ == samples_.size()) return Next::kEnd;
+    sample = samples_[at_++];
+    return Next::kSample;
+  }
+  std::string where() const override { return "fuzz.csv:" + std::to_string(at_); }
+  bool moreReady() const override { return at_ % 3 != 0; }  // a live pipe that sometimes runs dry
+
+ private:
+  const std::vector<TelemetrySample>& samples_;
+  std::size_t at_ = 0;
+};
 
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  engine();
+  model(false);
+  model(true);
   return 0;
 }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  bool look_ahead = true;
-  const DetectorConfig config = configFor(size > 0 ? data[0] : 0, look_ahead);
+  bool live = false, tcn = false;
+  const DetectorConfig config = configFor(size > 0 ? data[0] : 0, live, tcn);
   std::istringstream in(fuzz::text(data, size));
+  std::vector<TelemetrySample> samples;
   try {
     TelemetryReader reader(in, "fuzz.csv");
-    std::unique_ptr<Detector> detector;
-    std::unique_ptr<Resampler> resampler;
-    try {
-      detector = std::make_unique<Detector>(config, engine());
-      resampler = std::make_unique<Resampler>(config.resampler);
-    } catch (const std::invalid_argument& e) {  // settings the detector refuses (max_gap / dt too large)
-      fuzz::report(e);
-    }
-    double last_grid_t = -std::numeric_limits<double>::infinity();
     TelemetrySample sample;
     std::string problem;
     for (;;) {
-      const TelemetryReader::Row row = reader.next(sample, problem);
-      if (row == TelemetryReader::Row::kEnd) break;
-      if (row == TelemetryReader::Row::kSkipped) {
+      const SampleSource::Next row = reader.next(sample, problem);
+      if (row == SampleSource::Next::kEnd) break;
+      if (row == SampleSource::Next::kSkipped) {
         QUADFDI_FUZZ_CHECK(!problem.empty());
         continue;
       }
       QUADFDI_FUZZ_CHECK(std::isfinite(sample.t) && std::abs(sample.t) <= 1e9);
-      if (resampler) {
-        // Grid samples: finite, in time order (a restart only moves the grid forward). The
-        // resampler alone also takes samples after one it refused.
-        resampler->push(sample, [&](const TelemetrySample& s) {
-          QUADFDI_FUZZ_CHECK(std::isfinite(s.t) && s.t > last_grid_t);
-          for (double v : s.y) QUADFDI_FUZZ_CHECK(std::isfinite(v));
-          for (double v : s.u) QUADFDI_FUZZ_CHECK(std::isfinite(v));
-          last_grid_t = s.t;
-        });
-      }
-      if (!detector) continue;
-      // As `quadfdi detect`: a refused sample (time not increasing, log too coarse) ends the run.
-      const ResampleStatus status = detector->push(sample, look_ahead);
-      if (status == ResampleStatus::kNotIncreasing || status == ResampleStatus::kTooCoarse) {
-        detector.reset();
-        continue;
-      }
-      DetectorOutput out;
-      while (detector->pop(out)) {
-        QUADFDI_FUZZ_CHECK(out.motor >= 0 && out.motor <= 4);
-        for (float th : out.theta) QUADFDI_FUZZ_CHECK(th >= 0.0f && th <= 1.0f);
-      }
-    }
-    if (detector) {
-      detector->finish();
-      DetectorOutput out;
-      while (detector->pop(out)) QUADFDI_FUZZ_CHECK(out.motor >= 0 && out.motor <= 4);
+      samples.push_back(sample);
     }
   } catch (const TelemetryError& e) {
     fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.csv", 0) == 0);
   }
+  // Grid samples: finite, in time order (a restart only moves the grid forward). The resampler
+  // alone also takes samples after one it refused.
+  Resampler resampler(config.resampler);
+  double last_grid_t = -std::numeric_limits<double>::infinity();
+  for (const TelemetrySample& sample : samples)
+    resampler.push(sample, [&](const TelemetrySample& s) {
+      QUADFDI_FUZZ_CHECK(std::isfinite(s.t) && s.t > last_grid_t);
+      for (double v : s.y) QUADFDI_FUZZ_CHECK(std::isfinite(v));
+      for (double v : s.u) QUADFDI_FUZZ_CHECK(std::isfinite(v));
+      last_grid_t = s.t;
+    });
+  // As `quadfdi detect`: one detection session, which stops at a refused sample.
+  std::unique_ptr<Detector> detector;
+  try {
+    detector = std::make_unique<Detector>(config, model(tcn));
+  } catch (const std::invalid_argument& e) {  // settings the detector refuses (max_gap / dt too large)
+    fuzz::report(e);
+    return 0;
+  }
+  ReplaySource source(samples);
+  CheckingSink sink;
+  SessionConfig session;
+  session.live = live;
+  const SessionResult r = runDetection(*detector, source, sink, session);
+  QUADFDI_FUZZ_CHECK(r.status == SessionStatus::kDone || !r.where.empty());
   return 0;
 }

@@ -6,7 +6,8 @@
 
 #include "control/controller_factory.h"
 #include "detection/detector.h"
-#include "networks/inference.h"
+#include "io/model_file.h"
+#include "networks/model.h"
 #include "simulation/closed_loop.h"
 #include "simulation/rng.h"
 #include "simulation/sampling.h"
@@ -176,22 +177,17 @@ Flight fly(int motor, double theta, int fault_step, int steps, std::uint64_t see
 class ShippedDetector : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    model_ = std::make_unique<FaultIdentifier>(FaultIdentifier::load(QUADFDI_SOURCE_DIR "/models/lstm-model-free.qfdi"));
-    engine_ = std::make_unique<InferenceEngine>(exportWeights(*model_));
+    model_ = std::make_unique<TrainedModel>(readModelFile(QUADFDI_SOURCE_DIR "/models/lstm-model-free.qfdw"));
   }
-  static void TearDownTestSuite() {
-    engine_.reset();
-    model_.reset();
-  }
+  static void TearDownTestSuite() { model_.reset(); }
   static DetectorConfig config() {
     DetectorConfig c;
-    c.window = model_->metadata().window;
-    c.symmetry = model_->metadata().symmetry;
+    c.symmetry = model_->metadata.symmetry;
     return c;
   }
   static std::vector<DetectorOutput> run(const std::vector<TelemetrySample>& samples, bool look_ahead,
                                          DetectorSummary* summary = nullptr, DetectorConfig c = config()) {
-    Detector d(c, *engine_);
+    Detector d(c, *model_);
     std::vector<DetectorOutput> out;
     DetectorOutput o;
     for (const TelemetrySample& s : samples) {
@@ -203,11 +199,9 @@ class ShippedDetector : public ::testing::Test {
     if (summary) *summary = d.summary();
     return out;
   }
-  static std::unique_ptr<FaultIdentifier> model_;
-  static std::unique_ptr<InferenceEngine> engine_;
+  static std::unique_ptr<TrainedModel> model_;
 };
-std::unique_ptr<FaultIdentifier> ShippedDetector::model_;
-std::unique_ptr<InferenceEngine> ShippedDetector::engine_;
+std::unique_ptr<TrainedModel> ShippedDetector::model_;
 
 TEST_F(ShippedDetector, FindsACompleteFaultInEveryMotorAndNamesIt) {
   for (int motor = 1; motor <= 4; ++motor) {
@@ -309,13 +303,17 @@ TEST(Detector, RefusesNetworksItCannotRun) {
   ModelMetadata m;
   m.window = 20;
   m.hidden = 8;
-  InferenceEngine engine(exportWeights(FaultIdentifier::create(m, 1)));
+  const FaultIdentifier net = FaultIdentifier::create(m, 1);
+  TrainedModel model{net.metadata(), exportWeights(net)};
   DetectorConfig c;
-  c.window = 100;  // the network reads 20
-  EXPECT_THROW(Detector(c, engine), std::invalid_argument);
-  c.window = 20;
   c.stride = 0;
-  EXPECT_THROW(Detector(c, engine), std::invalid_argument);
+  EXPECT_THROW(Detector(c, model), std::invalid_argument);
+  c.stride = 4;
+  model.metadata.features = FeatureSet::kModelBased;  // needs residuals the detector does not have
+  EXPECT_THROW(Detector(c, model), std::invalid_argument);
+  model.metadata.features = FeatureSet::kModelFree;
+  model.metadata.trained_motor = 3;  // the maps send every motor to motor 2
+  EXPECT_THROW(Detector(c, model), std::invalid_argument);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include "data/rollout.h"
 #include "evaluation/metrics.h"
+#include "networks/model.h"
 
 namespace quadfdi {
 namespace {
@@ -104,7 +105,8 @@ TEST(EstimateAllMotors, MatchesPerWindowMappedPredictions) {
   ModelMetadata m;
   m.window = 10;
   m.hidden = 8;
-  const FaultIdentifier model = FaultIdentifier::create(m, 2);
+  const FaultIdentifier net = FaultIdentifier::create(m, 2);
+  const TrainedModel model{net.metadata(), exportWeights(net)};
   RolloutConfig rc;
   rc.window = 10;
   TrajectoryBatch b;
@@ -120,7 +122,7 @@ TEST(EstimateAllMotors, MatchesPerWindowMappedPredictions) {
     for (int k = 1; k <= 4; ++k) {
       const SymmetryMap g = mapMotorToMotor2(k, SymmetryMode::kExactGroup);
       gatherWindowFeatures(b, windows[i], 10, m.features, m.output, k == 2 ? nullptr : &g, f.data());
-      model.predict(f.data(), 1, out);
+      net.predict(f.data(), 1, out);
       EXPECT_NEAR(theta[i](k - 1), out[1], 1e-6) << "window " << i << " motor " << k;
       EXPECT_NEAR(raw[i][static_cast<std::size_t>(k - 1)](0), out[0], 1e-6);
     }

@@ -8,7 +8,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "networks/inference.h"
+#include "inference/engine.h"
+#include "networks/model.h"
 #include "networks/trainer.h"
 
 namespace quadfdi {
@@ -119,9 +120,10 @@ TEST(InferenceEngine, MatchesLibTorchAndIsIndependentOfTheBatch) {
   int kernels_run = 0;
   for (const char* kernel : {"generic", "avx2", "avx512"}) {
     setenv("QUADFDI_KERNEL", kernel, 1);
-    for (Architecture arch : {Architecture::kLstm, Architecture::kMlp}) {
+    for (Architecture arch : {Architecture::kLstm, Architecture::kMlp, Architecture::kTcn}) {
       ModelMetadata m;
       m.architecture = arch;
+      if (arch == Architecture::kTcn) m.features = FeatureSet::kModelFreeHeading;
       m.window = 100;
       m.hidden = 128;
       m.feature_mean.assign(10, 0.05f);
@@ -146,7 +148,7 @@ TEST(InferenceEngine, MatchesLibTorchAndIsIndependentOfTheBatch) {
       float worst = 0.0f;
       for (int i = 0; i < 4 * n; ++i) worst = std::max(worst, std::abs(batched[i] - reference[i]));
       EXPECT_LT(worst, 2e-6f) << kernel << " " << toString(arch);
-      if (arch == Architecture::kMlp) ++kernels_run;
+      if (arch == Architecture::kTcn) ++kernels_run;
     }
   }
   unsetenv("QUADFDI_KERNEL");
