@@ -249,7 +249,9 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   if (const LogTopic* ev = log.find("EV")) {
     if (const double* id = column(*ev, "Id")) {
       for (std::size_t r = 0; r < ev->rows(); ++r) {
-        const int i = static_cast<int>(id[r]);
+        // Compared as doubles: a damaged FMT may make Id a float, NaN or huge.
+        const double v = id[r];
+        const int i = v >= 0.0 && v <= 255.0 ? static_cast<int>(v) : -1;
         const int kind = i == kEvArmed ? 0 : i == kEvDisarmed ? 1 : (i == kEvLandMaybe || i == kEvLandComplete) ? 2 : i == kEvNotLanded ? 3 : -1;
         if (kind >= 0) changes.push_back({ev->timestamp_us[r], kind});
       }
