@@ -49,27 +49,29 @@ const double* column(const LogTopic& t, const char* name) {
   return i < 0 ? nullptr : t.columns[static_cast<std::size_t>(i)].data();
 }
 
+double seconds(std::int64_t us) { return static_cast<double>(us) * 1e-6; }
+
 // Rows of a topic with increasing time, optionally only those whose `filter` column equals
-// `value`; returns the row indices and counts the dropped non-increasing ones.
+// `value`; returns the row indices and counts the dropped non-increasing ones. Compared in
+// seconds, as they are output: beyond 2^53 µs distinct TimeUS can round to the same double.
 std::vector<std::size_t> usableRows(const LogTopic& t, const double* filter, double value, std::size_t& dropped) {
   std::vector<std::size_t> rows;
   rows.reserve(t.rows());
-  std::int64_t last = 0;
+  double last = 0.0;
   bool any = false;
   for (std::size_t r = 0; r < t.rows(); ++r) {
     if (filter && filter[r] != value) continue;
-    if (any && t.timestamp_us[r] <= last) {
+    const double s = seconds(t.timestamp_us[r]);
+    if (any && !(s > last)) {
       ++dropped;
       continue;
     }
     rows.push_back(r);
-    last = t.timestamp_us[r];
+    last = s;
     any = true;
   }
   return rows;
 }
-
-double seconds(std::int64_t us) { return static_cast<double>(us) * 1e-6; }
 
 double param(const DecodedLog& log, const char* name, double fallback, bool* found = nullptr) {
   const auto it = log.parameters.find(name);

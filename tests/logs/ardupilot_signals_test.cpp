@@ -324,3 +324,19 @@ TEST(ArdupilotSignals, NonIncreasingTimesAreDropped) {
   EXPECT_NEAR(s.attitude.v[1][0], 3 * kDeg, 1e-12);
   EXPECT_NE(s.conventions.back().find("dropped 2 rows"), std::string::npos);
 }
+
+TEST(ArdupilotSignals, HugeTimestampsStayStrictlyIncreasingInSeconds) {
+  // Beyond 2^53 µs, consecutive TimeUS round to the same double (found by dataflash_fuzz).
+  DataflashWriter w = apLog();
+  const std::uint64_t base = 1ull << 60;
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    att(w, base + k, 0, 0, 0);
+    xkf1(w, base + k, 0, 0, 0, 0);
+    rcou(w, base + k, {1000, 1000, 1000, 1000});
+  }
+  FlightSignals s;
+  ASSERT_TRUE(extract(w, s).ok());
+  ASSERT_FALSE(s.attitude.t.empty());
+  for (std::size_t k = 1; k < s.attitude.t.size(); ++k) EXPECT_GT(s.attitude.t[k], s.attitude.t[k - 1]);
+  EXPECT_LT(s.attitude.t.size(), 4u);
+}
