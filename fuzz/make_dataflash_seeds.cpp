@@ -1,0 +1,90 @@
+// One-off generator of the dataflash_fuzz seeds (fuzz/corpus/dataflash/): small logs written by
+// tests/logs/dataflash_writer.h. `fuzz_make_dataflash_seeds DIR`.
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "logs/dataflash_writer.h"
+
+using quadfdi::test::centi;
+using quadfdi::test::DataflashWriter;
+using quadfdi::test::e7;
+
+namespace {
+
+void save(const std::string& dir, const char* name, const std::vector<std::uint8_t>& b) {
+  const std::string path = dir + "/" + name;
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f || std::fwrite(b.data(), 1, b.size(), f) != b.size() || std::fclose(f) != 0) std::perror(path.c_str());
+}
+
+DataflashWriter copter(int rows, bool fmtu) {
+  DataflashWriter w;
+  w.fmt(30, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
+  w.fmt(31, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
+  w.fmt(32, "RCOU", "QHHHHHHHHHHHHHH", "TimeUS,C1,C2,C3,C4,C5,C6,C7,C8,C9,C10,C11,C12,C13,C14");
+  w.fmt(33, "EV", "QB", "TimeUS,Id");
+  w.fmt(34, "ARM", "QBIBB", "TimeUS,ArmState,ArmChecks,Forced,Method");
+  if (fmtu) {
+    w.unit(0, '#', "instance");
+    w.unit(0, 'd', "deg");
+    w.mult(0, 'B', 0.01);
+    w.mult(0, 'F', 1e-6);
+    w.fmtu(0, 31, "s#ddhnnnnmmmkkkm", "F-BBB0000000BBBB");
+    w.fmtu(0, 30, "sddddhhdh-", "FBBBBBBBB-");
+  }
+  w.parm(0, "MOT_THST_EXPO", 0.65);
+  w.parm(0, "MOT_PWM_MIN", 1000);
+  w.parm(0, "MOT_PWM_MAX", 2000);
+  w.parm(0, "FRAME_TYPE", 1);
+  w.msg(0, "ArduCopter V4.5.1 (abcdef12)");
+  w.write(33, {100ull, 10});
+  w.write(34, {100ull, 1, 0u, 0, 0});
+  for (int k = 0; k < rows; ++k) {
+    const unsigned long long t = 1000000ull + 2500ull * static_cast<unsigned long long>(k);
+    w.write(30, {t, 0, centi(1.0 * k), 0, centi(-0.5 * k), 0, centi(10.0 * k), 0, 0, 3});
+    for (unsigned core = 0; core < 2; ++core)
+      w.write(31, {t, core, 0, 0, 0, 0.0, 0.0, 0.0, 0.0, 0.1 * k, 0.2 * k, -1.0 - 0.1 * k, 0, 0, 0, 0});
+    w.write(32, {t, 1500 + k, 1400, 1600 - k, 1450, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  }
+  w.write(33, {9000000ull, 28});
+  w.write(33, {9500000ull, 11});
+  return w;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s DIR\n", argv[0]);
+    return 2;
+  }
+  const std::string dir = argv[1];
+  save(dir, "copter-fmtu.bin", copter(4, true).bytes);
+  save(dir, "copter-plain.bin", copter(3, false).bytes);
+  {
+    DataflashWriter w;  // every format character, TimeMS, VER
+    w.fmt(200, "ALL", "QbBhHiIfdcCeELMq", "TimeUS,b,B,h,H,i,I,f,d,c,C,e,E,L,M,q");
+    w.write(200, {1ull, -1, 2, -3, 4, -5, 6u, 0.5, 0.25, -7, 8, -9, 10u, e7(47.1), 6, -11});
+    w.fmt(201, "ARR", "QanNZ", "TimeUS,Arr,Sh,Md,Lg");
+    std::array<std::int16_t, 32> a{};
+    a[3] = 77;
+    w.write(201, {2ull, a, "abcd", "sixteen", "long"});
+    w.fmt(202, "OLD", "Ih", "TimeMS,V");
+    w.write(202, {5u, 1});
+    w.fmt(203, "VER", "QBHBBBBIZH", "TimeUS,BT,BST,Maj,Min,Pat,FWT,GH,FWS,APJ");
+    w.write(203, {3ull, 3, 0, 4, 5, 1, 255, 1u, "ArduCopter V4.5.1", 140});
+    save(dir, "all-chars.bin", w.bytes);
+  }
+  {
+    DataflashWriter w = copter(2, true);  // garbage, an undefined type, a truncated tail
+    w.raw({0x00, 0xA3, 0x95, 0x11, 0x42, 0x42});
+    w.write(32, {5000000ull, 1500, 1500, 1500, 1500, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+    w.bytes.resize(w.bytes.size() - 7);
+    save(dir, "damaged.bin", w.bytes);
+  }
+  save(dir, "fmt-only.bin", DataflashWriter(false).bytes);
+  return 0;
+}

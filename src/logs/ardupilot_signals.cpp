@@ -1,0 +1,283 @@
+#include "logs/ardupilot_signals.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace quadfdi {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegToRad = kPi / 180.0;
+
+// quadfdi motor k+1 ← ArduPilot motor kApMotorOf[k] (see the header: 1 FR, 4 BR, 2 BL, 3 FL).
+constexpr std::array<int, kMotors> kApMotorOf = {1, 4, 2, 3};
+// SRV_Channel::k_motor1 = 33 … k_motor4 = 36 (SERVOn_FUNCTION values).
+constexpr int kServoFunctionMotor1 = 33;
+// RCOU logs outputs C1..C14 (AP_Logger Write_RCOUT).
+constexpr int kRcouChannels = 14;
+
+// ArduPilot LogEvent ids (AP_Logger.h).
+constexpr int kEvArmed = 10;
+constexpr int kEvDisarmed = 11;
+constexpr int kEvLandMaybe = 17;
+constexpr int kEvLandComplete = 18;
+constexpr int kEvNotLanded = 28;
+
+double wrapPi(double a) {
+  a = std::fmod(a + kPi, 2.0 * kPi);
+  if (a < 0) a += 2.0 * kPi;
+  return a - kPi;
+}
+
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+LogIssue missing(const std::string& topic, const std::string& what) {
+  return LogIssue{LogStatus::kCorrupt, 0, topic, what};
+}
+
+const double* column(const LogTopic& t, const char* name) {
+  const int i = t.fieldIndex(name);
+  return i < 0 ? nullptr : t.columns[static_cast<std::size_t>(i)].data();
+}
+
+double seconds(std::int64_t us) { return static_cast<double>(us) * 1e-6; }
+
+// Rows of a topic with increasing time, optionally only those whose `filter` column equals
+// `value`; returns the row indices and counts the dropped non-increasing ones. Compared in
+// seconds, as they are output: beyond 2^53 µs distinct TimeUS can round to the same double.
+std::vector<std::size_t> usableRows(const LogTopic& t, const double* filter, double value, std::size_t& dropped) {
+  std::vector<std::size_t> rows;
+  rows.reserve(t.rows());
+  double last = 0.0;
+  bool any = false;
+  for (std::size_t r = 0; r < t.rows(); ++r) {
+    if (filter && filter[r] != value) continue;
+    const double s = seconds(t.timestamp_us[r]);
+    if (any && !(s > last)) {
+      ++dropped;
+      continue;
+    }
+    rows.push_back(r);
+    last = s;
+    any = true;
+  }
+  return rows;
+}
+
+double param(const DecodedLog& log, const char* name, double fallback, bool* found = nullptr) {
+  const auto it = log.parameters.find(name);
+  if (found) *found = it != log.parameters.end();
+  return it == log.parameters.end() ? fallback : it->second;
+}
+
+}  // namespace
+
+double ArdupilotThrustMap::thrustFraction(double pwm) const {
+  const double e = std::clamp(expo, -1.0, 1.0);
+  if (!(pwm_max > pwm_min) || !(spin_max > spin_min) || !std::isfinite(pwm)) return 0.0;
+  const double a = (pwm - pwm_min) / (pwm_max - pwm_min);
+  const double x = std::clamp((a - spin_min) / (spin_max - spin_min), 0.0, 1.0);
+  return std::clamp((1.0 - e) * x + e * x * x, 0.0, 1.0);
+}
+
+double ArdupilotThrustMap::pwmFor(double thrust_fraction) const {
+  const double t = std::clamp(thrust_fraction, 0.0, 1.0);
+  const double e = std::clamp(expo, -1.0, 1.0);
+  // apply_thrust_curve_and_volt_scaling with lift_max = 1, battery scale 1.
+  const double x = std::fabs(e) < 1e-9 ? t : ((e - 1.0) + std::sqrt(std::max(0.0, (1.0 - e) * (1.0 - e) + 4.0 * e * t))) / (2.0 * e);
+  const double actuator = spin_min + (spin_max - spin_min) * std::clamp(x, 0.0, 1.0);  // thrust_to_actuator
+  return pwm_min + (pwm_max - pwm_min) * actuator;                                      // output_to_pwm
+}
+
+LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOptions& options, FlightSignals& out) {
+  out = FlightSignals{};
+  out.command_kind = CommandKind::kThrustFraction;
+
+  // Frame: quad X only, where the log says.
+  bool have = false;
+  const double frame_class = param(log, "FRAME_CLASS", 1.0, &have);
+  if (have && frame_class != 1.0)
+    return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_CLASS is " + fmt(frame_class) + ", not 1 (quad); only quad X is supported"};
+  const double frame_type = param(log, "FRAME_TYPE", 1.0, &have);
+  if (have && frame_type != 1.0)
+    return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_TYPE is " + fmt(frame_type) + ", not 1 (X); only quad X is supported"};
+  out.conventions.push_back(std::string("frame: ArduPilot quad X (FRAME_CLASS 1, FRAME_TYPE 1") +
+                            (have ? ", from the log)" : ", assumed: not in the log)"));
+  out.conventions.push_back("time: TimeUS [µs since boot] → t = TimeUS·1e-6 s");
+
+  // Attitude.
+  const LogTopic* att = log.find("ATT");
+  if (!att) return missing("ATT", "no ATT message: the attitude (Roll, Pitch, Yaw) is needed; LOG_BITMASK bit ATTITUDE_FAST or ATTITUDE_MED");
+  const double* roll = column(*att, "Roll");
+  const double* pitch = column(*att, "Pitch");
+  const double* yaw = column(*att, "Yaw");
+  if (!roll || !pitch || !yaw) return missing("ATT", "ATT has no Roll, Pitch and Yaw fields");
+  std::size_t dropped = 0;
+  for (std::size_t r : usableRows(*att, nullptr, 0.0, dropped)) {
+    out.attitude.t.push_back(seconds(att->timestamp_us[r]));
+    out.attitude.v.push_back({roll[r] * kDegToRad, -pitch[r] * kDegToRad, wrapPi(-yaw[r] * kDegToRad)});
+  }
+  out.attitude.source = {"ATT", "Roll,Pitch,Yaw", "deg → rad; NED/FRD → x north, y west, z up / FLU: roll = Roll, pitch = −Pitch, yaw = −Yaw"};
+  out.conventions.push_back("attitude: ATT Roll, Pitch, Yaw [deg] (NED/FRD, pitch nose-up, yaw clockwise from north) → "
+                            "roll = Roll, pitch = −Pitch, yaw = −Yaw wrapped to (−π, π] [rad] (world x north, y west, z up; body FLU)");
+
+  // Position.
+  const LogTopic* pos = nullptr;
+  const char* pos_name = nullptr;
+  for (const char* name : {"XKF1", "NKF1"}) {
+    // Split by FMTU's instance field (C) when the log has FMTU; else one topic, filtered on C.
+    const LogTopic* t = log.find(name, options.ekf_core);
+    if (!t && options.ekf_core != 0) t = log.find(name, 0);
+    if (t && column(*t, "PN") && column(*t, "PE") && column(*t, "PD")) {
+      pos = t;
+      pos_name = name;
+      break;
+    }
+  }
+  if (pos) {
+    const double* c = column(*pos, "C");
+    const double* pn = column(*pos, "PN");
+    const double* pe = column(*pos, "PE");
+    const double* pd = column(*pos, "PD");
+    const bool filter = c != nullptr;
+    for (std::size_t r : usableRows(*pos, filter ? c : nullptr, static_cast<double>(options.ekf_core), dropped)) {
+      out.position.t.push_back(seconds(pos->timestamp_us[r]));
+      out.position.v.push_back({pn[r], -pe[r], -pd[r]});
+    }
+    if (out.position.empty())
+      return missing(pos_name, std::string(pos_name) + " has no rows of EKF core " + std::to_string(options.ekf_core));
+    out.position.source = {pos_name, "PN,PE,PD", "NED → x north, y west, z up: (PN, −PE, −PD), core " + std::to_string(options.ekf_core)};
+    out.conventions.push_back(std::string("position: ") + pos_name + " PN, PE, PD [m] (NED, EKF core " +
+                              std::to_string(options.ekf_core) + ") → (x, y, z) = (PN, −PE, −PD)");
+  } else if (const LogTopic* p = log.find("POS"); p && column(*p, "Lat") && column(*p, "Lng") && column(*p, "Alt")) {
+    const double* lat = column(*p, "Lat");
+    const double* lng = column(*p, "Lng");
+    const double* alt = column(*p, "Alt");
+    const std::vector<std::size_t> rows = usableRows(*p, nullptr, 0.0, dropped);
+    if (rows.empty()) return missing("POS", "POS has no rows");
+    const double lat0 = lat[rows[0]], lng0 = lng[rows[0]], alt0 = alt[rows[0]];
+    const double coslat = std::cos(lat0 * kDegToRad);
+    for (std::size_t r : rows) {
+      const double north = (lat[r] - lat0) * kDegToRad * options.earth_radius;
+      const double east = (lng[r] - lng0) * kDegToRad * options.earth_radius * coslat;
+      out.position.t.push_back(seconds(p->timestamp_us[r]));
+      out.position.v.push_back({north, -east, alt[r] - alt0});
+    }
+    out.position.source = {"POS", "Lat,Lng,Alt", "flat earth around the first fix → x north, y west, z up"};
+    out.conventions.push_back("position: POS Lat, Lng [deg], Alt [m] on a flat earth around the first fix (no EKF XKF1/NKF1 "
+                              "in the log) → x north, y west, z up from the first fix");
+  } else {
+    return missing("XKF1", "no XKF1 (EKF3), NKF1 (EKF2) or POS message: the position is needed; LOG_BITMASK bit NTUN/EKF");
+  }
+
+  // Commands.
+  const LogTopic* rcou = log.find("RCOU");
+  if (!rcou) return missing("RCOU", "no RCOU message: the motor outputs are needed; LOG_BITMASK bit RCOUT");
+  std::array<int, kMotors> channel{};
+  std::string channel_note;
+  for (int k = 0; k < kMotors; ++k) {
+    const int ap_motor = kApMotorOf[static_cast<std::size_t>(k)];
+    int ch = ap_motor;  // default SERVOn_FUNCTION: output n = motor n
+    for (int n = 1; n <= kRcouChannels; ++n) {
+      bool found = false;
+      const double f = param(log, ("SERVO" + std::to_string(n) + "_FUNCTION").c_str(), 0.0, &found);
+      if (found && f == static_cast<double>(kServoFunctionMotor1 + ap_motor - 1)) {
+        ch = n;
+        break;
+      }
+    }
+    channel[static_cast<std::size_t>(k)] = ch;
+    channel_note += (k ? ", " : "") + std::string("quadfdi ") + std::to_string(k + 1) + " ← AP motor " +
+                    std::to_string(ap_motor) + " (C" + std::to_string(ch) + ")";
+  }
+  std::array<const double*, kMotors> pwm{};
+  for (int k = 0; k < kMotors; ++k) {
+    const std::string name = "C" + std::to_string(channel[static_cast<std::size_t>(k)]);
+    pwm[static_cast<std::size_t>(k)] = column(*rcou, name.c_str());
+    if (!pwm[static_cast<std::size_t>(k)]) return missing("RCOU", "RCOU has no field " + name);
+  }
+
+  ArdupilotThrustMap map;
+  bool pmin_found = false, pmax_found = false, rc_found = false;
+  map.pwm_min = param(log, "MOT_PWM_MIN", options.pwm_min, &pmin_found);
+  map.pwm_max = param(log, "MOT_PWM_MAX", options.pwm_max, &pmax_found);
+  std::string pwm_source = pmin_found && pmax_found ? "MOT_PWM_MIN/MAX from the log" : "MOT_PWM_MIN/MAX defaults";
+  if (map.pwm_min <= 0.0 || map.pwm_max <= 0.0) {  // older firmware: 0 = the throttle channel's range
+    map.pwm_min = param(log, "RC3_MIN", options.rc3_min, &rc_found);
+    map.pwm_max = param(log, "RC3_MAX", options.rc3_max);
+    pwm_source = std::string("MOT_PWM_MIN/MAX are 0: RC3_MIN/MAX ") + (rc_found ? "from the log" : "defaults");
+  }
+  bool smin_found = false, smax_found = false, expo_found = false;
+  map.spin_min = param(log, "MOT_SPIN_MIN", options.spin_min, &smin_found);
+  map.spin_max = param(log, "MOT_SPIN_MAX", options.spin_max, &smax_found);
+  map.expo = param(log, "MOT_THST_EXPO", options.thrust_expo, &expo_found);
+  if (!(map.pwm_max > map.pwm_min) || !(map.spin_max > map.spin_min) || !std::isfinite(map.expo))
+    return LogIssue{LogStatus::kCorrupt, 0, "PARM",
+                    "motor output range unusable: PWM " + fmt(map.pwm_min) + ".." + fmt(map.pwm_max) + ", spin " +
+                        fmt(map.spin_min) + ".." + fmt(map.spin_max) + ", expo " + fmt(map.expo)};
+  for (std::size_t r : usableRows(*rcou, nullptr, 0.0, dropped)) {
+    std::array<double, kMotors> u{};
+    for (std::size_t k = 0; k < u.size(); ++k) u[k] = map.thrustFraction(pwm[k][r]);
+    out.command.t.push_back(seconds(rcou->timestamp_us[r]));
+    out.command.v.push_back(u);
+  }
+  out.command.source = {"RCOU", "C" + std::to_string(channel[0]) + ",C" + std::to_string(channel[1]) + ",C" +
+                                    std::to_string(channel[2]) + ",C" + std::to_string(channel[3]),
+                        "PWM → thrust fraction (MOT_THST_EXPO curve inverted); AP quad-X order → quadfdi"};
+  out.conventions.push_back("motors: ArduPilot quad X (1 FR CCW, 2 BL CCW, 3 FL CW, 4 BR CW) → quadfdi (1 FR, 2 BR, 3 BL, 4 FL): " +
+                            channel_note);
+  out.conventions.push_back("commands: RCOU PWM [µs] → a = (pwm − " + fmt(map.pwm_min) + ")/(" + fmt(map.pwm_max) + " − " +
+                            fmt(map.pwm_min) + ") (" + pwm_source + "), x = (a − " + fmt(map.spin_min) + ")/(" +
+                            fmt(map.spin_max) + " − " + fmt(map.spin_min) + ") in [0, 1] (MOT_SPIN_MIN/MAX " +
+                            (smin_found && smax_found ? "from the log" : "defaults") + "), thrust fraction = (1 − e)x + e·x², e = " +
+                            fmt(std::clamp(map.expo, -1.0, 1.0)) + " (MOT_THST_EXPO " + (expo_found ? "from the log" : "default") +
+                            "); battery voltage compensation not modelled");
+
+  // Armed / landed states.
+  struct Change {
+    std::int64_t t;
+    int kind;  // 0 armed, 1 disarmed, 2 landed, 3 not landed
+  };
+  std::vector<Change> changes;
+  if (const LogTopic* ev = log.find("EV")) {
+    if (const double* id = column(*ev, "Id")) {
+      for (std::size_t r = 0; r < ev->rows(); ++r) {
+        // Compared as doubles: a damaged FMT may make Id a float, NaN or huge.
+        const double v = id[r];
+        const int i = v >= 0.0 && v <= 255.0 ? static_cast<int>(v) : -1;
+        const int kind = i == kEvArmed ? 0 : i == kEvDisarmed ? 1 : (i == kEvLandMaybe || i == kEvLandComplete) ? 2 : i == kEvNotLanded ? 3 : -1;
+        if (kind >= 0) changes.push_back({ev->timestamp_us[r], kind});
+      }
+    }
+  }
+  if (const LogTopic* arm = log.find("ARM")) {
+    if (const double* state = column(*arm, "ArmState"))
+      for (std::size_t r = 0; r < arm->rows(); ++r) changes.push_back({arm->timestamp_us[r], state[r] != 0.0 ? 0 : 1});
+  }
+  std::stable_sort(changes.begin(), changes.end(), [](const Change& a, const Change& b) { return a.t < b.t; });
+  bool armed = false, landed = true;
+  for (const Change& c : changes) {
+    const bool was_armed = armed, was_landed = landed;
+    if (c.kind == 0) armed = true;
+    if (c.kind == 1) armed = false;
+    if (c.kind == 2) landed = true;
+    if (c.kind == 3) landed = false;
+    if (armed != was_armed || landed != was_landed) out.states.push_back({seconds(c.t), armed, landed});
+  }
+  if (!changes.empty())
+    out.conventions.push_back("states: EV 10 ARMED, 11 DISARMED, 17/18 LAND_COMPLETE(_MAYBE) → landed, 28 NOT_LANDED, ARM ArmState; "
+                              "disarmed and landed before the first event");
+  if (dropped > 0) out.conventions.push_back("dropped " + std::to_string(dropped) + " rows whose TimeUS did not increase");
+  return {};
+}
+
+}  // namespace quadfdi
