@@ -16,8 +16,8 @@ Detector::Detector(const DetectorConfig& config, const TrainedModel& model)
     : config_(config), window_(model.metadata.window), resampler_(config.resampler), alarm_(config.alarm) {
   const ModelMetadata& m = model.metadata;
   if (m.features == FeatureSet::kModelBased || m.features == FeatureSet::kResidualOnly || m.output != OutputKind::kPositionEuler)
-    throw std::invalid_argument(std::string("detector: the model reads ") + toString(m.features) +
-                                " features; the detector needs model-free features of position and Euler angles");
+    throw std::invalid_argument(std::string("the detector needs a model-free network on position and Euler angles; this one reads ") +
+                                toString(m.features) + " features");
   if (StreamingMotorEstimator::canStream(m))
     streaming_ = std::make_unique<StreamingMotorEstimator>(model, config.symmetry);
   else

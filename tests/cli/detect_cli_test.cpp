@@ -149,7 +149,7 @@ TEST(DetectCli, ShortLogsModelsAndOptionsAreCheckedUpFront) {
   const CommandResult bad_model = run("detect --model " + temp("bogus.qfdi") + " --input " + path);
   EXPECT_EQ(bad_model.exit_code, 1);
   EXPECT_EQ(countLines(bad_model.out), 1) << bad_model.out;
-  const CommandResult based = run("detect --model " QUADFDI_SOURCE_DIR "/models/lstm-model-based.qfdi --input " + path);
+  const CommandResult based = run("detect --model " QUADFDI_SOURCE_DIR "/models/lstm-model-based.qfdw --input " + path);
   EXPECT_EQ(based.exit_code, 1);
   EXPECT_NE(based.out.find("needs a model-free"), std::string::npos) << based.out;
   EXPECT_EQ(run("detect --stride 0 --input " + path).exit_code, 2);

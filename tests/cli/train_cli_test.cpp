@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_support.h"
+#include "io/model_file.h"
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -27,15 +28,15 @@ bool exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
 const char* kFast = " --scale tiny --batch-size 64 --max-minibatches 2 --threads 2 -q";
 
 TEST(TrainCli, TinyRunWritesModelLogAndCheckpoint) {
-  const std::string model = temp("tiny.qfdi");
+  const std::string model = temp("tiny.qfdw");
   const Result r = run("train --max-iterations 1 -o " + model + kFast);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_TRUE(exists(model));
   EXPECT_TRUE(exists(model + ".ckpt"));
-  std::ifstream f(model);
-  std::string first;
-  std::getline(f, first);
-  EXPECT_EQ(first, "quadfdi-model 1");
+  // The model leaves training as a weights file that the LibTorch-free side reads.
+  const quadfdi::TrainedModel loaded = quadfdi::readModelFile(model);
+  EXPECT_EQ(loaded.metadata.iterations, 1);
+  EXPECT_EQ(loaded.metadata.scale, "tiny");
 }
 
 TEST(TrainCli, BadArgumentsGiveOneLineErrors) {
