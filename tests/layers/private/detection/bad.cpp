@@ -1,0 +1,1 @@
+#include "inference/kernel.h"  // private to inference

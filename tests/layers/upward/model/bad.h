@@ -1,0 +1,1 @@
+#include "detection/detector.h"  // upward: model may not know the detector
