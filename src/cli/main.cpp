@@ -29,29 +29,29 @@ int main(int argc, char** argv) {
   quadfdi::cli::DetectOptions detect;
   CLI::App* detect_cmd = quadfdi::cli::addDetectCommand(app, detect);
   try {
+    // Parsing also resolves the converted commands' option tables (cli/options.h): a bad value,
+    // or a bad --config file, throws a one-line OptionError / ConfigError, reported below (exit 1).
     app.parse(argc, argv);
+    // The long-running commands stop at a safe point on SIGINT/SIGTERM; the others keep the default.
+    if (generate_cmd->parsed() || train_cmd->parsed() || evaluate_cmd->parsed() || reproduce_cmd->parsed())
+      quadfdi::cli::interruptFlag();
+    if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate);
+    if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate);
+    if (detect_cmd->parsed()) return quadfdi::cli::runDetect(detect);
+    std::string command_line = "quadfdi";
+    for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
+    if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, command_line);
+    if (evaluate_cmd->parsed()) return quadfdi::cli::runEvaluate(evaluate, command_line);
+    if (reproduce_cmd->parsed()) return quadfdi::cli::runReproduce(reproduce, command_line);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::ParseError& e) {  // usage: unknown flag, wrong number of values, no subcommand
     std::cerr << "quadfdi: error: " << e.what() << " (see --help)\n";
     return 2;
-  }
-  // The long-running commands stop at a safe point on SIGINT/SIGTERM; the others keep the default.
-  if (generate_cmd->parsed() || train_cmd->parsed() || evaluate_cmd->parsed() || reproduce_cmd->parsed())
-    quadfdi::cli::interruptFlag();
-  try {
-    if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate, *simulate_cmd);
-    if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate, *generate_cmd);
-    if (detect_cmd->parsed()) return quadfdi::cli::runDetect(detect);
-    std::string command_line = "quadfdi";
-    for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
-    if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, *train_cmd, command_line);
-    if (evaluate_cmd->parsed()) return quadfdi::cli::runEvaluate(evaluate, command_line);
-    if (reproduce_cmd->parsed()) return quadfdi::cli::runReproduce(reproduce, command_line);
   } catch (const quadfdi::cli::Interrupted& e) {
     std::cerr << "quadfdi: interrupted: " << e.what() << "\n";
     return 130;
