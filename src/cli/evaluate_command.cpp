@@ -28,6 +28,7 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
       "inputs; E4 model-free vs model-based vs residual-only; E5 nominal vs perturbed plants;\n"
       "E6 paper rotation map vs exact symmetry group.");
   auto t = std::make_shared<OptionTable>();
+  t->addConfigFile(o.config);
   t->add("--model-free,--model", o.model_free, "Model-free LSTM model file (E1, E3–E6)");
   t->add("--model-based", o.model_based, "Model-based LSTM model file (E3–E5)");
   t->add("--residual", o.residual, "Residual-only model file (E4, optional)");

@@ -9,6 +9,7 @@ namespace quadfdi::cli {
 // Filled by the option table (evaluate_command.cpp), the only place that names the flags; reproduce
 // fills it directly.
 struct EvaluateOptions {
+  std::string config;       // key = value file; flags given on the command line win
   std::string model_free;   // model files by role; empty: experiments needing it are not run
   std::string model_based;
   std::string residual;

@@ -23,6 +23,7 @@ CLI::App* addReproduceCommand(CLI::App& app, ReproduceOptions& o) {
       "Scales: tiny (tests), quick (~10–15 min on 2 cores, small networks' training), default (the CPU\n"
       "reproduction), paper (the paper's training and test scale; meant for a GPU: --device cuda).");
   auto t = std::make_shared<OptionTable>();
+  t->addConfigFile(o.config);
   t->add("--scale", o.scale, "Named scale of training and test sets").choices(scaleNames());
   t->add("--output,-o", o.output, "Output folder");
   t->add("--seed", o.seed, "Training seed");

@@ -7,6 +7,7 @@ namespace quadfdi::cli {
 
 // Filled by the option table (reproduce_command.cpp), the only place that names the flags.
 struct ReproduceOptions {
+  std::string config;                   // key = value file; flags given on the command line win
   std::string scale = "quick";          // named scale (data/scales.h): training schedule and test sets
   std::string output = "reproduction";  // folder
   unsigned long long seed = 1;          // training seed

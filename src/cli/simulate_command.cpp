@@ -24,6 +24,7 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
       "and write its telemetry CSV (t,x,y,z,roll,pitch,yaw,u1..u4; SI units, z up, ZYX Euler angles,\n"
       "u = commanded thrust per motor [N]). A summary goes to standard error.");
   auto t = std::make_shared<OptionTable>();
+  t->addConfigFile(o.config);
   t->recordGivenIn(o.given);
   t->add("--controller", o.controller, "Controller: lqr, or cbf (LQR filtered by the CBF-QP safety filter)")
       .choices({"lqr", "cbf"});

@@ -9,6 +9,7 @@ namespace quadfdi::cli {
 
 // Filled by the option table (simulate_command.cpp), the only place that names the flags.
 struct SimulateOptions {
+  std::string config;                   // key = value file; flags given on the command line win
   std::string controller = "lqr";       // lqr | cbf
   std::string params = "nominal";       // plant: a named parameter set or a FILE
   std::string controller_params;        // design model, same forms; empty: same as params
