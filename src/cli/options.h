@@ -17,13 +17,13 @@
 //   options->add("--input,-i", o.input, "Telemetry CSV, or - for standard input");
 //   options->add("--stride", o.stride, "Evaluate every N samples …").range(1, 1000);
 //   options->add("--quiet,-q", o.quiet, "No summary");            // a bool field is a flag
+//   options->addConfigFile(o.config);   // optional: --config FILE with keys input, stride, quiet …
 //   attachOptions(*cmd, options);                                   // resolves when parsed
 // (detect's test expecting exit 2 for `--stride 0` then sees exit 1 with "--stride: …").
 // `o` must outlive the parse (main() keeps the option structs for the whole run).
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <cmath>
 #include <functional>
 #include <limits>
 #include <memory>
