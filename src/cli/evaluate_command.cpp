@@ -12,6 +12,8 @@
 
 #include "cli/cli_util.h"
 #include "cli/interrupt.h"
+#include "cli/options.h"
+#include "data/scales.h"
 #include "evaluation/experiments.h"
 #include "io/atomic_file.h"
 #include "io/model_file.h"
@@ -26,19 +28,21 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
       "E1 four motors from one motor-2 network; E2 LSTM vs MLP over theta2; E3 LQR vs CBF-QP test\n"
       "inputs; E4 model-free vs model-based vs residual-only; E5 nominal vs perturbed plants;\n"
       "E6 paper rotation map vs exact symmetry group.");
-  cmd->add_option("--model-free,--model", o.model_free, "Model-free LSTM model file (E1, E3–E6)");
-  cmd->add_option("--model-based", o.model_based, "Model-based LSTM model file (E3–E5)");
-  cmd->add_option("--residual", o.residual, "Residual-only model file (E4, optional)");
-  cmd->add_option("--mlp", o.mlp, "Model-free MLP model file (E2)");
-  cmd->add_option("--experiments,-e", o.experiments, "Experiments to run: e1 … e6")->capture_default_str();
-  cmd->add_option("--scale", o.scale, "Test flights per class: tiny (3, tests), quick (25), default (200), paper (2 000)")
-      ->capture_default_str();
-  cmd->add_option("--seed", o.seed, "Test-set seed")->capture_default_str();
-  cmd->add_option("--theta-tol", o.theta_tol, "Alarm when min_k theta_k < this (complete faults: 0.2)")
-      ->capture_default_str();
-  cmd->add_option("--threads,-j", o.threads, "Threads (0 = all cores)")->capture_default_str();
-  cmd->add_option("--output,-o", o.output, "Output folder")->capture_default_str();
-  cmd->add_flag("--quiet,-q", o.quiet, "No progress");
+  auto t = std::make_shared<OptionTable>();
+  t->addConfigFile(o.config);
+  t->add("--model-free,--model", o.model_free, "Model-free LSTM model file (E1, E3–E6)");
+  t->add("--model-based", o.model_based, "Model-based LSTM model file (E3–E5)");
+  t->add("--residual", o.residual, "Residual-only model file (E4, optional)");
+  t->add("--mlp", o.mlp, "Model-free MLP model file (E2)");
+  t->add("--experiments,-e", o.experiments, "Experiments to run").choices({"e1", "e2", "e3", "e4", "e5", "e6"});
+  t->add("--scale", o.scale, "Test flights per class: tiny (3, tests), quick (25), default (200), paper (2 000)")
+      .choices(scaleNames());
+  t->add("--seed", o.seed, "Test-set seed");
+  t->add("--theta-tol", o.theta_tol, "Alarm when min_k theta_k < this (complete faults: 0.2)").above(0.0, 1.0);
+  t->add("--threads,-j", o.threads, "Threads (0 = all cores)").atLeast(0);
+  t->add("--output,-o", o.output, "Output folder");
+  t->add("--quiet,-q", o.quiet, "No progress");
+  attachOptions(*cmd, t);
   return cmd;
 }
 
@@ -164,12 +168,10 @@ bool plot(const std::string& dir, const ExperimentResult& e) {
 }  // namespace
 
 int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
-  EvaluationScale scale;
-  if (!evaluationScale(o.scale, scale)) throw std::runtime_error("--scale must be tiny, quick, default or paper, got '" + o.scale + "'");
-  if (!(o.theta_tol > 0.0 && o.theta_tol <= 1.0)) throw std::runtime_error("--theta-tol must be in (0, 1]");
-  for (const std::string& id : o.experiments)  // refuse before any work is done
-    if (id.size() != 2 || id[0] != 'e' || id[1] < '1' || id[1] > '6')
-      throw std::runtime_error("unknown experiment '" + id + "' (e1 … e6)");
+  std::string problem;
+  const NamedScale* named = findScale(o.scale, &problem);
+  require(named != nullptr, "--scale: " + problem);
+  const EvaluationScale scale{named->name, named->test_flights_per_class};
   ExperimentInputs in;
   in.scale = scale;
   in.seed = o.seed;

@@ -6,20 +6,24 @@
 
 namespace quadfdi::cli {
 
+// Filled by the option table (evaluate_command.cpp), the only place that names the flags; reproduce
+// fills it directly.
 struct EvaluateOptions {
-  std::string model_free;   // model files by role
+  std::string config;       // key = value file; flags given on the command line win
+  std::string model_free;   // model files by role; empty: experiments needing it are not run
   std::string model_based;
   std::string residual;
   std::string mlp;
   std::vector<std::string> experiments{"e1", "e3", "e4", "e5", "e6"};
-  std::string scale = "quick";
-  unsigned long long seed = 7;
-  double theta_tol = 0.2;
-  int threads = 0;
-  std::string output = "evaluation";
-  bool quiet = false;
+  std::string scale = "quick";  // named scale (data/scales.h): test flights per class
+  unsigned long long seed = 7;  // test-set seed
+  double theta_tol = 0.2;       // alarm threshold on min_k Θ̂_k [-]
+  int threads = 0;              // 0 = all cores
+  std::string output = "evaluation";  // folder
+  bool quiet = false;           // no progress
 };
 
+// Declares the options (validated while CLI11 parses).
 CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& options);
 int runEvaluate(const EvaluateOptions& options, const std::string& command_line);
 

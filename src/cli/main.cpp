@@ -18,7 +18,7 @@
 int main(int argc, char** argv) {
   CLI::App app{"quadfdi — detect, isolate and size motor faults on quadrotors (Garg & Fan, dynamic symmetry)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "quadfdi 0.1.0");
+  app.set_version_flag("--version", "quadfdi 0.2.0");
   quadfdi::cli::SimulateOptions simulate;
   CLI::App* simulate_cmd = quadfdi::cli::addSimulateCommand(app, simulate);
   quadfdi::cli::GenerateOptions generate;
@@ -36,41 +36,43 @@ int main(int argc, char** argv) {
   quadfdi::cli::DetectOptions detect;
   CLI::App* detect_cmd = quadfdi::cli::addDetectCommand(app, detect);
   try {
+    // Parsing also resolves the converted commands' option tables (cli/options.h): a bad value,
+    // or a bad --config file, throws a one-line OptionError / ConfigError, reported below (exit 1).
     app.parse(argc, argv);
+    // The long-running commands stop at a safe point on SIGINT/SIGTERM; the others keep the default.
+    bool long_running = generate_cmd->parsed() || evaluate_cmd->parsed();
+#ifdef QUADFDI_WITH_TRAINING
+    long_running = long_running || train_cmd->parsed() || reproduce_cmd->parsed();
+#endif
+    if (long_running) quadfdi::cli::interruptFlag();
+    if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate);
+    if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate);
+    if (detect_cmd->parsed()) return quadfdi::cli::runDetect(detect);
+    std::string command_line = "quadfdi";
+    for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
+    if (evaluate_cmd->parsed()) return quadfdi::cli::runEvaluate(evaluate, command_line);
+#ifdef QUADFDI_WITH_TRAINING
+    if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, command_line);
+    if (reproduce_cmd->parsed()) return quadfdi::cli::runReproduce(reproduce, command_line);
+    if (convert_cmd->parsed()) return quadfdi::cli::runConvertModel(convert);
+#endif
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::ParseError& e) {  // usage: unknown flag, wrong number of values, no subcommand
     std::cerr << "quadfdi: error: " << e.what() << " (see --help)\n";
     return 2;
-  }
-  // The long-running commands stop at a safe point on SIGINT/SIGTERM; the others keep the default.
-  bool long_running = generate_cmd->parsed() || evaluate_cmd->parsed();
+  } catch (const quadfdi::cli::Interrupted& e) {
+    std::cerr << "quadfdi: interrupted: " << e.what() << "\n";
+    return 130;
 #ifdef QUADFDI_WITH_TRAINING
-  long_running = long_running || train_cmd->parsed() || reproduce_cmd->parsed();
-#endif
-  if (long_running) quadfdi::cli::interruptFlag();
-  try {
-    if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate, *simulate_cmd);
-    if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate, *generate_cmd);
-    if (detect_cmd->parsed()) return quadfdi::cli::runDetect(detect);
-    std::string command_line = "quadfdi";
-    for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
-    if (evaluate_cmd->parsed()) return quadfdi::cli::runEvaluate(evaluate, command_line);
-#ifdef QUADFDI_WITH_TRAINING
-    if (train_cmd->parsed()) return quadfdi::cli::runTrain(train, *train_cmd, command_line);
-    if (reproduce_cmd->parsed()) return quadfdi::cli::runReproduce(reproduce, command_line);
-    if (convert_cmd->parsed()) return quadfdi::cli::runConvertModel(convert);
   } catch (const quadfdi::TrainingInterrupted& e) {
     std::cerr << "quadfdi: interrupted: " << e.what() << "\n";
     return 130;
 #endif
-  } catch (const quadfdi::cli::Interrupted& e) {
-    std::cerr << "quadfdi: interrupted: " << e.what() << "\n";
-    return 130;
   } catch (const std::exception& e) {
     std::cerr << "quadfdi: error: " << e.what() << "\n";
     return 1;

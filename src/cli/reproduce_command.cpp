@@ -8,7 +8,9 @@
 
 #include "cli/cli_util.h"
 #include "cli/evaluate_command.h"
+#include "cli/options.h"
 #include "cli/train_command.h"
+#include "data/scales.h"
 
 namespace quadfdi::cli {
 
@@ -18,20 +20,23 @@ CLI::App* addReproduceCommand(CLI::App& app, ReproduceOptions& o) {
       "The whole chain in one folder: train every network the experiments need (model-free LSTM,\n"
       "model-based LSTM, residual-only LSTM, model-free MLP; data generated inside Algorithm 1),\n"
       "then run E1–E6 and write REPORT.md with tables and figures.\n"
-      "Scales: quick (~10–15 min on 2 cores, small networks' training), default (the CPU reproduction),\n"
-      "paper (the paper's training and test scale; meant for a GPU: --device cuda).");
-  cmd->add_option("--scale", o.scale, "quick, default or paper")->capture_default_str();
-  cmd->add_option("--output,-o", o.output, "Output folder")->capture_default_str();
-  cmd->add_option("--seed", o.seed, "Training seed")->capture_default_str();
-  cmd->add_option("--threads,-j", o.threads, "Threads (0 = all cores)")->capture_default_str();
-  cmd->add_option("--device", o.device, "cpu or cuda (training)")->capture_default_str();
-  cmd->add_flag("--quiet,-q", o.quiet, "Less output");
+      "Scales: tiny (tests), quick (~10–15 min on 2 cores, small networks' training), default (the CPU\n"
+      "reproduction), paper (the paper's training and test scale; meant for a GPU: --device cuda).");
+  auto t = std::make_shared<OptionTable>();
+  t->addConfigFile(o.config);
+  t->add("--scale", o.scale, "Named scale of training and test sets").choices(scaleNames());
+  t->add("--output,-o", o.output, "Output folder");
+  t->add("--seed", o.seed, "Training seed");
+  t->add("--threads,-j", o.threads, "Threads (0 = all cores)").atLeast(0);
+  t->add("--device", o.device, "Where to train").choices({"cpu", "cuda"});
+  t->add("--quiet,-q", o.quiet, "Less output");
+  attachOptions(*cmd, t);
   return cmd;
 }
 
 int runReproduce(const ReproduceOptions& o, const std::string& command_line) {
-  if (o.scale != "quick" && o.scale != "default" && o.scale != "paper")
-    throw std::runtime_error("--scale must be quick, default or paper, got '" + o.scale + "'");
+  std::string problem;
+  require(findScale(o.scale, &problem) != nullptr, "--scale: " + problem);
   ensureDirectory(o.output);
   const std::string models = o.output + "/models";
   ensureDirectory(models);
@@ -62,16 +67,7 @@ int runReproduce(const ReproduceOptions& o, const std::string& command_line) {
     t.quiet = o.quiet;
     t.resume = true;  // a re-run picks up where a killed one stopped
     t.output = models + "/" + r.name + ".qfdw";
-    if (o.scale == "quick") {  // ≈ 2 min an LSTM on 2 cores: the default data scale, fewer iterations
-      t.scale = "default";
-      t.max_iterations = 5;
-      t.min_iterations = 5;
-      t.max_minibatches = 40;
-      t.batch_size = 512;
-      t.heldout_initial_conditions = 5;
-    } else {
-      t.scale = o.scale;  // default: configs/train-*.toml's schedule; paper: the paper's
-    }
+    t.scale = o.scale;  // the schedule and data of the named scale (default: configs/train-*.toml's)
     if (!o.quiet) std::fprintf(stderr, "reproduce: training %s (%s, %s)\n", r.name, r.architecture, r.features);
     trainAndSave(t, command_line + "  [" + r.name + "]");
     if (std::string(r.name) == "model-free") eval.model_free = t.output;

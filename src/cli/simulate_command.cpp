@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cli/options.h"
 #include "control/controller_factory.h"
 #include "io/atomic_file.h"
 #include "io/controller_config.h"
@@ -22,58 +23,51 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
       "Fly one closed-loop flight of the simulated Crazyflie, optionally with a motor fault,\n"
       "and write its telemetry CSV (t,x,y,z,roll,pitch,yaw,u1..u4; SI units, z up, ZYX Euler angles,\n"
       "u = commanded thrust per motor [N]). A summary goes to standard error.");
-  cmd->add_option("--controller", o.controller, "Controller: lqr or cbf (LQR filtered by the CBF-QP safety filter)")
-      ->check(CLI::IsMember({"lqr", "cbf"}))
-      ->capture_default_str();
-  cmd->add_option("--params", o.params,
-                  "Plant parameters: nominal, perturbed, perturbed-strong, or a parameter FILE "
-                  "(see configs/vehicle-example.toml)")
-      ->capture_default_str();
-  cmd->add_option("--controller-params", o.controller_params,
-                  "Model the controller is designed on (same forms as --params); default: the plant's");
-  cmd->add_option("--lqr-weights", o.lqr_weights,
-                  "LQR weights: bryson (documented default) or authors (Q = I, R = I, Euler discretisation)")
-      ->check(CLI::IsMember({"bryson", "authors"}))
-      ->capture_default_str();
-  cmd->add_option("--controller-config", o.controller_config,
-                  "Controller FILE: LQR weights and CBF safe set (configs/controller-example.toml); "
-                  "--controller, --lqr-weights and --cbf-* flags given explicitly win");
-  cmd->add_option("--motor", o.motor, "Faulty motor 1..4 (Crazyflie numbering: 1 front-right, 2 back-right, "
-                                      "3 back-left, 4 front-left); omit for a healthy flight")
-      ->check(CLI::Range(1, 4));
-  cmd->add_option("--theta", o.theta, "Effectiveness of the faulty motor from the fault step on, in [0, 1] "
-                                      "(0 = complete failure)")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  cmd->add_option("--fault-step", o.fault_step, "Step at which the fault starts (t = step·dt)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  cmd->add_option("--steps", o.steps, "Number of control steps (dt = 0.002 s)")
-      ->check(CLI::Range(1, 100000000))
-      ->capture_default_str();
-  cmd->add_option("--seed", o.seed, "Seed of the initial condition and goal draw (SPEC §3 safe set)")
-      ->capture_default_str();
-  cmd->add_option("--integrator", o.integrator, "Integrator: rk4 or euler (parity with the authors' code)")
-      ->check(CLI::IsMember({"rk4", "euler"}))
-      ->capture_default_str();
-  cmd->add_option("--output,-o", o.output, "Telemetry CSV to write; - for standard output")->capture_default_str();
-  cmd->add_flag("--full-state", o.full_state,
-                "Append body velocity, body rates, applied thrusts and controller status columns");
-  cmd->add_option("--goal", o.goal, "Override the sampled goal position: X Y Z [m]")->expected(3);
-  cmd->add_option("--start", o.start,
-                  "Override the sampled initial state: 12 values x y z vx vy vz roll pitch yaw p q r "
-                  "(body velocity [m/s], angles [rad], body rates [rad/s])")
-      ->expected(12);
-  cmd->add_option("--position-noise", o.position_noise, "Std. dev. of additive noise on logged position [m]")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--attitude-noise", o.attitude_noise, "Std. dev. of additive noise on logged Euler angles [rad]")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--cbf-min-altitude", o.cbf_min_altitude, "CBF altitude floor [m] (cbf only)")->capture_default_str();
-  cmd->add_option("--cbf-max-tilt", o.cbf_max_tilt, "CBF tilt limit, angle of the body z axis to vertical [rad] "
-                                                    "(cbf only)")
-      ->check(CLI::Range(0.05, 1.4))
-      ->capture_default_str();
-  cmd->add_flag("--quiet,-q", o.quiet, "No summary on standard error");
+  auto t = std::make_shared<OptionTable>();
+  t->addConfigFile(o.config);
+  t->recordGivenIn(o.given);
+  t->add("--controller", o.controller, "Controller: lqr, or cbf (LQR filtered by the CBF-QP safety filter)")
+      .choices({"lqr", "cbf"});
+  t->add("--params", o.params,
+         "Plant parameters: nominal, perturbed, perturbed-strong, or a parameter FILE "
+         "(see configs/vehicle-example.toml)");
+  t->add("--controller-params", o.controller_params,
+         "Model the controller is designed on (same forms as --params); default: the plant's");
+  t->add("--lqr-weights", o.lqr_weights,
+         "LQR weights: bryson (documented default) or authors (Q = I, R = I, Euler discretisation)")
+      .choices({"bryson", "authors"});
+  t->add("--controller-config", o.controller_config,
+         "Controller FILE: LQR weights and CBF safe set (configs/controller-example.toml); "
+         "--controller, --lqr-weights and --cbf-* flags given explicitly win");
+  t->add("--motor", o.motor, "Faulty motor 1..4 (Crazyflie numbering: 1 front-right, 2 back-right, "
+                             "3 back-left, 4 front-left); omit for a healthy flight")
+      .range(1, 4)
+      .defaultText("");
+  t->add("--theta", o.theta, "Effectiveness of the faulty motor from the fault step on, in [0, 1] "
+                             "(0 = complete failure)")
+      .range(0.0, 1.0);
+  t->add("--fault-step", o.fault_step, "Step at which the fault starts (t = step·dt)").atLeast(0);
+  t->add("--steps", o.steps, "Number of control steps (dt = 0.002 s)").range(1, 100000000);
+  t->add("--seed", o.seed, "Seed of the initial condition and goal draw (SPEC §3 safe set)");
+  t->add("--integrator", o.integrator, "Integrator: rk4 or euler (parity with the authors' code)")
+      .choices({"rk4", "euler"});
+  t->add("--output,-o", o.output, "Telemetry CSV to write; - for standard output");
+  t->add("--full-state", o.full_state,
+         "Append body velocity, body rates, applied thrusts and controller status columns");
+  t->add("--goal", o.goal, "Override the sampled goal position: X Y Z [m]").values(3);
+  t->add("--start", o.start,
+         "Override the sampled initial state: 12 values x y z vx vy vz roll pitch yaw p q r "
+         "(body velocity [m/s], angles [rad], body rates [rad/s])")
+      .values(12);
+  t->add("--position-noise", o.position_noise, "Std. dev. of additive noise on logged position [m]").atLeast(0);
+  t->add("--attitude-noise", o.attitude_noise, "Std. dev. of additive noise on logged Euler angles [rad]")
+      .atLeast(0);
+  t->add("--cbf-min-altitude", o.cbf_min_altitude, "CBF altitude floor [m] (cbf only)");
+  t->add("--cbf-max-tilt", o.cbf_max_tilt, "CBF tilt limit, angle of the body z axis to vertical [rad] "
+                                           "(cbf only)")
+      .range(0.05, 1.4);
+  t->add("--quiet,-q", o.quiet, "No summary on standard error");
+  attachOptions(*cmd, t);
   return cmd;
 }
 
@@ -95,18 +89,19 @@ std::string vec3(const Vec3& v) {
 
 }  // namespace
 
-int runSimulate(const SimulateOptions& o, const CLI::App& command) {
+int runSimulate(const SimulateOptions& o) {
+  auto given = [&](const char* key) { return o.given.count(key) > 0; };
   const VehicleParams plant = loadVehicleParams(o.params);
   const VehicleParams design =
       o.controller_params.empty() ? plant : loadVehicleParams(o.controller_params);
 
   ControllerConfig cc;
   if (!o.controller_config.empty()) cc = loadControllerConfig(o.controller_config, cc);
-  if (o.controller_config.empty() || command.count("--controller")) parseControllerKind(o.controller, cc.kind);
-  if (o.controller_config.empty() || command.count("--lqr-weights"))
+  if (o.controller_config.empty() || given("controller")) parseControllerKind(o.controller, cc.kind);
+  if (o.controller_config.empty() || given("lqr_weights"))
     cc.lqr = o.lqr_weights == "authors" ? LqrConfig::authors() : LqrConfig::bryson();
-  if (o.controller_config.empty() || command.count("--cbf-min-altitude")) cc.cbf.min_altitude = o.cbf_min_altitude;
-  if (o.controller_config.empty() || command.count("--cbf-max-tilt")) cc.cbf.max_tilt = o.cbf_max_tilt;
+  if (o.controller_config.empty() || given("cbf_min_altitude")) cc.cbf.min_altitude = o.cbf_min_altitude;
+  if (o.controller_config.empty() || given("cbf_max_tilt")) cc.cbf.max_tilt = o.cbf_max_tilt;
 
   SimulationSettings settings;
   settings.steps = o.steps;

@@ -1,35 +1,41 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <set>
 #include <string>
+#include <vector>
 
 namespace quadfdi::cli {
 
+// Filled by the option table (simulate_command.cpp), the only place that names the flags.
 struct SimulateOptions {
-  std::string controller = "lqr";
-  std::string params = "nominal";
-  std::string controller_params;  // empty: same as params
-  std::string lqr_weights = "bryson";
-  std::string controller_config;  // optional file
-  int motor = 0;                  // 0: healthy
-  double theta = 0.0;
-  int fault_step = 500;
-  int steps = 1000;
-  unsigned long long seed = 1;
-  std::string integrator = "rk4";
-  std::string output = "-";
-  bool full_state = false;
-  std::vector<double> goal;       // optional override, 3 values
-  std::vector<double> start;      // optional override, 12 values
-  double position_noise = 0.0;
-  double attitude_noise = 0.0;
-  double cbf_min_altitude = 0.5;
-  double cbf_max_tilt = 0.5;
-  bool quiet = false;
+  std::string config;                   // key = value file; flags given on the command line win
+  std::string controller = "lqr";       // lqr | cbf
+  std::string params = "nominal";       // plant: a named parameter set or a FILE
+  std::string controller_params;        // design model, same forms; empty: same as params
+  std::string lqr_weights = "bryson";   // bryson | authors
+  std::string controller_config;        // optional controller FILE
+  int motor = 0;                        // faulty motor 1..4; 0: healthy
+  double theta = 0.0;                   // effectiveness after the fault [-]
+  int fault_step = 500;                 // [steps]
+  int steps = 1000;                     // [steps]
+  unsigned long long seed = 1;          // initial condition, goal and noise draw
+  std::string integrator = "rk4";       // rk4 | euler
+  std::string output = "-";             // CSV path; - = standard output
+  bool full_state = false;              // append state and applied-thrust columns
+  std::vector<double> goal;             // override [m], 3 values; empty: sampled
+  std::vector<double> start;            // override, 12 state values (SI); empty: sampled
+  double position_noise = 0.0;          // std. dev. [m]
+  double attitude_noise = 0.0;          // std. dev. [rad]
+  double cbf_min_altitude = 0.5;        // [m]
+  double cbf_max_tilt = 0.5;            // [rad]
+  bool quiet = false;                   // no summary on stderr
+  std::set<std::string> given;          // keys given explicitly (they win over --controller-config)
 };
 
+// Declares the options (validated while CLI11 parses: bad values throw "--flag: problem").
 CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& options);
 // Runs the command; throws std::runtime_error / ConfigError with a one-line message on bad input.
-int runSimulate(const SimulateOptions& options, const CLI::App& command);
+int runSimulate(const SimulateOptions& options);
 
 }  // namespace quadfdi::cli

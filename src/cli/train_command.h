@@ -1,42 +1,45 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace quadfdi::cli {
 
+// Filled by the option table (train_command.cpp), the only place that names the flags; reproduce
+// fills it directly. Schedule fields left empty come from the named scale (data/scales.h).
 struct TrainOptions {
-  std::string config;
-  std::string scale = "default";
-  std::string architecture = "lstm";
-  std::string features = "model-free";
-  std::string output_kind = "position-euler";
-  std::string symmetry = "exact";
-  std::string loss = "norm";
-  std::string controller = "lqr";
-  std::string params = "nominal";
-  std::vector<double> thetas{0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};
-  int batch_size = 0;       // 0: from the scale
-  int passes = 0;
-  int max_minibatches = -1;
-  int min_iterations = -1;
-  int max_iterations = -1;
-  double preroll = 0.0;
-  int heldout_initial_conditions = 0;  // 0: from the scale
-  unsigned long long seed = 1;
-  std::string device = "cpu";
-  int threads = 0;
-  std::string output;
-  std::string checkpoint;   // default: <output>.ckpt
-  std::string log;          // default: <output>.log.csv
-  bool resume = false;
-  bool quiet = false;
+  std::string config;                           // key = value file; flags given on the command line win
+  std::string scale = "default";                // named scale: data per iteration, buffer, schedule
+  std::string architecture = "lstm";            // lstm | mlp
+  std::string features = "model-free";          // model-free | model-based | residual
+  std::string output_kind = "position-euler";   // position-euler | position-rates
+  std::string symmetry = "exact";               // exact | paper
+  std::string loss = "norm";                    // norm | per-motor
+  std::string controller = "lqr";               // lqr | cbf
+  std::string params = "nominal";               // plant: a named parameter set or a FILE
+  std::vector<double> thetas{0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};  // Θ₂ values [-]
+  std::optional<int> batch_size;                // [windows]
+  std::optional<int> passes;                    // over the buffer per outer iteration
+  std::optional<int> max_minibatches;           // per outer iteration; 0 = no cap
+  std::optional<int> min_iterations;            // N_m
+  std::optional<int> max_iterations;            // N_M
+  double preroll = 0.0;                         // max random pre-roll [s]
+  unsigned long long seed = 1;                  // weights, data and shuffling
+  std::string device = "cpu";                   // cpu | cuda
+  int threads = 0;                              // 0 = all cores
+  std::string output;                           // model file
+  std::string checkpoint;                       // default: <output>.ckpt
+  std::string log;                              // default: <output>.log.csv
+  bool resume = false;                          // continue from the checkpoint if there is one
+  bool quiet = false;                           // no progress bar or summary
 };
 
+// Declares the options (validated while CLI11 parses, --config included).
 CLI::App* addTrainCommand(CLI::App& app, TrainOptions& options);
-int runTrain(TrainOptions options, const CLI::App& command, const std::string& command_line);
-// Trains with fully resolved options (no config file) and writes options.output.
+int runTrain(const TrainOptions& options, const std::string& command_line);
+// Trains with resolved options and writes options.output (runTrain; reproduce calls it directly).
 int trainAndSave(const TrainOptions& options, const std::string& command_line);
 
 }  // namespace quadfdi::cli

@@ -2,13 +2,6 @@
 
 namespace quadfdi {
 
-std::optional<DataScale> dataScale(const std::string& name) {
-  if (name == "tiny") return DataScale{"tiny", 4, 20'000};           // tests: 44 trajectories an iteration
-  if (name == "default") return DataScale{"default", 40, 200'000};   // CPU: 440 trajectories an iteration
-  if (name == "paper") return DataScale{"paper", 100, 1'500'000};    // authors' 1 100 trajectories, paper's N_buf
-  return std::nullopt;
-}
-
 Algorithm1Data::Algorithm1Data(const Algorithm1DataConfig& config)
     : config_(config), engine_(config.rollout), buffer_(config.scale.buffer_windows, config.rollout.window) {}
 

@@ -4,23 +4,14 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "data/rollout.h"
+#include "data/scales.h"
 #include "data/window_buffer.h"
 
 namespace quadfdi {
-
-// Named data scales. The paper's text says N₁ = 200 and a 1.5 M-window buffer; the authors'
-// code flies 1 100 trajectories per iteration (N₁ = 100 × 11 Θ values), which `paper` follows.
-struct DataScale {
-  std::string name;
-  int initial_conditions = 0;     // N₁ per outer iteration
-  std::size_t buffer_windows = 0;  // N_buf
-};
-std::optional<DataScale> dataScale(const std::string& name);  // tiny | default | paper
 
 struct Algorithm1DataConfig {
   RolloutConfig rollout;

@@ -100,15 +100,6 @@ ConditionResult allMotors(const TrainedModel& model, const TestSetConfig& c, con
 
 }  // namespace
 
-bool evaluationScale(const std::string& name, EvaluationScale& scale) {
-  if (name == "tiny") scale = {"tiny", 3};  // tests
-  else if (name == "quick") scale = {"quick", 25};
-  else if (name == "default") scale = {"default", 200};
-  else if (name == "paper") scale = {"paper", 2000};
-  else return false;
-  return true;
-}
-
 bool runExperiment(const std::string& id, const ExperimentInputs& in, ExperimentResult& out, std::string& missing,
                    const std::function<void(const std::string&)>& progress) {
   out = ExperimentResult{};

@@ -31,11 +31,11 @@ struct ExperimentResult {
   std::vector<ConditionResult> conditions;
 };
 
+// The test sets' size (from a named scale, data/scales.h).
 struct EvaluationScale {
-  std::string name;
-  int flights_per_class;  // SPEC §7 protocol: 2 000 (paper)
+  std::string name;           // the named scale it came from, for the report
+  int flights_per_class = 0;  // [flights per fault class]; SPEC §7 protocol: 2 000 (paper)
 };
-bool evaluationScale(const std::string& name, EvaluationScale& scale);  // quick | default | paper
 
 struct ExperimentInputs {
   std::map<std::string, const TrainedModel*> models;  // by role: "model-free", "model-based", "residual", "mlp"

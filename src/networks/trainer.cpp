@@ -106,198 +106,288 @@ std::string validate(const TrainConfig& c) {
   return {};
 }
 
-TrainResult train(const TrainConfig& config, const std::function<void(const IterationReport&)>& on_iteration,
-                  const std::function<void(int, int)>& on_minibatch) {
-  if (const std::string e = validate(config); !e.empty()) throw std::runtime_error("invalid training settings: " + e);
+namespace {
+
+// ---- The steps of train(), in the order it takes them. ----
+
+torch::Device trainingDevice(const TrainConfig& config) {
   if (config.device == "cuda" && !torch::cuda::is_available())
     throw std::runtime_error("--device cuda: no CUDA device (this LibTorch build or machine has none)");
-  const torch::Device device(config.device == "cuda" ? torch::kCUDA : torch::kCPU);
-  configureCpuThreads(config.threads);
+  return torch::Device(config.device == "cuda" ? torch::kCUDA : torch::kCPU);
+}
 
-  Algorithm1Data data(config.data);
-  if (!data.error().empty()) throw std::runtime_error("invalid data settings: " + data.error());
-
+// A fresh model (its weights drawn from config.seed), replaced by the checkpoint's when resuming.
+TrainResult createOrResumeModel(const TrainConfig& config) {
   TrainResult result{FaultIdentifier::create(config.model, config.seed)};
-  FaultIdentifier& model = result.model;
-  model.metadata().output = config.data.rollout.output;
-  model.metadata().window = config.data.rollout.window;
-  model.metadata().dt = config.data.rollout.dt;
-  model.metadata().trained_motor = config.data.motors.size() == 1 ? config.data.motors.front() : 2;
-  model.metadata().seed = config.seed;
-  model.metadata().scale = config.data.scale.name;
+  ModelMetadata& m = result.model.metadata();
+  m.output = config.data.rollout.output;
+  m.window = config.data.rollout.window;
+  m.dt = config.data.rollout.dt;
+  m.trained_motor = config.data.motors.size() == 1 ? config.data.motors.front() : 2;
+  m.seed = config.seed;
+  m.scale = config.data.scale.name;
 
-  int start_iteration = 0;
   const bool have_checkpoint = !config.checkpoint_path.empty() && access(config.checkpoint_path.c_str(), R_OK) == 0;
-  if (config.resume && have_checkpoint) {
-    FaultIdentifier loaded = FaultIdentifier::load(config.checkpoint_path);
-    const ModelMetadata& lm = loaded.metadata();
-    if (lm.architecture != config.model.architecture || lm.features != config.model.features ||
-        lm.window != config.model.window || lm.hidden != config.model.hidden)
-      throw std::runtime_error(config.checkpoint_path + ": checkpoint is for a different model configuration");
-    result.model = loaded;
-    start_iteration = lm.iterations;
-    result.resumed = true;
-  }
-  FaultIdentifier::Impl& impl = *result.model.impl();
-  impl.net->to(device);
-  torch::optim::Adam optimizer(impl.net->parameters(),
-                               torch::optim::AdamOptions(config.learning_rate).weight_decay(config.weight_decay));
-  if (result.resumed) {
-    // The optimiser state is renamed into place just before the model; a kill between the two
-    // renames leaves it one iteration ahead. Then Adam restarts from fresh moments (reported).
-    try {
-      torch::serialize::InputArchive archive;
-      archive.load_from(config.checkpoint_path + ".optim");
-      torch::Tensor saved_iteration;
-      archive.read("iteration", saved_iteration);
-      if (saved_iteration.item<std::int64_t>() == start_iteration)
-        optimizer.load(archive);
-      else
-        result.optimizer_state_reset = true;
-    } catch (const c10::Error&) {
-      result.optimizer_state_reset = true;
-    }
-    data.restoreTo(start_iteration);
-  }
+  if (!config.resume || !have_checkpoint) return result;
+  FaultIdentifier loaded = FaultIdentifier::load(config.checkpoint_path);
+  const ModelMetadata& lm = loaded.metadata();
+  if (lm.architecture != config.model.architecture || lm.features != config.model.features ||
+      lm.window != config.model.window || lm.hidden != config.model.hidden)
+    throw std::runtime_error(config.checkpoint_path + ": checkpoint is for a different model configuration");
+  result.model = loaded;
+  result.resumed = true;
+  return result;
+}
 
-  // Held-out windows: fresh scenarios from a disjoint stream range, generated once.
-  TrajectoryBatch heldout;
-  {
-    RolloutEngine engine(config.data.rollout);
-    engine.run(algorithm1Jobs(kHeldoutFirstScenario, config.heldout_initial_conditions, config.data.thetas,
-                              config.data.motors),
-               config.data.threads, heldout);
+// Loads the Adam moments saved with the checkpoint of `iteration`; false when they are missing or
+// belong to another iteration. (The optimiser state is renamed into place just before the model;
+// a kill between the two renames leaves it one iteration ahead: Adam then restarts, reported.)
+bool restoreOptimizer(const std::string& checkpoint_path, int iteration, torch::optim::Adam& optimizer) {
+  try {
+    torch::serialize::InputArchive archive;
+    archive.load_from(checkpoint_path + ".optim");
+    torch::Tensor saved_iteration;
+    archive.read("iteration", saved_iteration);
+    if (saved_iteration.item<std::int64_t>() != iteration) return false;
+    optimizer.load(archive);
+    return true;
+  } catch (const c10::Error&) {
+    return false;
   }
-  std::vector<WindowRef> heldout_windows;
-  enumerateWindows(heldout, config.data.rollout.window, heldout_windows);
+}
 
-  std::ofstream log;
-  if (!config.log_path.empty()) {
+// Fresh scenarios from a stream range disjoint from training's, generated once per run.
+struct HeldoutSet {
+  TrajectoryBatch batch;
+  std::vector<WindowRef> windows;
+};
+
+HeldoutSet makeHeldoutSet(const TrainConfig& config) {
+  HeldoutSet set;
+  RolloutEngine engine(config.data.rollout);
+  engine.run(algorithm1Jobs(kHeldoutFirstScenario, config.heldout_initial_conditions, config.data.thetas,
+                            config.data.motors),
+             config.data.threads, set.batch);
+  enumerateWindows(set.batch, config.data.rollout.window, set.windows);
+  return set;
+}
+
+// The CSV log, one row per outer iteration. A resumed run keeps the rows its checkpoint covers.
+class TrainingLog {
+ public:
+  TrainingLog(const std::string& path, bool resumed, int start_iteration) {
+    if (path.empty()) return;
     std::vector<std::string> kept;
-    if (result.resumed) {  // keep the rows of iterations the checkpoint covers
-      std::ifstream old(config.log_path);
+    if (resumed) {
+      std::ifstream old(path);
       std::string line;
       while (std::getline(old, line)) {
         if (kept.empty()) { kept.push_back(line); continue; }
         if (std::atoi(line.c_str()) <= start_iteration) kept.push_back(line);
       }
     }
-    log.open(config.log_path, std::ios::trunc);
-    if (!log) throw std::runtime_error(config.log_path + ": cannot write the training log");
+    file_.open(path, std::ios::trunc);
+    if (!file_) throw std::runtime_error(path + ": cannot write the training log");
     if (kept.empty()) kept.push_back("iteration,loss,heldout_loss,heldout_accuracy,buffer_windows,seconds,windows_per_second");
-    for (const auto& l : kept) log << l << '\n';
-    log.flush();
+    for (const auto& l : kept) file_ << l << '\n';
+    file_.flush();
+  }
+  void append(const IterationReport& r) {
+    if (!file_.is_open()) return;
+    file_ << r.iteration << ',' << r.loss << ',' << r.heldout_loss << ',' << r.heldout_accuracy << ','
+          << r.buffer_windows << ',' << r.seconds << ',' << r.windows_per_second << '\n';
+    file_.flush();
   }
 
+ private:
+  std::ofstream file_;
+};
+
+// Throws TrainingInterrupted, saying what the checkpoint holds, once config.stop is raised.
+void throwIfStopRequested(const TrainConfig& config, int completed_iterations) {
+  if (!config.stop || !config.stop->load(std::memory_order_relaxed)) return;
+  throw TrainingInterrupted(
+      "training stopped during outer iteration " + std::to_string(completed_iterations + 1) + "; " +
+      (config.checkpoint_path.empty() || completed_iterations == 0
+           ? std::string("no iteration was complete, nothing was saved")
+           : config.checkpoint_path + " holds the " + std::to_string(completed_iterations) +
+                 " completed iterations: run again with --resume to continue"));
+}
+
+// Features and labels of one minibatch as tensors on `device` (they view `mb`'s storage first).
+std::pair<torch::Tensor, torch::Tensor> toTensors(Minibatch& mb, std::size_t count, const ModelMetadata& meta,
+                                                  const torch::Device& device) {
+  const auto b = static_cast<std::int64_t>(count);
+  return {torch::from_blob(mb.features.data(), {b, meta.window, meta.channels()}, torch::kFloat32).to(device),
+          torch::from_blob(mb.labels.data(), {b, 4}, torch::kFloat32).to(device)};
+}
+
+struct PassesOutcome {
+  double loss_sum = 0.0;          // over the minibatches
+  int minibatches = 0;
+  std::int64_t windows = 0;       // windows trained on
+};
+
+// One outer iteration's optimisation: config.passes shuffled passes over the buffer in
+// minibatches (at most config.max_minibatches), one Adam step each. `completed` outer
+// iterations precede this one; it seeds the shuffle.
+PassesOutcome trainOnBuffer(const TrainConfig& config, const WindowBuffer& buffer, int completed,
+                            FaultIdentifier::Impl& impl, torch::optim::Adam& optimizer, const torch::Device& device,
+                            Minibatch& mb, const std::function<void(int, int)>& on_minibatch) {
   const ModelMetadata& meta = impl.metadata;
+  impl.net->train();
+  const std::size_t n = buffer.size();
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  Rng shuffle_rng(config.seed, 0x5000000ull + static_cast<std::uint64_t>(completed));
+  const std::size_t bs = static_cast<std::size_t>(config.batch_size);
+  const int per_pass = static_cast<int>((n + bs - 1) / bs);
+  int total = per_pass * config.passes;
+  if (config.max_minibatches > 0) total = std::min(total, config.max_minibatches);
+  PassesOutcome out;
+  for (int pass = 0; pass < config.passes && out.minibatches < total; ++pass) {
+    for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[shuffle_rng.next() % i]);  // Fisher–Yates
+    for (std::size_t first = 0; first < n && out.minibatches < total; first += bs) {
+      throwIfStopRequested(config, completed);
+      const std::size_t count = std::min(bs, n - first);
+      gather(count, [&](std::size_t i) {
+        const auto e = buffer.at(order[first + i]);
+        return std::make_pair(e.batch, e.ref);
+      }, meta, mb);
+      const auto [x, y] = toTensors(mb, count, meta, device);
+      optimizer.zero_grad();
+      const torch::Tensor loss = hingeLoss(impl.net->forward(x), y, config.loss, config.epsilon);
+      const double value = loss.item<double>();
+      if (!std::isfinite(value))
+        throw std::runtime_error("training diverged: non-finite loss at outer iteration " +
+                                 std::to_string(completed + 1) + " (lower the learning rate?)");
+      loss.backward();
+      optimizer.step();
+      out.loss_sum += value;
+      out.windows += static_cast<std::int64_t>(count);
+      ++out.minibatches;
+      if (on_minibatch) on_minibatch(out.minibatches, total);
+    }
+  }
+  return out;
+}
+
+struct HeldoutScore {
+  double loss = 0.0;      // mean over the windows
+  double accuracy = 0.0;  // fraction with max_i |Θ̂_i − Θ_i| ≤ kIdentificationTolerance
+};
+
+HeldoutScore evaluateHeldout(const TrainConfig& config, const HeldoutSet& heldout, FaultIdentifier::Impl& impl,
+                             const torch::Device& device, Minibatch& mb) {
+  const ModelMetadata& meta = impl.metadata;
+  impl.net->eval();
+  double loss_sum = 0.0;
+  int correct = 0;
+  {
+    torch::NoGradGuard no_grad;
+    for (std::size_t first = 0; first < heldout.windows.size(); first += 4096) {
+      const std::size_t count = std::min<std::size_t>(4096, heldout.windows.size() - first);
+      gather(count, [&](std::size_t i) { return std::make_pair(&heldout.batch, heldout.windows[first + i]); }, meta,
+             mb);
+      const auto [x, y] = toTensors(mb, count, meta, device);
+      const torch::Tensor pred = impl.net->forward(x);
+      loss_sum += hingeLoss(pred, y, config.loss, config.epsilon).item<double>() * static_cast<double>(count);
+      correct += ((pred - y).abs().amax(1) <= kIdentificationTolerance).sum().item<int>();
+    }
+  }
+  HeldoutScore score;
+  if (heldout.windows.empty()) return score;
+  const auto n = static_cast<double>(heldout.windows.size());
+  score.loss = loss_sum / n;
+  score.accuracy = static_cast<double>(correct) / n;
+  return score;
+}
+
+// Writes the checkpoint from the CPU (LibTorch archives), then moves the net back to `device`.
+void checkpoint(const std::string& path, FaultIdentifier& model, torch::optim::Adam& optimizer, int iteration,
+                const torch::Device& device) {
+  FaultIdentifier::Impl& impl = *model.impl();
+  impl.net->to(torch::kCPU);
+  writeCheckpoint(path, model, optimizer, iteration);
+  impl.net->to(device);
+}
+
+// Algorithm 1's stopping rule (N_M is the loop's bound): the iteration's mean loss below
+// config.stop_loss once N_m iterations are done.
+bool converged(const TrainConfig& config, int completed_iterations, double iteration_loss) {
+  return completed_iterations >= config.min_iterations && iteration_loss < config.stop_loss;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+TrainResult train(const TrainConfig& config, const std::function<void(const IterationReport&)>& on_iteration,
+                  const std::function<void(int, int)>& on_minibatch) {
+  // Set-up: settings, device, data source, model (fresh or from the checkpoint), optimiser.
+  if (const std::string e = validate(config); !e.empty()) throw std::runtime_error("invalid training settings: " + e);
+  const torch::Device device = trainingDevice(config);
+  configureCpuThreads(config.threads);
+  Algorithm1Data data(config.data);
+  if (!data.error().empty()) throw std::runtime_error("invalid data settings: " + data.error());
+
+  TrainResult result = createOrResumeModel(config);
+  const int start_iteration = result.resumed ? result.model.metadata().iterations : 0;
+  FaultIdentifier::Impl& impl = *result.model.impl();
+  impl.net->to(device);
+  torch::optim::Adam optimizer(impl.net->parameters(),
+                               torch::optim::AdamOptions(config.learning_rate).weight_decay(config.weight_decay));
+  if (result.resumed) {
+    result.optimizer_state_reset = !restoreOptimizer(config.checkpoint_path, start_iteration, optimizer);
+    data.restoreTo(start_iteration);  // the buffer as it stood at the checkpoint
+  }
+  const HeldoutSet heldout = makeHeldoutSet(config);
+  TrainingLog log(config.log_path, result.resumed, start_iteration);
+
   const double previous_seconds = result.resumed ? impl.metadata.training_seconds : 0.0;
   const auto t0 = std::chrono::steady_clock::now();
-  Minibatch mb;
-  std::vector<std::size_t> order;
+  Minibatch mb;  // reused by every minibatch
   std::int64_t windows_trained = 0;
   int iteration = start_iteration;
   while (iteration < config.max_iterations) {
+    // This outer iteration's fresh data; the first one also fixes the feature normalisation.
     data.nextIteration();
     if (iteration == 0) {
       computeNormalisation(data.buffer(), impl.metadata);
       loadNormalisation(impl);
     }
-    impl.net->train();
-    const std::size_t n = data.buffer().size();
-    order.resize(n);
-    for (std::size_t i = 0; i < n; ++i) order[i] = i;
-    Rng shuffle_rng(config.seed, 0x5000000ull + static_cast<std::uint64_t>(iteration));
-    double loss_sum = 0.0;
-    int minibatches = 0;
-    const std::size_t bs = static_cast<std::size_t>(config.batch_size);
-    const int per_pass = static_cast<int>((n + bs - 1) / bs);
-    int total = per_pass * config.passes;
-    if (config.max_minibatches > 0) total = std::min(total, config.max_minibatches);
-    for (int pass = 0; pass < config.passes && minibatches < total; ++pass) {
-      for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[shuffle_rng.next() % i]);  // Fisher–Yates
-      for (std::size_t first = 0; first < n && minibatches < total; first += bs) {
-        if (config.stop && config.stop->load(std::memory_order_relaxed))
-          throw TrainingInterrupted(
-              "training stopped during outer iteration " + std::to_string(iteration + 1) + "; " +
-              (config.checkpoint_path.empty() || iteration == 0
-                   ? std::string("no iteration was complete, nothing was saved")
-                   : config.checkpoint_path + " holds the " + std::to_string(iteration) +
-                         " completed iterations: run again with --resume to continue"));
-        const std::size_t count = std::min(bs, n - first);
-        gather(count, [&](std::size_t i) {
-          const auto e = data.buffer().at(order[first + i]);
-          return std::make_pair(e.batch, e.ref);
-        }, meta, mb);
-        const auto b = static_cast<std::int64_t>(count);
-        const torch::Tensor x =
-            torch::from_blob(mb.features.data(), {b, meta.window, meta.channels()}, torch::kFloat32).to(device);
-        const torch::Tensor y = torch::from_blob(mb.labels.data(), {b, 4}, torch::kFloat32).to(device);
-        optimizer.zero_grad();
-        const torch::Tensor loss = hingeLoss(impl.net->forward(x), y, config.loss, config.epsilon);
-        const double value = loss.item<double>();
-        if (!std::isfinite(value))
-          throw std::runtime_error("training diverged: non-finite loss at outer iteration " +
-                                   std::to_string(iteration + 1) + " (lower the learning rate?)");
-        loss.backward();
-        optimizer.step();
-        loss_sum += value;
-        windows_trained += b;
-        ++minibatches;
-        if (on_minibatch) on_minibatch(minibatches, total);
-      }
-    }
+    const PassesOutcome passes =
+        trainOnBuffer(config, data.buffer(), iteration, impl, optimizer, device, mb, on_minibatch);
+    windows_trained += passes.windows;
     ++iteration;
 
-    // Held-out evaluation.
-    impl.net->eval();
-    double heldout_loss = 0.0;
-    int correct = 0;
-    {
-      torch::NoGradGuard no_grad;
-      for (std::size_t first = 0; first < heldout_windows.size(); first += 4096) {
-        const std::size_t count = std::min<std::size_t>(4096, heldout_windows.size() - first);
-        gather(count, [&](std::size_t i) { return std::make_pair(&heldout, heldout_windows[first + i]); }, meta, mb);
-        const auto b = static_cast<std::int64_t>(count);
-        const torch::Tensor x = torch::from_blob(mb.features.data(), {b, meta.window, meta.channels()}, torch::kFloat32).to(device);
-        const torch::Tensor y = torch::from_blob(mb.labels.data(), {b, 4}, torch::kFloat32).to(device);
-        const torch::Tensor pred = impl.net->forward(x);
-        heldout_loss += hingeLoss(pred, y, config.loss, config.epsilon).item<double>() * static_cast<double>(count);
-        correct += ((pred - y).abs().amax(1) <= kIdentificationTolerance).sum().item<int>();
-      }
-    }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const HeldoutScore heldout_score = evaluateHeldout(config, heldout, impl, device, mb);
+    const double seconds = secondsSince(t0);
     IterationReport report;
     report.iteration = iteration;
-    report.loss = minibatches > 0 ? loss_sum / minibatches : 0.0;
-    report.heldout_loss = heldout_windows.empty() ? 0.0 : heldout_loss / static_cast<double>(heldout_windows.size());
-    report.heldout_accuracy = heldout_windows.empty() ? 0.0 : static_cast<double>(correct) / static_cast<double>(heldout_windows.size());
-    report.buffer_windows = n;
+    report.loss = passes.minibatches > 0 ? passes.loss_sum / passes.minibatches : 0.0;
+    report.heldout_loss = heldout_score.loss;
+    report.heldout_accuracy = heldout_score.accuracy;
+    report.buffer_windows = data.buffer().size();
     report.seconds = seconds;
     report.windows_per_second = static_cast<double>(windows_trained) / seconds;
     impl.metadata.final_loss = report.loss;
     impl.metadata.heldout_loss = report.heldout_loss;
     impl.metadata.heldout_accuracy = report.heldout_accuracy;
     impl.metadata.training_seconds = previous_seconds + seconds;
-    if (log.is_open()) {
-      log << report.iteration << ',' << report.loss << ',' << report.heldout_loss << ',' << report.heldout_accuracy << ','
-          << report.buffer_windows << ',' << report.seconds << ',' << report.windows_per_second << '\n';
-      log.flush();
-    }
-    if (!config.checkpoint_path.empty()) {
-      impl.net->to(torch::kCPU);
-      writeCheckpoint(config.checkpoint_path, result.model, optimizer, iteration);
-      impl.net->to(device);
-    }
+    log.append(report);
+    if (!config.checkpoint_path.empty()) checkpoint(config.checkpoint_path, result.model, optimizer, iteration, device);
     if (on_iteration) on_iteration(report);
-    if (iteration >= config.min_iterations && report.loss < config.stop_loss) {
+    if (converged(config, iteration, report.loss)) {
       result.converged = true;
       break;
     }
   }
   impl.net->to(torch::kCPU);
   impl.metadata.iterations = iteration;
-  impl.metadata.training_seconds =
-      previous_seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  impl.metadata.training_seconds = previous_seconds + secondsSince(t0);
   result.iterations = iteration;
   return result;
 }

@@ -56,6 +56,40 @@ TEST(SimulateCli, HelpDocumentsEveryOption) {
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
 }
 
+// One option path: a config file and the flags fill the same options, the flags win, and bad
+// input is one line naming the flag or FILE:LINE, exit 1 (usage errors stay exit 2).
+TEST(SimulateCli, ConfigFileAndFlagsAreOnePath) {
+  const std::string flags = "--motor 3 --theta 0.4 --fault-step 100 --steps 200 --seed 4 --controller cbf";
+  const CommandResult by_flags = run("simulate " + flags + " --output -", false);
+  ASSERT_EQ(by_flags.exit_code, 0);
+  const std::string cfg = tempPath("simulate.toml");
+  std::ofstream(cfg) << "motor = 3\ntheta = 0.4\nfault_step = 100\nsteps = 200\nseed = 4\ncontroller = \"lqr\"\n";
+  const CommandResult by_file = run("simulate --config " + cfg + " --controller cbf --output -", false);
+  ASSERT_EQ(by_file.exit_code, 0);
+  EXPECT_EQ(by_file.out, by_flags.out);  // the same flight; --controller on the command line won
+
+  std::ofstream(cfg) << "motor = 3\n# a comment\nmotors = [3]\n";
+  CommandResult r = run("simulate --config " + cfg + " --output /dev/null");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.out, "quadfdi: error: " + cfg + ":3: unknown key 'motors'\n");
+  std::ofstream(cfg) << "integrator = \"rk45\"\n";
+  r = run("simulate --config " + cfg + " --output /dev/null");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.out, "quadfdi: error: " + cfg + ":1: integrator: 'rk45' is not one of: rk4, euler\n");
+  r = run("simulate --integrator rk45 --output /dev/null");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.out, "quadfdi: error: --integrator: 'rk45' is not one of: rk4, euler\n");
+  r = run("simulate --motor 5 --output /dev/null");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.out, "quadfdi: error: --motor: must be in [1, 4], got 5\n");
+  EXPECT_EQ(run("simulate --bogus").exit_code, 2);
+  for (const char* command : {"generate", "train", "evaluate", "reproduce"}) {
+    r = run(std::string(command) + " --scale huge -o /dev/null");
+    EXPECT_EQ(r.exit_code, 1) << command;
+    EXPECT_EQ(r.out, "quadfdi: error: --scale: 'huge' is not one of: tiny, quick, default, paper\n") << command;
+  }
+}
+
 TEST(SimulateCli, FaultyFlightToStdoutAndSummaryToStderr) {
   const CommandResult r = run("simulate --motor 3 --theta 0.4 --fault-step 100 --steps 200 --seed 4 --output -", false);
   ASSERT_EQ(r.exit_code, 0);

@@ -200,9 +200,9 @@ TEST(Algorithm1Data, IterationsAreFreshDisjointAndCapped) {
     EXPECT_EQ(a.ref.end_sample, b.ref.end_sample);
     EXPECT_EQ(a.batch->states, b.batch->states);
   }
-  EXPECT_TRUE(dataScale("paper").has_value());
-  EXPECT_EQ(dataScale("paper")->initial_conditions * 11, 1100);
-  EXPECT_FALSE(dataScale("huge").has_value());
+  ASSERT_NE(findScale("paper"), nullptr);
+  EXPECT_EQ(findScale("paper")->data.initial_conditions * 11, 1100);
+  EXPECT_EQ(findScale("huge"), nullptr);
 }
 
 }  // namespace
