@@ -1,4 +1,4 @@
-// Closed-loop simulation throughput on one core (SPEC §9). items/s = simulated steps/s.
+// Closed-loop simulation throughput on one core (docs/benchmarks.md). items/s = simulated steps/s.
 #include <benchmark/benchmark.h>
 
 #include "control/controller_factory.h"

@@ -44,7 +44,7 @@ row() {  # name, simulate options
 echo "| condition | healthy flights with an alarm | faulty flights alarmed | right motor | delay median / worst [ms] |"
 echo "|---|---|---|---|---|"
 row "nominal plant, LQR (training conditions)"
-row "perturbed plant (SPEC §2)" --params perturbed
+row "perturbed plant (docs/model.md)" --params perturbed
 row "perturbed-strong plant" --params perturbed-strong
 row "CBF-QP safety filter" --controller cbf
 row "authors' LQR weights (Q = I, R = I)" --lqr-weights authors

@@ -1,4 +1,4 @@
-// Dataset generation throughput (SPEC §9): Algorithm 1's outer iteration at paper scale
+// Dataset generation throughput (docs/benchmarks.md): Algorithm 1's outer iteration at paper scale
 // (1 100 trajectories × 200 steps, residuals and windows), on 1 and on all cores.
 #include <benchmark/benchmark.h>
 

@@ -1,4 +1,4 @@
-// Training throughput (SPEC §9): windows per second for forward + backward + Adam on the
+// Training throughput (docs/benchmarks.md): windows per second for forward + backward + Adam on the
 // LSTM identifier, T = 100, hidden 128, model-free features, at 1 and 2 LibTorch threads.
 // bench/compare-training.sh runs this and the same model in PyTorch's Python API.
 #include <benchmark/benchmark.h>

@@ -19,19 +19,8 @@ using namespace quadfdi;
 
 namespace {
 
-void saveModel(Architecture a, FeatureSet f, int window, int hidden, const std::string& path) {
-  ModelMetadata m;
-  m.architecture = a;
-  m.features = f;
-  m.window = window;
-  m.hidden = hidden;
-  m.scale = "fuzz-seed";
-  m.command = "fuzz_make_seeds";
-  FaultIdentifier::create(m, 1).save(path);
-}
-
-// The same as a weights file (.qfdw), what detect and evaluate load.
-void saveWeights(Architecture a, FeatureSet f, int window, int hidden, const std::string& path) {
+// A tiny seeded network (TCN: 8 channels, kernel 2, dilations 1 and 2).
+FaultIdentifier tinyNetwork(Architecture a, FeatureSet f, int window, int hidden) {
   ModelMetadata m;
   m.architecture = a;
   m.features = f;
@@ -42,9 +31,18 @@ void saveWeights(Architecture a, FeatureSet f, int window, int hidden, const std
   m.tcn.dilations = {1, 2};
   m.scale = "fuzz-seed";
   m.command = "fuzz_make_seeds";
-  const FaultIdentifier net = FaultIdentifier::create(m, 1);
-  const std::string bytes = encodeWeightsFile(net.metadata(), exportWeights(net));
-  std::ofstream(path, std::ios::binary) << bytes;
+  return FaultIdentifier::create(m, 1);
+}
+
+// As a LibTorch archive (checkpoints, model_file target).
+void saveModel(Architecture a, FeatureSet f, int window, int hidden, const std::string& path) {
+  tinyNetwork(a, f, window, hidden).save(path);
+}
+
+// As a weights file (.qfdw), what detect and evaluate load (weights_file target).
+void saveWeights(Architecture a, FeatureSet f, int window, int hidden, const std::string& path) {
+  const FaultIdentifier net = tinyNetwork(a, f, window, hidden);
+  std::ofstream(path, std::ios::binary) << encodeWeightsFile(net.metadata(), exportWeights(net));
 }
 
 std::string slurp(const std::string& path) {

@@ -26,7 +26,7 @@ std::string defaultModelPath() {
 CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "detect",
-      "Online fault detection on flight telemetry (SPEC §8): reads the CSV t,x,y,z,roll,pitch,yaw,u1..u4\n"
+      "Online fault detection on flight telemetry (docs/conventions.md): reads the CSV t,x,y,z,roll,pitch,yaw,u1..u4\n"
       "(SI units, z up, ZYX Euler angles, u = commanded thrust per motor [N], Crazyflie numbering; extra\n"
       "columns ignored; any rate down to 125 Hz, resampled to the model's), writes one JSON object per\n"
       "sample from the first full window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"}. A summary goes to stderr.");

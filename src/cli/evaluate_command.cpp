@@ -23,7 +23,7 @@ namespace quadfdi::cli {
 CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "evaluate",
-      "Run the paper's experiments (SPEC §7) on trained models and write, per experiment, a CSV\n"
+      "Run the paper's experiments (docs/decisions.md) on trained models and write, per experiment, a CSV\n"
       "(accuracy vs faulty length), a Markdown table and a PNG figure, plus REPORT.md.\n"
       "E1 four motors from one motor-2 network; E2 LSTM vs MLP over theta2; E3 LQR vs CBF-QP test\n"
       "inputs; E4 model-free vs model-based vs residual-only; E5 nominal vs perturbed plants;\n"

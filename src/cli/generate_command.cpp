@@ -21,7 +21,7 @@ namespace quadfdi::cli {
 CLI::App* addGenerateCommand(CLI::App& app, GenerateOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "generate",
-      "Generate a training or test dataset (SPEC §5, Algorithm 1's data side): for each of N initial\n"
+      "Generate a training or test dataset (docs/data.md, Algorithm 1's data side): for each of N initial\n"
       "conditions, one 2T-step closed-loop flight per motor and per Θ value, the fault at step T,\n"
       "with y, u, the true state and the model-based residual at every sample; written as HDF5\n"
       "(schema: docs/dataset-format.md). Same seed, same bytes, whatever --threads.");

@@ -48,7 +48,7 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
       .range(0.0, 1.0);
   t->add("--fault-step", o.fault_step, "Step at which the fault starts (t = step·dt)").atLeast(0);
   t->add("--steps", o.steps, "Number of control steps (dt = 0.002 s)").range(1, 100000000);
-  t->add("--seed", o.seed, "Seed of the initial condition and goal draw (SPEC §3 safe set)");
+  t->add("--seed", o.seed, "Seed of the initial condition and goal draw (docs/control.md safe set)");
   t->add("--integrator", o.integrator, "Integrator: rk4 or euler (parity with the authors' code)")
       .choices({"rk4", "euler"});
   t->add("--output,-o", o.output, "Telemetry CSV to write; - for standard output");

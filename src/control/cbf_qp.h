@@ -1,4 +1,4 @@
-// CBF-QP safety filter (SPEC §3): the LQR command projected, every step, onto the set of
+// CBF-QP safety filter (docs/control.md): the LQR command projected, every step, onto the set of
 // motor commands that satisfy high-order control-barrier-function constraints.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Infinite-horizon discrete LQR about hover (SPEC §3).
+// Infinite-horizon discrete LQR about hover (docs/control.md).
 #pragma once
 
 #include <Eigen/Core>
@@ -25,9 +25,9 @@ struct LqrConfig {
 
   // Default: Bryson's rule, Q_ii = 1/x_max², R_jj = 1/u_max², with the maximum
   // acceptable deviations listed in lqr.cpp; chosen so the healthy loop settles from
-  // the SPEC §3 initial-condition set in about 2 s without long saturation.
+  // the docs/control.md initial-condition set in about 2 s without long saturation.
   static LqrConfig bryson();
-  // The authors' choice: Q = I, R = I on the forward-Euler discretisation (SPEC §3, §10).
+  // The authors' choice: Q = I, R = I on the forward-Euler discretisation (docs/control.md, docs/model.md).
   static LqrConfig authors();
 };
 

@@ -1,4 +1,4 @@
-// Algorithm 1's data side (seed §III-C, SPEC §5): every outer iteration samples N₁ fresh initial
+// Algorithm 1's data side (seed §III-C, docs/data.md): every outer iteration samples N₁ fresh initial
 // conditions, flies one trajectory per Θ value (motor 2 by default) from each, and pushes all
 // their windows into a FIFO buffer capped at N_buf windows.
 #pragma once

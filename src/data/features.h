@@ -1,4 +1,4 @@
-// Network inputs from windows (SPEC §6): feature sets, the symmetry map applied to the
+// Network inputs from windows (docs/networks.md): feature sets, the symmetry map applied to the
 // window, and position made relative to the window's first sample so that the detector
 // does not care where in the room the vehicle flies.
 #pragma once

@@ -1,4 +1,4 @@
-// Model-based residual (seed §III-B, SPEC §5): ỹ(k) = y(k) − ȳ(k), where ȳ(k) is the output of
+// Model-based residual (seed §III-B, docs/data.md): ỹ(k) = y(k) − ȳ(k), where ȳ(k) is the output of
 // the nominal fault-free model advanced one step from the true x(k−1) under the commanded u(k−1).
 #pragma once
 

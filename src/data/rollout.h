@@ -1,4 +1,4 @@
-// Batched, parallel generation of fault trajectories (SPEC §5, Algorithm 1's data side).
+// Batched, parallel generation of fault trajectories (docs/data.md, Algorithm 1's data side).
 // Each trajectory is a pure function of (seed, scenario index, job), so the output is
 // byte-identical whatever the thread count.
 #pragma once
@@ -18,17 +18,17 @@ namespace quadfdi {
 struct RolloutConfig {
   VehicleParams plant = nominalParams();             // the vehicle flown
   VehicleParams controller_model = nominalParams();  // what the controller is designed on
-  // The model behind the residual ỹ; SPEC §5: always the nominal parameters, which is what
+  // The model behind the residual ỹ; docs/data.md: always the nominal parameters, which is what
   // makes model-based FDI fragile when the plant is perturbed.
   VehicleParams residual_model = nominalParams();
   ControllerConfig controller;
   SamplingRanges ranges;
   Integrator integrator = Integrator::kRk4;
-  double dt = 0.002;        // [s] sample period (SPEC §2)
+  double dt = 0.002;        // [s] sample period (docs/model.md)
   int window = 100;         // T [samples]; trajectories hold 2T + 1 samples, fault at step T
   OutputKind output = OutputKind::kPositionEuler;
   // Random pre-roll: fly healthy for U{0 … preroll_max_steps} steps before sample 0, so that
-  // windows also come from settled flight (SPEC §5). 0 = the paper's distribution.
+  // windows also come from settled flight (docs/data.md). 0 = the paper's distribution.
   int preroll_max_steps = 0;
   std::uint64_t seed = 0;
 

@@ -32,7 +32,7 @@ struct NamedScale {
   std::string name;            // tiny | quick | default | paper
   DataScale data;              // what one outer iteration generates and the buffer keeps
   TrainSchedule training;
-  int test_flights_per_class;  // SPEC §7 test sets [flights per fault class]; the protocol: 2 000
+  int test_flights_per_class;  // docs/decisions.md test sets [flights per fault class]; the protocol: 2 000
 };
 
 // Every named scale, smallest first.

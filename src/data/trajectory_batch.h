@@ -1,4 +1,4 @@
-// Trajectories stored contiguously, trajectory-major (SPEC §5), and windows as views.
+// Trajectories stored contiguously, trajectory-major (docs/data.md), and windows as views.
 #pragma once
 
 #include <cstdint>
@@ -45,12 +45,12 @@ struct WindowRef {
   std::int32_t end_sample;  // k, inclusive
 };
 
-// The label of a window (SPEC §5): Θ if it holds at least one faulty sample (k > F), else ones.
+// The label of a window (docs/data.md): Θ if it holds at least one faulty sample (k > F), else ones.
 Input windowLabel(const TrajectoryBatch& batch, const WindowRef& w);
 int faultyLength(const TrajectoryBatch& batch, const WindowRef& w);  // max(0, k − F)
 
 // All windows of length `window` of every trajectory whose samples are valid and that end at
-// or after the fault step: k ∈ [max(T, F), length − 1] (SPEC §5: k ∈ [T, 2T]). Appends to `out`.
+// or after the fault step: k ∈ [max(T, F), length − 1] (docs/data.md: k ∈ [T, 2T]). Appends to `out`.
 void enumerateWindows(const TrajectoryBatch& batch, int window, std::vector<WindowRef>& out);
 
 }  // namespace quadfdi

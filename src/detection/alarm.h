@@ -1,4 +1,4 @@
-// Alarm persistence (issue 6): the raw rule min_k Θ̂_k < Θ_tol (SPEC §7) flips on a single
+// Alarm persistence (issue 6): the raw rule min_k Θ̂_k < Θ_tol (docs/decisions.md) flips on a single
 // noisy window. The filter raises an alarm only after `raise_after` consecutive evaluations put
 // the same motor below `raise_below`, and clears it only after every motor has stayed above
 // `clear_above` for `clear_after` samples (hysteresis).

@@ -1,4 +1,4 @@
-// The decision layer (SPEC §7): per-motor Θ̂ through the symmetry maps, the alarm rule and
+// The decision layer (docs/decisions.md): per-motor Θ̂ through the symmetry maps, the alarm rule and
 // isolation — ours (min over motors of the motor-2 read-back) and the paper's printed rule.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The paper's experiments (SPEC §7) as data: each is a set of conditions (model, test set,
+// The paper's experiments (docs/decisions.md) as data: each is a set of conditions (model, test set,
 // symmetry, decision rule) evaluated into accuracy-vs-faulty-length curves and summary metrics.
 // No I/O: the command line writes the tables and figures.
 #pragma once
@@ -34,7 +34,7 @@ struct ExperimentResult {
 // The test sets' size (from a named scale, data/scales.h).
 struct EvaluationScale {
   std::string name;           // the named scale it came from, for the report
-  int flights_per_class = 0;  // [flights per fault class]; SPEC §7 protocol: 2 000 (paper)
+  int flights_per_class = 0;  // [flights per fault class]; docs/decisions.md protocol: 2 000 (paper)
 };
 
 struct ExperimentInputs {

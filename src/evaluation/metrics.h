@@ -1,4 +1,4 @@
-// FDI metrics (SPEC §7) over per-window outcomes of a test set.
+// FDI metrics (docs/decisions.md) over per-window outcomes of a test set.
 #pragma once
 
 #include <vector>

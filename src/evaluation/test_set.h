@@ -1,4 +1,4 @@
-// Test sets (SPEC §7): healthy flights and flights of each fault class, 2T steps, fault at T,
+// Test sets (docs/decisions.md): healthy flights and flights of each fault class, 2T steps, fault at T,
 // every window k = T … 2T evaluated; each flight from its own initial condition.
 #pragma once
 

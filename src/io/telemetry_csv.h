@@ -1,4 +1,4 @@
-// Telemetry CSV (SPEC §8): header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4; SI units, the
+// Telemetry CSV (docs/conventions.md): header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4; SI units, the
 // conventions of model/state.h; u_i is the commanded thrust [N] (before the fault).
 #pragma once
 

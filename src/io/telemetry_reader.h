@@ -1,4 +1,4 @@
-// Reading flight telemetry (SPEC §8) for the detector: header names the columns (any order,
+// Reading flight telemetry (docs/conventions.md) for the detector: header names the columns (any order,
 // extra columns ignored), one sample per row. Rows are read one at a time so a live pipe works.
 #pragma once
 

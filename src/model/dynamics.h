@@ -1,4 +1,4 @@
-// Newton–Euler rigid-body dynamics of a quadrotor with the Crazyflie mixer (SPEC §2).
+// Newton–Euler rigid-body dynamics of a quadrotor with the Crazyflie mixer (docs/model.md).
 // Header-only inline so the integrator and the batched rollouts can inline it.
 #pragma once
 

@@ -1,4 +1,4 @@
-// One zero-order-hold step of the plant (SPEC §2): RK4 (default) or forward Euler
+// One zero-order-hold step of the plant (docs/model.md): RK4 (default) or forward Euler
 // (parity with the authors' code), with an optional first-order motor lag.
 #pragma once
 
@@ -17,13 +17,13 @@ struct PlantState {
   Input rotor_thrust = Input::Zero();  // [N]
 };
 
-// Why a step was cut (SPEC §2): a trajectory that leaves these bounds is flagged, never kept.
+// Why a step was cut (docs/model.md): a trajectory that leaves these bounds is flagged, never kept.
 enum class StepStatus { kOk, kNonFinite, kAttitudeLimit, kBelowGround };
 
 const char* toString(StepStatus s);
 const char* toString(Integrator i);
 
-// Physical bounds of a valid state (SPEC §2).
+// Physical bounds of a valid state (docs/model.md).
 struct StateBounds {
   double max_tilt_angle = 1.5;  // [rad] bound on |φ| and |θ|
   double min_altitude = 0.0;    // [m] z below this is a crash

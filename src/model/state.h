@@ -9,7 +9,7 @@
 
 namespace quadfdi {
 
-// 12-state rigid body, SPEC §2. World frame: z up. Body frame: x forward, y left, z up.
+// 12-state rigid body, docs/model.md. World frame: z up. Body frame: x forward, y left, z up.
 //   p  = (x, y, z)         world position            [m]
 //   v  = (u, v, w)         body-frame velocity        [m/s]
 //   η  = (φ, θ, ψ)         roll, pitch, yaw (ZYX)     [rad]
@@ -31,7 +31,7 @@ using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
 // Which measured quantities form y. The paper's text uses Euler angles, the
-// authors' final code body rates (SPEC §10); Euler angles are the default.
+// authors' final code body rates (docs/model.md); Euler angles are the default.
 enum class OutputKind { kPositionEuler, kPositionRates };
 
 inline Output outputOf(const State& x, OutputKind kind) {

@@ -14,7 +14,7 @@ VehicleParams nominalParams() { return VehicleParams{}; }
 
 VehicleParams perturbedParams() {
   VehicleParams p;
-  p.mass = 0.02;  // the code's value; the paper's table prints 0.015 (SPEC §10)
+  p.mass = 0.02;  // the code's value; the paper's table prints 0.015 (docs/model.md)
   p.inertia_xx = 2.0e-5;
   p.inertia_yy = 1.0e-5;
   p.inertia_zz = 3.0e-5;

@@ -12,7 +12,7 @@
 namespace quadfdi {
 namespace {
 
-constexpr double kIdentificationTolerance = 0.05;  // SPEC §7: |Θ̂ − Θ| ≤ 0.05
+constexpr double kIdentificationTolerance = 0.05;  // docs/decisions.md: |Θ̂ − Θ| ≤ 0.05
 constexpr std::uint64_t kHeldoutFirstScenario = 1ull << 40;  // disjoint from training streams
 
 struct Minibatch {

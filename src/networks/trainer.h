@@ -1,4 +1,4 @@
-// Algorithm 1 (seed §III-C, SPEC §6): fresh data every outer iteration, FIFO buffer, passes in
+// Algorithm 1 (seed §III-C, docs/networks.md): fresh data every outer iteration, FIFO buffer, passes in
 // minibatches with the hinge loss, Adam, and the stopping rule; checkpointed every iteration.
 #pragma once
 

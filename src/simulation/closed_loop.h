@@ -1,4 +1,4 @@
-// One closed-loop flight: controller → saturation → fault diag(Θ) → plant (SPEC §2, §3).
+// One closed-loop flight: controller → saturation → fault diag(Θ) → plant (docs/model.md, docs/control.md).
 // This is the reference implementation, written for clarity; batched generation
 // must agree with it.
 #pragma once

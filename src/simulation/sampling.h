@@ -1,4 +1,4 @@
-// Initial conditions and goals (SPEC §3): the "safe set" the authors sample from.
+// Initial conditions and goals (docs/control.md): the "safe set" the authors sample from.
 #pragma once
 
 #include "model/state.h"

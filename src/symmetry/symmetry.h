@@ -1,4 +1,4 @@
-// Dynamic symmetry of the quadrotor (SPEC §4): maps that send a fault of motor k
+// Dynamic symmetry of the quadrotor (docs/symmetry.md): maps that send a fault of motor k
 // to a fault of motor 2, acting on states, outputs, inputs, residuals and Θ.
 #pragma once
 

@@ -100,7 +100,7 @@ TEST(Lqr, WrapAngle) {
   EXPECT_DOUBLE_EQ(wrapAngle(-M_PI), M_PI);
 }
 
-// The healthy LQR loop settles from the SPEC §3 initial-condition set in about 2 s.
+// The healthy LQR loop settles from the docs/control.md initial-condition set in about 2 s.
 TEST(Lqr, SettlesFromSampledInitialConditionsWithoutFault) {
   const VehicleParams p = nominalParams();
   auto ctrl = test::makeOrDie(p, ControllerKind::kLqr);

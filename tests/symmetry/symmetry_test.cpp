@@ -46,7 +46,7 @@ TEST(ExactGroup, IsAGroupOfInvolutionsAndMatchesTheSpecsEulerRules) {
     const SymmetryMap g = mapMotorToMotor2(k, SymmetryMode::kExactGroup);
     EXPECT_EQ(g.applyToState(g.applyToState(x)), x);  // involution
   }
-  // SPEC §4: x→−x gives (φ, −θ, −ψ); y→−y gives (−φ, θ, −ψ); 180° gives (−φ, −θ, ψ).
+  // docs/symmetry.md: x→−x gives (φ, −θ, −ψ); y→−y gives (−φ, θ, −ψ); 180° gives (−φ, −θ, ψ).
   auto euler = [&](int k) { return mapMotorToMotor2(k, SymmetryMode::kExactGroup).applyToState(x).segment<3>(6); };
   EXPECT_EQ(euler(1), Vec3(7, -8, -9));
   EXPECT_EQ(euler(3), Vec3(-7, 8, -9));
