@@ -38,11 +38,16 @@ int runImport(const ImportCommandOptions& o) {
   writeTelemetryCsvHeader(out);
   TelemetrySample s;
   std::string problem;
-  long rows = 0;
-  while (log.source->next(s, problem) == SampleSource::Next::kSample) {
+  long rows = 0, skipped = 0;
+  for (SampleSource::Next n; (n = log.source->next(s, problem)) != SampleSource::Next::kEnd;) {
+    if (n == SampleSource::Next::kSkipped) {
+      if (!o.quiet && ++skipped <= 10) std::fprintf(stderr, "import: warning: %s\n", problem.c_str());
+      continue;
+    }
     writeTelemetryCsvRow(out, s);
     ++rows;
   }
+  if (!o.quiet && skipped > 10) std::fprintf(stderr, "import: warning: %ld more samples dropped\n", skipped - 10);
   out.flush();
   if (!out) throw std::runtime_error(o.output + ": write failed");
   const std::string report = log.source->report().text();

@@ -68,7 +68,7 @@ std::string where(const std::string& path, const LogIssue& issue, bool with_offs
 }  // namespace
 
 std::string resolveInputFormat(const std::string& path, const std::string& format) {
-  if (format != "auto") return format;
+  if (format != "auto" && format != "csv") return format;
   if (path == "-") return "csv";
   std::ifstream in(path, std::ios::binary);
   if (!in.is_open()) throw std::runtime_error(path + ": cannot open");
@@ -76,9 +76,15 @@ std::string resolveInputFormat(const std::string& path, const std::string& forma
   in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
   const ByteSpan span{head.data(), head.size()};
-  if (looksLikeUlog(span)) return "ulog";
-  if (looksLikeDataflash(span)) return "dataflash";
-  if (looksLikeCrazyflieUsd(span)) return "crazyflie";
+  const char* magic = looksLikeUlog(span)          ? "ulog"
+                      : looksLikeDataflash(span)   ? "dataflash"
+                      : looksLikeCrazyflieUsd(span) ? "crazyflie"
+                                                    : nullptr;
+  if (magic && format == "csv")
+    throw std::runtime_error(path + ": byte 0: --format csv, but the file starts with the " + magic +
+                             " magic; use --format auto or " + magic);
+  if (magic) return magic;
+  if (format == "csv") return "csv";
   for (std::uint8_t b : head)
     if (b == 0 || (b < 0x20 && b != '\t' && b != '\n' && b != '\r'))
       throw std::runtime_error(path + ": unknown format: binary, but no ULog, DataFlash or Crazyflie micro-SD magic at "

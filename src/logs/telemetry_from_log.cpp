@@ -269,16 +269,19 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
     no_flight_why = "the armed/landed events never show the vehicle armed and not landed";
   } else {
     const SignalSeries<3>& p = signals.position;
-    std::vector<double> z(p.v.size());
-    for (std::size_t i = 0; i < z.size(); ++i) z[i] = p.v[i][2];
-    const double ground = percentile(z, 0.01);
+    std::vector<double> z(p.v.size()), finite_z;
+    for (std::size_t i = 0; i < z.size(); ++i) {
+      z[i] = p.v[i][2];
+      if (std::isfinite(z[i])) finite_z.push_back(z[i]);
+    }
+    const double ground = percentile(finite_z, 0.01);
     std::size_t cursor = 0;
     std::vector<double> total(p.t.size(), 0.0);
     std::vector<double> high_totals;
     for (std::size_t i = 0; i < p.t.size(); ++i) {
       if (p.t[i] < signals.command.t.front()) continue;
       total[i] = totalCommand(held(signals.command, p.t[i], cursor));
-      if (z[i] - ground > o.airborne_height) high_totals.push_back(total[i]);
+      if (z[i] - ground > o.airborne_height && std::isfinite(total[i])) high_totals.push_back(total[i]);
     }
     const double ref = percentile(high_totals, 0.5);
     rep.phase_rule = "no armed/landed events: airborne while " + num(o.airborne_height, "%g") + " m above the ground level (" +
@@ -450,7 +453,10 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   // --- The clock. ---
   long total = 0;
   for (const Span& m : merged) {
-    const long n = static_cast<long>(std::floor(m.length() / o.dt + 1e-9)) + 1;
+    const double count = std::floor(m.length() / o.dt + 1e-9) + 1.0;
+    if (!(count < 1e12))  // 63 years at 500 Hz: a damaged clock, not a flight
+      return {"", "an evaluated stretch of " + num(m.length(), "%g") + " s is implausibly long (damaged timestamps?)"};
+    const auto n = static_cast<long>(count);
     out.stretches_.push_back({m.a, n});
     total += n;
   }
@@ -463,7 +469,7 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   return {};
 }
 
-SampleSource::Next LogSampleSource::next(TelemetrySample& sample, std::string& /*problem*/) {
+SampleSource::Next LogSampleSource::next(TelemetrySample& sample, std::string& problem) {
   while (stretch_ < stretches_.size() && index_ >= stretches_[stretch_].count) {
     ++stretch_;
     index_ = 0;
@@ -481,6 +487,18 @@ SampleSource::Next LogSampleSource::next(TelemetrySample& sample, std::string& /
   }
   for (std::size_t k = 0; k < kMotors; ++k) sample.u[k] = u[k] * scale_;
   last_t_ = t;
+  // Extractors pass what the log holds; a non-finite value is dropped like a bad CSV row.
+  const char* bad = nullptr;
+  for (std::size_t k = 0; k < 3 && !bad; ++k) {
+    if (!std::isfinite(p[k])) bad = "position";
+    else if (!std::isfinite(a[k])) bad = "attitude";
+  }
+  for (std::size_t k = 0; k < kMotors && !bad; ++k)
+    if (!std::isfinite(sample.u[k])) bad = "commands";
+  if (bad) {
+    problem = where() + ": non-finite " + bad + " value: sample dropped";
+    return Next::kSkipped;
+  }
   return Next::kSample;
 }
 

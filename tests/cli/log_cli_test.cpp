@@ -53,6 +53,23 @@ TEST(LogCli, DetectReadsAPx4LogByItsMagicAndNamesTheFaultAndThePhase) {
   EXPECT_GT(countLines(readFile(out)), 500);
 }
 
+TEST(LogCli, AHealthyCrazyflieFlightFromTheGroundRaisesNoAlarmAndNamesItsPhase) {
+  const std::string log = temp("healthy_cf00");
+  writeBytes(log, quadfdi::test::writeCrazyflieMission(quadfdi::test::simulateMission(0, 1.0, -1.0)));
+  const CommandResult r = run("detect --input " + log + " --output " + temp("healthy.jsonl"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "detect: no fault:")) << r.out;
+  EXPECT_TRUE(contains(r.out, "Crazyflie micro-SD, evaluated 1 of 1 airborne phase (no armed/landed events")) << r.out;
+  EXPECT_TRUE(contains(r.out, "the log's commands are thrust per motor in newtons")) << r.out;
+}
+
+TEST(LogCli, FormatCsvOnALogSaysWhatTheFileIs) {
+  const CommandResult r = run("detect --format csv --input " + faultyUlog());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, faultyUlog() + ": byte 0: --format csv, but the file starts with the ulog magic")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+}
+
 TEST(LogCli, ImportWritesCsvThatDetectsTheSameAndPrintsTheReport) {
   const std::string csv = temp("imported.csv");
   const CommandResult r = run("import " + faultyUlog() + " --max-thrust 0.15 -o " + csv);
