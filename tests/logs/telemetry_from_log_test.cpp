@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -288,6 +289,9 @@ class LogDetection : public ::testing::Test {
     EXPECT_EQ(log.summary.first_alarm_motor, csv.summary.first_alarm_motor) << rep.text();
     EXPECT_GT(log.summary.first_alarm_t, m.fault_at);
     EXPECT_NEAR(log.summary.first_alarm_t, csv.summary.first_alarm_t, 0.016) << rep.text();
+    std::printf("[ measured ] %s, motor %d failing at %.3f s: first alarm via the log %.3f s (motor %d), via CSV %.3f s (motor %d)\n",
+                rep.format.c_str(), motor, m.fault_at, log.summary.first_alarm_t, log.summary.first_alarm_motor,
+                csv.summary.first_alarm_t, csv.summary.first_alarm_motor);
   }
   static void expectQuietLanding(const std::vector<std::uint8_t>& bytes, const test::Mission& m, const char* rule) {
     LogSampleSource src;
