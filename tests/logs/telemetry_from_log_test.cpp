@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -223,12 +224,17 @@ class LogDetection : public ::testing::Test {
   struct Result {
     DetectorSummary summary;
     long outputs = 0;
+    float lowest = 1.0f;  // lowest Θ̂ of any motor over the flight
   };
   class CountingSink : public DetectionSink {
    public:
-    void output(const DetectorOutput&) override { ++outputs; }
+    void output(const DetectorOutput& d) override {
+      ++outputs;
+      for (float t : d.theta) lowest = std::min(lowest, t);
+    }
     void warning(const std::string&) override {}
     long outputs = 0;
+    float lowest = 1.0f;
   };
   static Result detect(SampleSource& source) {
     DetectorConfig c;
@@ -238,7 +244,7 @@ class LogDetection : public ::testing::Test {
     CountingSink sink;
     const SessionResult r = runDetection(d, source, sink, SessionConfig{});
     EXPECT_EQ(r.status, SessionStatus::kDone);
-    return {d.summary(), sink.outputs};
+    return {d.summary(), sink.outputs, sink.lowest};
   }
   // The CSV path: the flight's own 500 Hz samples from `from` on, written and read as CSV.
   static Result detectCsv(const test::Mission& m, double from) {
@@ -307,6 +313,8 @@ class LogDetection : public ::testing::Test {
     EXPECT_LT(rep.phases[0].eval_end, m.landed_at);
     EXPECT_GT(rep.phases[0].eval_end - rep.phases[0].eval_begin, 5.0) << rep.text();
     EXPECT_GT(log.outputs, 2000);
+    std::printf("[ measured ] %s, healthy: %s; lowest Θ̂ %.2f, %ld alarms\n", rep.format.c_str(), rep.phasesLine().c_str(),
+                static_cast<double>(log.lowest), log.summary.alarms_raised);
   }
   static std::unique_ptr<TrainedModel> model_;
 };
