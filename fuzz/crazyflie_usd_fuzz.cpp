@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "conventions_check.h"
 #include "fuzz_support.h"
 #include "logs/crazyflie_signals.h"
 #include "logs/crazyflie_usd.h"
@@ -42,6 +43,7 @@ void extract(const DecodedLog& log, CrazyflieThrustMap map) {
   QUADFDI_FUZZ_CHECK(s.command_kind == CommandKind::kThrustNewton && !s.conventions.empty());
   for (const auto& f : s.command.v)
     for (double x : f) QUADFDI_FUZZ_CHECK(x >= -1.0 && x <= 10.0);  // [N] bounded by the maps' ranges
+  checkConventionsLayer(s, log.format, false);
 }
 
 }  // namespace

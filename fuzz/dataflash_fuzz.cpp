@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "conventions_check.h"
 #include "fuzz_support.h"
 #include "logs/ardupilot_signals.h"
 #include "logs/dataflash.h"
@@ -58,5 +59,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const auto& a : signals.attitude.v)
     if (std::isfinite(a[2])) QUADFDI_FUZZ_CHECK(a[2] >= -3.2 && a[2] <= 3.2);
   for (std::size_t k = 1; k < signals.states.size(); ++k) QUADFDI_FUZZ_CHECK(signals.states[k].t >= signals.states[k - 1].t);
+  checkConventionsLayer(signals, log.format, size % 2 == 0);
   return 0;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "conventions_check.h"
 #include "fuzz_support.h"
 #include "logs/px4_signals.h"
 #include "logs/ulog.h"
@@ -34,5 +35,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (double x : a) QUADFDI_FUZZ_CHECK(std::isfinite(x));
   for (const auto& u : signals.command.v)
     for (double x : u) QUADFDI_FUZZ_CHECK(x >= 0.0 && x <= 1.0);
+  checkConventionsLayer(signals, log.format, size % 2 == 0);
   return 0;
 }

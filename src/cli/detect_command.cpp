@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "cli/cli_util.h"
+#include "cli/detection_plot.h"
 #include "detection/session.h"
 #include "io/atomic_file.h"
 #include "io/model_file.h"
@@ -28,10 +29,15 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
       "detect",
       "Online fault detection on flight telemetry (docs/conventions.md): reads the CSV t,x,y,z,roll,pitch,yaw,u1..u4\n"
       "(SI units, z up, ZYX Euler angles, u = commanded thrust per motor [N], Crazyflie numbering; extra\n"
-      "columns ignored; any rate down to 125 Hz, resampled to the model's), writes one JSON object per\n"
-      "sample from the first full window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"}. A summary goes to stderr.");
+      "columns ignored; any rate down to 125 Hz, resampled to the model's) or a flight log (PX4 ULog,\n"
+      "ArduPilot DataFlash, Crazyflie micro-SD: recognised from its content, airborne phases only), writes\n"
+      "one JSON object per sample from the first full window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"}.\n"
+      "A summary goes to stderr.");
   cmd->add_option("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)");
-  cmd->add_option("--input,-i", o.input, "Telemetry CSV, or - for standard input (streamed line by line)")->capture_default_str();
+  cmd->add_option("--input,-i", o.input,
+                  "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)")
+      ->capture_default_str();
+  cmd->add_option("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
   cmd->add_option("--output,-o", o.output, "JSON Lines output, or - for standard output")->capture_default_str();
   cmd->add_option("--stride", o.stride, "Evaluate every N samples while all Θ̂ are above --watch (extra first-look delay ≤ N−1 samples)")
       ->capture_default_str()->check(CLI::Range(1, 1000));
@@ -48,6 +54,7 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   cmd->add_option("--max-input-period", o.max_input_period, "Refuse logs sampled coarser than this [s]")->capture_default_str();
   cmd->add_option("--max-gap", o.max_gap, "A longer hole in the log restarts the detector [s]")->capture_default_str();
   cmd->add_flag("--quiet,-q", o.quiet, "No summary or warnings on stderr (errors still go there)");
+  addLogInputOptions(cmd, o.log);
   return cmd;
 }
 
@@ -82,6 +89,22 @@ class JsonLinesSink : public DetectionSink {
   bool quiet_;
 };
 
+// Keeps every output for the plot, then passes it on.
+class RecordingSink : public DetectionSink {
+ public:
+  RecordingSink(DetectionSink& next, std::vector<DetectorOutput>* record) : next_(next), record_(record) {}
+  void output(const DetectorOutput& d) override {
+    if (record_) record_->push_back(d);
+    next_.output(d);
+  }
+  void warning(const std::string& text) override { next_.warning(text); }
+  void idle() override { next_.idle(); }
+
+ private:
+  DetectionSink& next_;
+  std::vector<DetectorOutput>* record_;
+};
+
 }  // namespace
 
 int runDetect(const DetectOptions& o) {
@@ -111,23 +134,38 @@ int runDetect(const DetectOptions& o) {
     throw std::runtime_error(model_path + ": " + e.what());
   }
 
+  if (!o.plot.empty()) requireGnuplot();  // before any work
   const bool live = o.input == "-";
+  const std::string format = resolveInputFormat(o.input, o.log.format);
   std::ios::sync_with_stdio(false);  // buffered standard input: the reader asks it what is waiting
   std::ifstream file;
-  if (!live) {
-    file.open(o.input);
-    require(file.is_open(), o.input + ": cannot open");
-  }
   const std::string name = live ? std::string("<stdin>") : o.input;
-  TelemetryReader reader(live ? std::cin : file, name);  // throws on an empty file or a bad header
+  std::unique_ptr<TelemetryReader> csv;
+  OpenedLog log;
+  SampleSource* source = nullptr;
+  if (format == "csv") {
+    if (!live) {
+      file.open(o.input);
+      require(file.is_open(), o.input + ": cannot open");
+    }
+    csv = std::make_unique<TelemetryReader>(live ? std::cin : file, name);  // throws on an empty file or a bad header
+    source = csv.get();
+  } else {
+    log = openFlightLog(o.input, format, o.log, m.dt, o.max_gap);  // throws one line naming file, byte, topic
+    source = log.source.get();
+    if (!o.quiet)
+      for (const std::string& w : log.warnings) std::fprintf(stderr, "detect: warning: %s\n", w.c_str());
+  }
 
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;
-  JsonLinesSink sink(out, o.quiet);
+  JsonLinesSink json(out, o.quiet);
+  std::vector<DetectorOutput> recorded;
+  RecordingSink sink(json, o.plot.empty() ? nullptr : &recorded);
   SessionConfig session;
   session.live = live;
-  const SessionResult r = runDetection(*detector, reader, sink, session);
+  const SessionResult r = runDetection(*detector, *source, sink, session);
   if (r.status == SessionStatus::kNotIncreasing)
     throw TelemetryError(r.where + ": time goes backwards or repeats (t = " + std::to_string(r.t) + " s)");
   if (r.status == SessionStatus::kTooCoarse)
@@ -139,7 +177,26 @@ int runDetect(const DetectOptions& o) {
   out.flush();
   if (!out) throw std::runtime_error(o.output + ": write failed");
   if (file_out) file_out->commit();
+  if (!o.plot.empty()) {
+    DetectionPlotData plot;
+    plot.outputs = std::move(recorded);
+    plot.max_gap = o.max_gap;
+    if (log.source) {
+      for (const PhaseReport& p : log.source->report().phases)
+        if (p.evaluated) plot.phases.push_back({p.eval_begin, p.eval_end});
+      plot.title = o.input + " (" + log.source->report().format + "): estimated motor effectiveness";
+    } else {
+      if (!plot.outputs.empty()) plot.phases.push_back({plot.outputs.front().t, plot.outputs.back().t});
+      plot.title = name + ": estimated motor effectiveness";
+    }
+    plotDetections(plot, o.plot);
+  }
   if (!o.quiet) {
+    if (log.source) {
+      const ImportReport& rep = log.source->report();
+      std::fprintf(stderr, "detect: %s, %s\n", rep.format.c_str(), rep.phasesLine().c_str());
+      std::fprintf(stderr, "detect: thrust: %s\n", rep.thrust.c_str());
+    }
     if (s.outputs == 0)
       std::fprintf(stderr, "detect: %s: %ld samples, shorter than one window (%.2f s): no decision\n", name.c_str(),
                    s.input_samples, m.window * m.dt);

@@ -3,6 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "cli/log_input.h"
+
 namespace quadfdi::cli {
 
 struct DetectOptions {
@@ -19,6 +21,8 @@ struct DetectOptions {
   double max_input_period = 0.008;  // [s]
   double max_gap = 0.02;            // [s]
   bool quiet = false;
+  std::string plot;                 // PNG of Θ̂ against time; empty: none
+  LogInputOptions log;              // flight logs (PX4, ArduPilot, Crazyflie): shared with `import`
 };
 
 CLI::App* addDetectCommand(CLI::App& app, DetectOptions& options);

@@ -6,6 +6,7 @@
 #include "cli/detect_command.h"
 #include "cli/evaluate_command.h"
 #include "cli/generate_command.h"
+#include "cli/import_command.h"
 #include "cli/interrupt.h"
 #include "cli/simulate_command.h"
 #ifdef QUADFDI_WITH_TRAINING
@@ -35,6 +36,8 @@ int main(int argc, char** argv) {
   CLI::App* evaluate_cmd = quadfdi::cli::addEvaluateCommand(app, evaluate);
   quadfdi::cli::DetectOptions detect;
   CLI::App* detect_cmd = quadfdi::cli::addDetectCommand(app, detect);
+  quadfdi::cli::ImportCommandOptions import_options;
+  CLI::App* import_cmd = quadfdi::cli::addImportCommand(app, import_options);
   try {
     // Parsing also resolves the converted commands' option tables (cli/options.h): a bad value,
     // or a bad --config file, throws a one-line OptionError / ConfigError, reported below (exit 1).
@@ -48,6 +51,7 @@ int main(int argc, char** argv) {
     if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate);
     if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate);
     if (detect_cmd->parsed()) return quadfdi::cli::runDetect(detect);
+    if (import_cmd->parsed()) return quadfdi::cli::runImport(import_options);
     std::string command_line = "quadfdi";
     for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];
     if (evaluate_cmd->parsed()) return quadfdi::cli::runEvaluate(evaluate, command_line);

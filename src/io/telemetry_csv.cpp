@@ -14,6 +14,15 @@ void put(std::ostream& out, double v) {
 
 }  // namespace
 
+void writeTelemetryCsvHeader(std::ostream& out) { out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n"; }
+
+void writeTelemetryCsvRow(std::ostream& out, const TelemetrySample& s) {
+  put(out, s.t);
+  for (double v : s.y) { out << ','; put(out, v); }
+  for (double v : s.u) { out << ','; put(out, v); }
+  out << '\n';
+}
+
 void writeTelemetryCsv(std::ostream& out, const FlightLog& log, const TelemetryCsvOptions& options) {
   out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4";
   if (options.full_state) out << ",vx,vy,vz,p,q,r,f1,f2,f3,f4,status";

@@ -4,6 +4,7 @@
 
 #include <ostream>
 
+#include "core/types.h"
 #include "simulation/closed_loop.h"
 
 namespace quadfdi {
@@ -16,5 +17,10 @@ struct TelemetryCsvOptions {
 // Writes the header and one row per logged step. Numbers use the shortest text that
 // reads back to the same double.
 void writeTelemetryCsv(std::ostream& out, const FlightLog& log, const TelemetryCsvOptions& options);
+
+// The same columns one sample at a time (converted flight logs, `quadfdi import`): the header
+// t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4, then one row per sample, numbers as above.
+void writeTelemetryCsvHeader(std::ostream& out);
+void writeTelemetryCsvRow(std::ostream& out, const TelemetrySample& sample);
 
 }  // namespace quadfdi

@@ -41,7 +41,7 @@ std::string fmt(double v) {
 }
 
 LogIssue missing(const std::string& topic, const std::string& what) {
-  return LogIssue{LogStatus::kCorrupt, 0, topic, what};
+  return LogIssue{LogStatus::kMissingSignal, 0, topic, what};
 }
 
 const double* column(const LogTopic& t, const char* name) {

@@ -26,7 +26,8 @@
 //    28 NOT_LANDED (AP_Logger.h enum LogEvent) and ARM ArmState (1 armed, 0 disarmed); one
 //    FlightStateEvent per change, starting disarmed and landed.
 // A missing ATT, position or RCOU, or a frame that is not quad X (FRAME_CLASS 1, FRAME_TYPE 1
-// where logged), comes back as a LogIssue (status kCorrupt, topic = the message or PARM).
+// where logged), comes back as a LogIssue (status kMissingSignal for a missing message or field, kCorrupt for
+// unusable parameters or another frame; topic = the message or PARM).
 #pragma once
 
 #include "logs/decoded_log.h"

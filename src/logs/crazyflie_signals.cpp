@@ -56,9 +56,9 @@ std::string join(const std::vector<std::string>& v) {
   return s;
 }
 
-LogIssue refuse(const std::string& topic, const std::string& message) {
+LogIssue refuse(const std::string& topic, const std::string& message, LogStatus status = LogStatus::kCorrupt) {
   LogIssue i;
-  i.status = LogStatus::kCorrupt;
+  i.status = status;
   i.topic = topic;
   i.message = message;
   return i;
@@ -153,7 +153,7 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
     msg += o.thrust_map == CrazyflieThrustMap::kBatteryVoltage ? " and pwm.m1_pwm..m4_pwm with pm.vbatMV"
                                                                : " and motor commands (motor.m1..m4)";
     msg += "; add them to the deck's config.txt";
-    return refuse(missing.front(), msg);
+    return refuse(missing.front(), msg, LogStatus::kMissingSignal);
   }
 
   // --- The time origin: the log's first record. ---

@@ -42,10 +42,10 @@ struct CrazyflieSignalOptions {
 
 // Position (stateEstimate.x/y/z), attitude (stateEstimate.roll/pitch/yaw, or stabilizer.*) and
 // per-motor thrust (motor.m1..m4) → `out`, each at its own rate, time from the log's first
-// record. Every convention applied is a line of out.conventions. A missing variable, rows whose
-// time does not increase, or an empty series → a LogIssue (status kCorrupt — LogStatus has no
-// "missing signal" — offset 0, topic = the first missing variable) whose message names every
-// missing variable; `out` is then incomplete.
+// record. Every convention applied is a line of out.conventions. A missing variable → a LogIssue
+// (status kMissingSignal, offset 0, topic = the first missing variable) whose message names every
+// missing variable; rows whose time does not increase, or an empty series → status kCorrupt;
+// `out` is then incomplete.
 LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOptions& options, FlightSignals& out);
 
 }  // namespace quadfdi

@@ -38,6 +38,7 @@ const char* toString(LogStatus s) {
     case LogStatus::kTruncated: return "truncated";
     case LogStatus::kCorrupt: return "corrupt";
     case LogStatus::kTooLarge: return "too large";
+    case LogStatus::kMissingSignal: return "missing signal";
   }
   return "?";
 }

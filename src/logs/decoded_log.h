@@ -79,6 +79,7 @@ enum class LogStatus {
   kTruncated,           // ends before a required part (header, definitions) is complete
   kCorrupt,             // a message contradicts the format (bad size, unknown id where one is required, bad checksum)
   kTooLarge,            // a declared size beyond what the reader accepts (protects memory)
+  kMissingSignal,       // well-formed, but a topic/field the extractor needs is not logged (extractors only)
 };
 const char* toString(LogStatus s);
 

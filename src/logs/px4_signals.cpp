@@ -31,9 +31,9 @@
 namespace quadfdi {
 namespace {
 
-LogIssue missing(const std::string& topic, const std::string& what) {
+LogIssue missing(const std::string& topic, const std::string& what, LogStatus status = LogStatus::kMissingSignal) {
   LogIssue issue;
-  issue.status = LogStatus::kCorrupt;
+  issue.status = status;
   issue.topic = topic;
   issue.message = what;
   return issue;
@@ -152,7 +152,7 @@ std::string motorTable(const Px4SignalOptions& o) {
 LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options, FlightSignals& out) {
   for (int index : options.px4_motor_for_quadfdi)
     if (index < 0 || index > 15)
-      return missing("", "px4_motor_for_quadfdi holds " + std::to_string(index) + ", not a PX4 motor index 0..15");
+      return missing("", "px4_motor_for_quadfdi holds " + std::to_string(index) + ", not a PX4 motor index 0..15", LogStatus::kCorrupt);
   out.command_kind = CommandKind::kThrustFraction;
   std::size_t skipped = 0;
   const LogTopic* motors = options.prefer_actuator_motors ? findNonEmpty(log, "actuator_motors") : nullptr;
@@ -194,7 +194,8 @@ LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options,
       if (!(hi[k] > lo[k]))
         return missing("actuator_outputs", "PWM range of output " + std::to_string(channel + 1) + " is empty (" +
                                                lo_source + " " + std::to_string(lo[k]) + ", " + hi_source + " " +
-                                               std::to_string(hi[k]) + ")");
+                                               std::to_string(hi[k]) + ")",
+                     LogStatus::kCorrupt);
       limits += (k ? ", " : "") + std::to_string(static_cast<int>(lo[k])) + "–" + std::to_string(static_cast<int>(hi[k])) +
                 " (" + lo_source + "/" + hi_source + ")";
     }

@@ -21,7 +21,7 @@ struct Px4SignalOptions {
 // Position (vehicle_local_position), attitude (vehicle_attitude), per-motor commands
 // (actuator_motors, else actuator_outputs) and armed/landed states (vehicle_status,
 // vehicle_land_detected; optional). A missing required topic or field gives a LogIssue naming
-// it (status kCorrupt: the decoded log lacks what a PX4 flight log must hold for detection).
+// it (status kMissingSignal: the decoded log lacks what a PX4 flight log must hold for detection).
 LogIssue extractPx4Signals(const DecodedLog& log, const Px4SignalOptions& options, FlightSignals& out);
 
 }  // namespace quadfdi

@@ -4,6 +4,7 @@
 
 #include "io/key_value.h"
 #include "io/telemetry_csv.h"
+#include "io/telemetry_reader.h"
 
 namespace quadfdi {
 namespace {
@@ -47,6 +48,24 @@ TEST(TelemetryCsv, HeaderRowsAndExactRoundTrip) {
   writeTelemetryCsv(full, log, o);
   EXPECT_EQ(full.str().substr(0, full.str().find('\n')),
             "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,vx,vy,vz,p,q,r,f1,f2,f3,f4,status");
+}
+
+TEST(TelemetryCsv, SampleRowsReadBackExactlyThroughTheReader) {
+  TelemetrySample a;
+  a.t = 12.3456789;
+  a.y = {0.1, -1.0 / 3.0, 1.25, 3.14159, -0.002, 1e-9};
+  a.u = {0.07, 0.071, 1.0 / 7.0, 0.0015};
+  std::stringstream csv;
+  writeTelemetryCsvHeader(csv);
+  writeTelemetryCsvRow(csv, a);
+  TelemetryReader reader(csv, "rows.csv");
+  TelemetrySample b;
+  std::string problem;
+  ASSERT_EQ(reader.next(b, problem), SampleSource::Next::kSample) << problem;
+  EXPECT_EQ(b.t, a.t);
+  EXPECT_EQ(b.y, a.y);
+  EXPECT_EQ(b.u, a.u);
+  EXPECT_EQ(reader.next(b, problem), SampleSource::Next::kEnd);
 }
 
 }  // namespace

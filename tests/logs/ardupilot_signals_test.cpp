@@ -282,7 +282,7 @@ TEST(ArdupilotSignals, MissingMessagesAreNamed) {
     rcou(w, 1000, {1000, 1000, 1000, 1000});
     FlightSignals s;
     const LogIssue issue = extract(w, s);
-    EXPECT_EQ(issue.status, LogStatus::kCorrupt);
+    EXPECT_EQ(issue.status, LogStatus::kMissingSignal);
     EXPECT_EQ(issue.topic, "ATT");
   }
   {

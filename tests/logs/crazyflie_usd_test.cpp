@@ -482,6 +482,7 @@ TEST(CrazyflieSignals, MissingPitchIsNamed) {
   FlightSignals s;
   const LogIssue i = extract(syntheticLog(false), s);
   ASSERT_FALSE(i.ok());
+  EXPECT_EQ(i.status, LogStatus::kMissingSignal);
   EXPECT_EQ(i.topic, "stateEstimate.pitch");
   EXPECT_EQ(i.message.rfind("the log has no stateEstimate.pitch (nor the fallback stabilizer.roll/pitch/yaw)", 0), 0u)
       << i.message;

@@ -1,0 +1,153 @@
+#include "cli/log_input.h"
+
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include "logs/ardupilot_signals.h"
+#include "logs/crazyflie_signals.h"
+#include "logs/crazyflie_usd.h"
+#include "logs/dataflash.h"
+#include "logs/px4_signals.h"
+#include "logs/ulog.h"
+
+namespace quadfdi::cli {
+
+void addLogInputOptions(CLI::App* cmd, LogInputOptions& o) {
+  cmd->add_option("--format", o.format,
+                  "Input format: auto (from the content: ULog, DataFlash or Crazyflie magic, else CSV), csv, ulog, "
+                  "dataflash, crazyflie")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "csv", "ulog", "dataflash", "crazyflie"}));
+  cmd->add_option("--max-thrust", o.max_thrust,
+                  "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--mass", o.mass,
+                  "Logs with thrust-fraction commands: the vehicle's mass [kg]; without --max-thrust the thrust scale is "
+                  "calibrated from the log's own steady hover")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--hover-calibrate", o.hover_calibrate,
+                "Calibrate the thrust scale from the log's steady hover even when --max-thrust is given (needs --mass)");
+  cmd->add_option("--min-rate-attitude", o.min_rate_attitude, "Refuse logs whose attitude is logged slower than this [Hz]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--min-rate-command", o.min_rate_command, "Refuse logs whose motor commands are logged slower than this [Hz]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--min-rate-position", o.min_rate_position, "Refuse logs whose position is logged slower than this [Hz]")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  cmd->add_option("--settle-after-takeoff", o.settle_after_takeoff, "Skipped after each take-off [s]")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_option("--settle-before-landing", o.settle_before_landing, "Skipped before each controlled landing [s]")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--phases-by-rule", o.phases_by_rule,
+                "Find airborne phases from height and thrust even when the log has armed/landed events");
+  cmd->add_option("--ekf-core", o.ekf_core, "ArduPilot: the EKF core whose position is used")
+      ->capture_default_str()->check(CLI::Range(0, 255));
+  cmd->add_option("--cf-thrust-map", o.crazyflie_thrust,
+                  "Crazyflie: motor command → thrust: auto (battery model when pwm.* and pm.vbatMV are logged), duty, battery")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "duty", "battery"}));
+}
+
+namespace {
+
+std::vector<std::uint8_t> readAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) throw std::runtime_error(path + ": cannot open");
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw std::runtime_error(path + ": read failed");
+  return bytes;
+}
+
+std::string where(const std::string& path, const LogIssue& issue, bool with_offset) {
+  std::string s = path + ": ";
+  if (with_offset) s += "byte " + std::to_string(issue.offset) + (issue.topic.empty() ? ": " : ", ");
+  if (!issue.topic.empty()) s += "topic " + issue.topic + ": ";
+  return s + issue.message;
+}
+
+}  // namespace
+
+std::string resolveInputFormat(const std::string& path, const std::string& format) {
+  if (format != "auto" && format != "csv") return format;
+  if (path == "-") return "csv";
+  std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) throw std::runtime_error(path + ": cannot open");
+  std::vector<std::uint8_t> head(512);
+  in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const ByteSpan span{head.data(), head.size()};
+  const char* magic = looksLikeUlog(span)          ? "ulog"
+                      : looksLikeDataflash(span)   ? "dataflash"
+                      : looksLikeCrazyflieUsd(span) ? "crazyflie"
+                                                    : nullptr;
+  if (magic && format == "csv")
+    throw std::runtime_error(path + ": byte 0: --format csv, but the file starts with the " + magic +
+                             " magic; use --format auto or " + magic);
+  if (magic) return magic;
+  if (format == "csv") return "csv";
+  for (std::uint8_t b : head)
+    if (b == 0 || (b < 0x20 && b != '\t' && b != '\n' && b != '\r'))
+      throw std::runtime_error(path + ": unknown format: binary, but no ULog, DataFlash or Crazyflie micro-SD magic at "
+                               "byte 0 (and not CSV telemetry); --format names one");
+  return "csv";
+}
+
+OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o, double dt,
+                        double max_gap) {
+  if (path == "-") throw std::runtime_error("flight logs (--format " + format + ") are read from a file, not standard input");
+  const std::vector<std::uint8_t> bytes = readAll(path);
+  const ByteSpan span{bytes.data(), bytes.size()};
+  DecodedLog log;
+  LogIssue issue;
+  if (format == "ulog") issue = readUlog(span, log);
+  else if (format == "dataflash") issue = readDataflash(span, log);
+  else if (format == "crazyflie") issue = readCrazyflieUsd(span, log);
+  else throw std::runtime_error(path + ": unknown format '" + format + "'");
+  if (!issue.ok()) throw std::runtime_error(where(path, issue, true));
+
+  OpenedLog opened;
+  for (const std::string& w : log.warnings) opened.warnings.push_back(path + ": " + w);
+
+  quadfdi::ImportOptions io;
+  io.dt = dt;
+  io.min_rate_attitude = o.min_rate_attitude;
+  io.min_rate_command = o.min_rate_command;
+  io.min_rate_position = o.min_rate_position;
+  io.max_thrust = o.max_thrust;
+  io.mass = o.mass;
+  io.hover_calibrate = o.hover_calibrate;
+  io.settle_after_takeoff = o.settle_after_takeoff;
+  io.settle_before_landing = o.settle_before_landing;
+  io.use_events = !o.phases_by_rule;
+  io.max_hole = max_gap;
+  io.restart_gap = max_gap;
+
+  FlightSignals signals;
+  if (format == "ulog") {
+    issue = extractPx4Signals(log, Px4SignalOptions{}, signals);
+  } else if (format == "dataflash") {
+    ArdupilotSignalOptions a;
+    a.ekf_core = o.ekf_core;
+    issue = extractArdupilotSignals(log, a, signals);
+  } else {
+    CrazyflieSignalOptions c;
+    c.thrust_map = o.crazyflie_thrust == "duty"      ? CrazyflieThrustMap::kQuadraticDuty
+                   : o.crazyflie_thrust == "battery" ? CrazyflieThrustMap::kBatteryVoltage
+                                                     : CrazyflieThrustMap::kAuto;
+    issue = extractCrazyflieSignals(log, c, signals);
+  }
+  if (!issue.ok()) {
+    // A missing signal names itself; a log that is also too coarse says so in the same line.
+    std::string line = where(path, issue, issue.status != LogStatus::kMissingSignal && issue.offset != 0);
+    if (issue.status == LogStatus::kMissingSignal) line += coarseTopicsNote(log, io);
+    throw std::runtime_error(line);
+  }
+  opened.source = std::make_unique<LogSampleSource>();
+  const ImportRefusal refusal = buildLogSampleSource(std::move(signals), log.format, io, *opened.source);
+  if (refusal.refused())
+    throw std::runtime_error(path + ": " + (refusal.topic.empty() ? "" : "topic " + refusal.topic + ": ") + refusal.message);
+  opened.source->setName(path);
+  return opened;
+}
+
+}  // namespace quadfdi::cli

@@ -1,0 +1,193 @@
+// Flight logs through the command line: `detect --input LOG` (format from the content, --format
+// to override), `import LOG -o telemetry.csv` and its report, `detect --plot`, and one-line errors
+// for real logs that are too coarse or incomplete, wrong magic, unknown and truncated input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/cli_support.h"
+#include "logs/mission_writers.h"
+
+namespace {
+
+using quadfdi::test::CommandResult;
+CommandResult run(const std::string& args, bool merge_stderr = true) { return quadfdi::test::runQuadfdi(args, merge_stderr); }
+std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_logcli_" + name; }
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+int countLines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+const std::string kReal = QUADFDI_SOURCE_DIR "/../shared/logs/";
+bool exists(const std::string& path) { return std::ifstream(path).good(); }
+
+void writeBytes(const std::string& path, const std::vector<std::uint8_t>& b) {
+  std::ofstream f(path, std::ios::binary);
+  f.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+}
+std::string readFile(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// Motor 3 fails completely at 4 s; written once as a PX4 ULog.
+const std::string& faultyUlog() {
+  static const std::string path = [] {
+    const std::string p = temp("faulty.ulg");
+    writeBytes(p, quadfdi::test::writePx4Mission(quadfdi::test::simulateMission(3, 0.0, 4.0)));
+    return p;
+  }();
+  return path;
+}
+
+TEST(LogCli, DetectReadsAPx4LogByItsMagicAndNamesTheFaultAndThePhase) {
+  const std::string out = temp("faulty.jsonl");
+  const CommandResult r = run("detect --input " + faultyUlog() + " --max-thrust 0.15 --output " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "FAULT in motor 3 at t = 4.0")) << r.out;
+  EXPECT_TRUE(contains(r.out, "PX4 ULog, evaluated 1 of 1 airborne phase")) << r.out;
+  EXPECT_TRUE(contains(r.out, "thrust fractions (actuator_motors) × the motor's maximum thrust 0.15 N")) << r.out;
+  EXPECT_GT(countLines(readFile(out)), 500);
+}
+
+TEST(LogCli, AHealthyCrazyflieFlightFromTheGroundRaisesNoAlarmAndNamesItsPhase) {
+  const std::string log = temp("healthy_cf00");
+  writeBytes(log, quadfdi::test::writeCrazyflieMission(quadfdi::test::simulateMission(0, 1.0, -1.0)));
+  const CommandResult r = run("detect --input " + log + " --output " + temp("healthy.jsonl"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "detect: no fault:")) << r.out;
+  EXPECT_TRUE(contains(r.out, "Crazyflie micro-SD, evaluated 1 of 1 airborne phase (no armed/landed events")) << r.out;
+  EXPECT_TRUE(contains(r.out, "the log's commands are thrust per motor in newtons")) << r.out;
+}
+
+TEST(LogCli, FormatCsvOnALogSaysWhatTheFileIs) {
+  const CommandResult r = run("detect --format csv --input " + faultyUlog());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, faultyUlog() + ": byte 0: --format csv, but the file starts with the ulog magic")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+}
+
+TEST(LogCli, ImportWritesCsvThatDetectsTheSameAndPrintsTheReport) {
+  const std::string csv = temp("imported.csv");
+  const CommandResult r = run("import " + faultyUlog() + " --max-thrust 0.15 -o " + csv);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  for (const char* part : {"format: PX4 ULog", "attitude: vehicle_attitude", "250 Hz", "position: vehicle_local_position",
+                           "50.0 Hz", "commands: actuator_motors", "zero-order hold", "thrust: thrust fractions",
+                           "phases (the autopilot's armed/landed events)", "take-off at", "rows written to"})
+    EXPECT_TRUE(contains(r.out, part)) << part << "\n" << r.out;
+  EXPECT_EQ(readFile(csv).rfind("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n", 0), 0u);
+  const CommandResult d = run("detect --input " + csv + " --output " + temp("imported.jsonl"));
+  ASSERT_EQ(d.exit_code, 0) << d.out;
+  const CommandResult l = run("detect --input " + faultyUlog() + " --max-thrust 0.15 --output " + temp("direct.jsonl"));
+  const auto fault = [](const std::string& s) { return s.substr(s.find("FAULT in motor"), 32); };
+  ASSERT_TRUE(contains(d.out, "FAULT in motor")) << d.out;
+  EXPECT_EQ(fault(d.out), fault(l.out));
+}
+
+TEST(LogCli, PlotDrawsAPng) {
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) GTEST_SKIP() << "no gnuplot";
+  const std::string png = temp("detections.png");
+  std::remove(png.c_str());
+  const CommandResult r = run("detect --input " + faultyUlog() + " --max-thrust 0.15 --output " + temp("p.jsonl") + " --plot " + png);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const std::string img = readFile(png);
+  ASSERT_GT(img.size(), 1000u);
+  EXPECT_EQ(img.substr(1, 3), "PNG");
+}
+
+TEST(LogCli, PlotWithoutGnuplotFailsClearlyBeforeAnyWork) {
+  const std::string out = temp("nognuplot.jsonl");
+  std::remove(out.c_str());
+  // With PATH pointing nowhere, gnuplot cannot be found.
+  const std::string cmd = "PATH=/nonexistent " + std::string(QUADFDI_EXE) + " detect --input " + faultyUlog() +
+                          " --max-thrust 0.15 --output " + out + " --plot " + temp("x.png") + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string text;
+  char buf[512];
+  while (fgets(buf, sizeof buf, p)) text += buf;
+  const int status = pclose(p);
+  EXPECT_NE(status, 0);
+  EXPECT_TRUE(contains(text, "--plot needs gnuplot")) << text;
+  EXPECT_EQ(countLines(text), 1) << text;
+  EXPECT_FALSE(exists(out));  // checked before any work: no detections written
+}
+
+TEST(LogCli, ThrustFractionsWithoutAScaleAreRefusedNamingWhatToGive) {
+  const CommandResult r = run("detect --input " + faultyUlog() + " --output " + temp("noscale.jsonl"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, faultyUlog() + ": topic actuator_motors: ")) << r.out;
+  EXPECT_TRUE(contains(r.out, "--max-thrust")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+}
+
+TEST(LogCli, RealPx4LogsAreRefusedForTheirActuatorOutputsRate) {
+  for (const char* name : {"px4/sample_log_small.ulg", "px4/sample_logging_tagged_and_default_params.ulg"}) {
+    if (!exists(kReal + name)) GTEST_SKIP() << "no real logs";
+    const std::string out = temp("real.jsonl");
+    { std::ofstream(out) << "keep me\n"; }
+    const CommandResult r = run("detect --input " + kReal + name + " --max-thrust 5 --output " + out);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(countLines(r.out), 1) << r.out;
+    EXPECT_TRUE(contains(r.out, "topic actuator_outputs: actuator_outputs (commands) is logged at ")) << r.out;
+    EXPECT_TRUE(contains(r.out, "SDLOG_PROFILE")) << r.out;
+    EXPECT_EQ(readFile(out), "keep me\n");  // nothing already written is lost
+  }
+}
+
+TEST(LogCli, RealCrazyflieMotorLogNamesTheMissingPitchAndItsRate) {
+  const std::string path = kReal + "crazyflie-usd/motor_normal_flight_E8_log00";
+  if (!exists(path)) GTEST_SKIP() << "no real logs";
+  const CommandResult r = run("import " + path + " -o " + temp("cf.csv"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+  EXPECT_TRUE(contains(r.out, path + ": topic stateEstimate.pitch: the log has no stateEstimate.pitch")) << r.out;
+  EXPECT_TRUE(contains(r.out, "event 'fixedFrequency' is logged at 10")) << r.out;
+  EXPECT_TRUE(contains(r.out, "deck's logging frequency")) << r.out;
+}
+
+TEST(LogCli, BadInputGetsOneLineNamingFileAndByte) {
+  // Unknown binary.
+  const std::string junk = temp("junk.bin");
+  writeBytes(junk, {0x00, 0x01, 0x02, 0xFF, 0x10, 0x00, 0x41});
+  CommandResult r = run("detect --input " + junk);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, junk + ": unknown format")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+  // Wrong magic for the format asked for.
+  r = run("detect --format ulog --input " + junk);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, junk + ": byte 0")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+  // A CSV asked to be read as DataFlash.
+  const std::string csv = temp("tiny.csv");
+  { std::ofstream(csv) << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n"; }
+  r = run("import --format dataflash " + csv);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, csv + ": byte 0")) << r.out;
+  // Truncated: a ULog cut inside its definitions.
+  const std::vector<std::uint8_t> whole = quadfdi::test::writePx4Mission(quadfdi::test::simulateMission(0, 1.0, -1.0));
+  const std::string cut = temp("cut.ulg");
+  writeBytes(cut, std::vector<std::uint8_t>(whole.begin(), whole.begin() + 12));
+  r = run("detect --input " + cut + " --max-thrust 0.15");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, cut + ": byte ")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+  // A log with no flight.
+  quadfdi::test::Mission ground = quadfdi::test::simulateMission(0, 1.0, -1.0);
+  ground.samples.resize(400);
+  ground.takeoff_at = 100.0;
+  ground.landed_at = -1.0;
+  const std::string idle = temp("ground.BIN");
+  writeBytes(idle, quadfdi::test::writeArdupilotMission(ground));
+  r = run("detect --input " + idle + " --max-thrust 0.15");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, idle + ": no flight found")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+}
+
+}  // namespace

@@ -1,0 +1,211 @@
+// A simulated mission (sim_flights.h) written as each autopilot would log it, in its own frames,
+// motor numbering, units and rates, with a slow position topic (header only):
+//  * PX4 ULog: vehicle_attitude q (FRD → NED) at 250 Hz, vehicle_local_position NED at 50 Hz,
+//    actuator_motors.control (thrust fractions of max_thrust, PX4 quad-X order) at 500 Hz,
+//    vehicle_status (arming) and vehicle_land_detected (take-off/touchdown seen 0.3 s late).
+//  * ArduPilot DataFlash: ATT Roll/Pitch/Yaw [cdeg, NED/FRD, yaw 0..360] at 400 Hz (interpolated
+//    from the 500 Hz flight), RCOU PWM [µs] at 400 Hz (held) through MOT_* of the log with
+//    ArduPilot's motor order, XKF1 PN/PE/PD at 25 Hz, EV ARMED/NOT_LANDED/LAND_COMPLETE/DISARMED.
+//  * Crazyflie micro-SD: fixedFrequency at 500 Hz with stateEstimate.roll/pitch/yaw [deg, pitch
+//    negated] and motor.m1..m4 [0..65535] through the firmware's duty → thrust map; position
+//    stateEstimate.x/y/z in a separate event at 50 Hz; no armed/landed states.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "logs/ardupilot_signals.h"
+#include "logs/crazyflie_signals.h"
+#include "logs/crazyflie_usd_writer.h"
+#include "logs/dataflash_writer.h"
+#include "logs/sim_flights.h"
+#include "logs/ulog_writer.h"
+
+namespace quadfdi::test {
+
+inline constexpr double kMissionPi = 3.14159265358979323846;
+inline constexpr double kMissionMaxThrust = 0.15;  // [N] the simulated Crazyflie's motor maximum (nominalParams)
+
+inline std::uint64_t micros(double t) { return static_cast<std::uint64_t>(std::llround(t * 1e6)); }
+
+// The mission's outputs linearly interpolated at t (angles the short way), commands held.
+inline TelemetrySample missionAt(const Mission& m, double t) {
+  const auto k = static_cast<std::size_t>(std::floor(t / m.dt + 1e-9));
+  const std::size_t a = std::min(k, m.samples.size() - 1), b = std::min(a + 1, m.samples.size() - 1);
+  const double w = b == a ? 0.0 : (t - m.samples[a].t) / (m.samples[b].t - m.samples[a].t);
+  TelemetrySample s = m.samples[a];
+  s.t = t;
+  for (std::size_t i = 0; i < 6; ++i) {
+    double d = m.samples[b].y[i] - m.samples[a].y[i];
+    if (i >= 3) d = std::remainder(d, 2.0 * kMissionPi);
+    s.y[i] = m.samples[a].y[i] + w * d;
+  }
+  return s;
+}
+
+// ---------- PX4 ----------
+struct Px4Quat {
+  double w, x, y, z;
+};
+inline Px4Quat px4Mul(const Px4Quat& a, const Px4Quat& b) {
+  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+// quadfdi (roll, pitch, yaw) = PX4 (φ, −θ, −ψ); q = Rz(ψ)·Ry(θ)·Rx(φ) FRD → NED.
+inline Px4Quat px4QuatFromQuadfdi(double roll, double pitch, double yaw) {
+  const double phi = roll, theta = -pitch, psi = -yaw;
+  const Px4Quat qz{std::cos(psi / 2), 0, 0, std::sin(psi / 2)};
+  const Px4Quat qy{std::cos(theta / 2), 0, std::sin(theta / 2), 0};
+  const Px4Quat qx{std::cos(phi / 2), std::sin(phi / 2), 0, 0};
+  return px4Mul(px4Mul(qz, qy), qx);
+}
+
+struct Px4LogOptions {
+  int attitude_every = 2;   // [samples] 250 Hz
+  int position_every = 10;  // [samples] 50 Hz
+  int motors_every = 1;     // [samples] 500 Hz
+  bool with_states = true;
+};
+
+inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogOptions& o = {}) {
+  testing::UlogWriter w;
+  w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
+  w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+  w.format("actuator_motors:uint64_t timestamp;uint64_t timestamp_sample;uint16_t reversible_flags;float[12] control;");
+  w.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;");
+  w.format("vehicle_land_detected:uint64_t timestamp;bool maybe_landed;bool landed;");
+  w.subscribe(0, 0, "vehicle_local_position");
+  w.subscribe(0, 1, "vehicle_attitude");
+  w.subscribe(0, 2, "actuator_motors");
+  w.subscribe(0, 4, "vehicle_status");
+  w.subscribe(0, 5, "vehicle_land_detected");
+  const std::array<int, 4> px4_index = {0, 3, 1, 2};  // PX4 motor (0-based) of quadfdi motor k
+  bool armed = false, landed = true, status_written = false;
+  const double takeoff_seen = m.takeoff_at + 0.3, landing_seen = m.landed_at + 0.3;
+  for (std::size_t i = 0; i < m.samples.size(); ++i) {
+    const TelemetrySample& s = m.samples[i];
+    const std::uint64_t t = micros(s.t);
+    if (o.with_states) {
+      const bool now_armed = s.t >= m.armed_at && !(m.landed_at >= 0 && s.t >= landing_seen + 0.5);
+      if (!status_written || now_armed != armed) {
+        w.data(4, testing::UlogPayload().put(t).put<std::uint8_t>(now_armed ? 2 : 1));
+        armed = now_armed;
+      }
+      const bool now_landed = s.t < takeoff_seen || (m.landed_at >= 0 && s.t >= landing_seen);
+      if (!status_written || now_landed != landed) {
+        w.data(5, testing::UlogPayload().put(t).put(now_landed).put(now_landed));
+        landed = now_landed;
+      }
+      status_written = true;
+    }
+    if (i % static_cast<std::size_t>(o.position_every) == 0)
+      w.data(0, testing::UlogPayload()
+                    .put(t)
+                    .put(static_cast<float>(s.y[0]))
+                    .put(static_cast<float>(-s.y[1]))
+                    .put(static_cast<float>(-s.y[2]))
+                    .put(true));
+    if (i % static_cast<std::size_t>(o.attitude_every) == 0) {
+      const Px4Quat q = px4QuatFromQuadfdi(s.y[3], s.y[4], s.y[5]);
+      w.data(1, testing::UlogPayload().put(t).put(static_cast<float>(q.w)).put(static_cast<float>(q.x)).put(static_cast<float>(q.y)).put(static_cast<float>(q.z)));
+    }
+    if (i % static_cast<std::size_t>(o.motors_every) == 0) {
+      std::array<float, 12> control;
+      control.fill(NAN);
+      for (std::size_t k = 0; k < 4; ++k)
+        control[static_cast<std::size_t>(px4_index[k])] = s.t >= m.armed_at ? static_cast<float>(s.u[k] / kMissionMaxThrust) : NAN;
+      testing::UlogPayload p;
+      p.put(t).put(t).put<std::uint16_t>(0);
+      for (float c : control) p.put(c);
+      w.data(2, p);
+    }
+  }
+  return w.bytes();
+}
+
+// ---------- ArduPilot ----------
+inline constexpr std::uint8_t kApAtt = 30, kApXkf1 = 31, kApRcou = 32, kApEv = 33;
+
+inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0) {
+  DataflashWriter w;
+  w.fmt(kApAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
+  w.fmt(kApXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
+  w.fmt(kApRcou, "RCOU", "QHHHHHHHHHHHHHH", "TimeUS,C1,C2,C3,C4,C5,C6,C7,C8,C9,C10,C11,C12,C13,C14");
+  w.fmt(kApEv, "EV", "QB", "TimeUS,Id");
+  w.unit(0, '#', "instance");
+  w.fmtu(0, kApXkf1, "s#ddhnnnnmmmkkkm", "F-BBB0000000BBBB");
+  ArdupilotThrustMap map;  // MOT_PWM_MIN/MAX 1000/2000, SPIN 0.15/0.95, EXPO 0.65
+  w.parm(0, "FRAME_CLASS", 1);
+  w.parm(0, "FRAME_TYPE", 1);
+  w.parm(0, "MOT_PWM_MIN", map.pwm_min);
+  w.parm(0, "MOT_PWM_MAX", map.pwm_max);
+  w.parm(0, "MOT_SPIN_MIN", map.spin_min);
+  w.parm(0, "MOT_SPIN_MAX", map.spin_max);
+  w.parm(0, "MOT_THST_EXPO", map.expo);
+  // quadfdi 1 FR, 2 BR, 3 BL, 4 FL = ArduPilot motors 1, 4, 2, 3 → AP motor n on output n.
+  const std::array<int, 4> ap_motor = {1, 4, 2, 3};
+  const double end = m.samples.back().t;
+  const double loop = 1.0 / loop_hz, ekf = 1.0 / ekf_hz;
+  std::vector<std::pair<double, int>> events = {{m.armed_at, 10}, {m.takeoff_at + 0.3, 28}};
+  if (m.landed_at >= 0) {
+    events.push_back({m.landed_at + 0.3, 18});
+    events.push_back({m.landed_at + 0.8, 11});
+  }
+  std::size_t next_event = 0;
+  long e = 0;
+  for (long n = 0;; ++n) {
+    const double t = static_cast<double>(n) * loop;
+    if (t > end + 1e-9) break;
+    while (next_event < events.size() && events[next_event].first <= t) {
+      w.write(kApEv, {micros(events[next_event].first), events[next_event].second});
+      ++next_event;
+    }
+    const TelemetrySample s = missionAt(m, t);
+    double yaw_deg = -s.y[5] * 180.0 / kMissionPi;
+    yaw_deg = std::fmod(yaw_deg + 360.0, 360.0);
+    w.write(kApAtt, {micros(t), 0, centi(s.y[3] * 180.0 / kMissionPi), 0, centi(-s.y[4] * 180.0 / kMissionPi), 0,
+                     static_cast<long long>(std::llround(yaw_deg * 100.0)) % 36000, 0, 0, 3});
+    std::array<int, 14> pwm{};
+    for (std::size_t k = 0; k < 4; ++k)
+      pwm[static_cast<std::size_t>(ap_motor[k] - 1)] =
+          static_cast<int>(std::lround(s.t >= m.armed_at ? map.pwmFor(s.u[k] / kMissionMaxThrust) : map.pwm_min));
+    w.write(kApRcou, {micros(t), pwm[0], pwm[1], pwm[2], pwm[3], 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+    while (static_cast<double>(e) * ekf <= t + 1e-9) {
+      const double te = static_cast<double>(e) * ekf;
+      const TelemetrySample p = missionAt(m, te);
+      w.write(kApXkf1, {micros(te), 0u, 0, 0, 0, 0.0, 0.0, 0.0, 0.0, p.y[0], -p.y[1], -p.y[2], 0, 0, 0, 0});
+      ++e;
+    }
+  }
+  return w.bytes;
+}
+
+// ---------- Crazyflie ----------
+inline std::vector<std::uint8_t> writeCrazyflieMission(const Mission& m, int position_every = 10) {
+  UsdEventType fixed;
+  fixed.variables = {{"stateEstimate.roll", 'f'}, {"stateEstimate.pitch", 'f'}, {"stateEstimate.yaw", 'f'},
+                     {"motor.m1", 'I'},           {"motor.m2", 'I'},            {"motor.m3", 'I'},
+                     {"motor.m4", 'I'}};
+  UsdEventType pos;
+  pos.id = 1;
+  pos.name = "estPosition";
+  pos.variables = {{"stateEstimate.x", 'f'}, {"stateEstimate.y", 'f'}, {"stateEstimate.z", 'f'}};
+  UsdWriter w(2, {fixed, pos});
+  const CrazyflieSignalOptions cf;  // the firmware's quadratic duty map
+  for (std::size_t i = 0; i < m.samples.size(); ++i) {
+    const TelemetrySample& s = m.samples[i];
+    std::vector<double> row = {s.y[3] * 180.0 / kMissionPi, -s.y[4] * 180.0 / kMissionPi, s.y[5] * 180.0 / kMissionPi};
+    for (std::size_t k = 0; k < 4; ++k) {
+      const double f = std::max(s.u[k], 0.0);
+      const double r = (-cf.duty_b + std::sqrt(cf.duty_b * cf.duty_b + 4.0 * cf.duty_a * f)) / (2.0 * cf.duty_a);
+      row.push_back(std::round(std::clamp(r, 0.0, 1.0) * cf.command_full_scale));
+    }
+    w.record(0, micros(s.t), row);
+    if (i % static_cast<std::size_t>(position_every) == 0) w.record(1, micros(s.t) + 1, {s.y[0], s.y[1], s.y[2]});
+  }
+  return w.closed();
+}
+
+}  // namespace quadfdi::test

@@ -1,0 +1,445 @@
+// The conventions layer (src/logs/telemetry_from_log.h): rates and refusals, the clock
+// (interpolation, hold), thrust scaling and hover calibration, flight phases and margins, holes;
+// then simulated missions written as PX4, ArduPilot and Crazyflie logs, detected through it and
+// compared with the CSV path of the same flight; and the real logs' refusals.
+#include "logs/telemetry_from_log.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "detection/session.h"
+#include "io/model_file.h"
+#include "io/telemetry_csv.h"
+#include "io/telemetry_reader.h"
+#include "logs/crazyflie_usd.h"
+#include "logs/dataflash.h"
+#include "logs/mission_writers.h"
+#include "logs/px4_signals.h"
+#include "logs/ulog.h"
+
+namespace quadfdi {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// A synthetic flight: signals at the given periods, airborne (armed, not landed) from `takeoff`.
+FlightSignals synthetic(double att_dt, double pos_dt, double cmd_dt, double span, CommandKind kind = CommandKind::kThrustNewton) {
+  FlightSignals s;
+  for (double t = 0.0; t <= span + 1e-9; t += att_dt) {
+    s.attitude.t.push_back(t);
+    s.attitude.v.push_back({0.01 * t, -0.02 * t, 0.1 * t});
+  }
+  for (double t = 0.0; t <= span + 1e-9; t += pos_dt) {
+    s.position.t.push_back(t);
+    s.position.v.push_back({0.5 * t, -0.25 * t, 1.0});
+  }
+  for (double t = 0.0; t <= span + 1e-9; t += cmd_dt) {
+    s.command.t.push_back(t);
+    const double c = kind == CommandKind::kThrustNewton ? 0.07 + 0.001 * t : 0.45 + 0.001 * t;
+    s.command.v.push_back({c, c, c, c});
+  }
+  s.command_kind = kind;
+  s.attitude.source = {"att_topic", "r,p,y", ""};
+  s.position.source = {"pos_topic", "x,y,z", ""};
+  s.command.source = {"cmd_topic", "m1..m4", ""};
+  s.states = {{0.0, true, false}};  // airborne from the start
+  return s;
+}
+
+std::vector<TelemetrySample> drain(LogSampleSource& src) {
+  std::vector<TelemetrySample> out;
+  TelemetrySample s;
+  std::string problem;
+  while (src.next(s, problem) == SampleSource::Next::kSample) out.push_back(s);
+  return out;
+}
+
+TEST(TelemetryFromLog, RefusesACoarseSignalNamingTopicRateAndWhatToChange) {
+  {
+    LogSampleSource src;
+    const ImportRefusal r = buildLogSampleSource(synthetic(0.004, 0.02, 0.1, 5.0), LogFormat::kUlog, ImportOptions{}, src);
+    ASSERT_TRUE(r.refused());
+    EXPECT_EQ(r.topic, "cmd_topic");
+    EXPECT_TRUE(contains(r.message, "10.0 Hz")) << r.message;
+    EXPECT_TRUE(contains(r.message, "SDLOG_PROFILE")) << r.message;
+    EXPECT_TRUE(contains(r.message, "≥ 125 Hz")) << r.message;
+  }
+  {
+    LogSampleSource src;
+    const ImportRefusal r = buildLogSampleSource(synthetic(0.1, 0.02, 0.0025, 5.0), LogFormat::kDataflash, ImportOptions{}, src);
+    EXPECT_EQ(r.topic, "att_topic");
+    EXPECT_TRUE(contains(r.message, "LOG_BITMASK bit 0")) << r.message;
+  }
+  {
+    LogSampleSource src;
+    const ImportRefusal r = buildLogSampleSource(synthetic(0.002, 0.1, 0.002, 5.0), LogFormat::kCrazyflieUsd, ImportOptions{}, src);
+    EXPECT_EQ(r.topic, "pos_topic");
+    EXPECT_TRUE(contains(r.message, "≥ 20.0 Hz")) << r.message;
+    EXPECT_TRUE(contains(r.message, "deck's logging frequency")) << r.message;
+  }
+  // 50 Hz position passes; lowering the attitude limit lets a 100 Hz attitude through.
+  ImportOptions o;
+  o.min_rate_attitude = 90;
+  LogSampleSource src;
+  EXPECT_FALSE(buildLogSampleSource(synthetic(0.01, 0.02, 0.002, 5.0), LogFormat::kUlog, o, src).refused());
+}
+
+TEST(TelemetryFromLog, InterpolatesAttitudeAndPositionAndHoldsCommands) {
+  FlightSignals s = synthetic(0.004, 0.04, 0.005, 3.0);
+  // Yaw across the ±π seam: 0.02 rad per 4 ms step, the short way.
+  for (std::size_t i = 0; i < s.attitude.t.size(); ++i) s.attitude.v[i][2] = std::remainder(kPi - 0.5 + 5.0 * s.attitude.t[i], 2 * kPi);
+  const FlightSignals copy = s;
+  LogSampleSource src;
+  ASSERT_FALSE(buildLogSampleSource(s, LogFormat::kUlog, ImportOptions{}, src).refused());
+  const std::vector<TelemetrySample> out = drain(src);
+  ASSERT_EQ(out.size(), 1501u);  // 0 … 3 s every 2 ms, airborne from the log's start, no margin
+  for (const TelemetrySample& x : out) {
+    EXPECT_NEAR(x.y[0], 0.5 * x.t, 1e-9);
+    EXPECT_NEAR(x.y[1], -0.25 * x.t, 1e-9);
+    EXPECT_NEAR(x.y[3], 0.01 * x.t, 1e-9);
+    EXPECT_NEAR(std::remainder(x.y[5] - (kPi - 0.5 + 5.0 * x.t), 2 * kPi), 0.0, 1e-9) << x.t;
+    // Held: the command logged at or before t.
+    const auto k = static_cast<std::size_t>(std::floor(x.t / 0.005 + 1e-9));
+    EXPECT_EQ(x.u[0], copy.command.v[k][0]) << x.t;
+  }
+  EXPECT_EQ(src.report().signals.size(), 3u);
+  EXPECT_NEAR(src.report().signals[0].rate_hz, 250.0, 1e-6);
+  EXPECT_NEAR(src.report().signals[1].rate_hz, 25.0, 1e-6);
+}
+
+TEST(TelemetryFromLog, ThrustFractionsNeedAScaleAndCanBeCalibratedFromHover) {
+  {
+    LogSampleSource src;
+    const ImportRefusal r = buildLogSampleSource(synthetic(0.002, 0.02, 0.002, 4.0, CommandKind::kThrustFraction),
+                                                 LogFormat::kUlog, ImportOptions{}, src);
+    ASSERT_TRUE(r.refused());
+    EXPECT_TRUE(contains(r.message, "--max-thrust")) << r.message;
+    EXPECT_TRUE(contains(r.message, "--mass")) << r.message;
+  }
+  {
+    ImportOptions o;
+    o.max_thrust = 0.2;
+    LogSampleSource src;
+    ASSERT_FALSE(buildLogSampleSource(synthetic(0.002, 0.02, 0.002, 4.0, CommandKind::kThrustFraction), LogFormat::kUlog, o, src).refused());
+    EXPECT_NEAR(drain(src)[0].u[0], 0.45 * 0.2, 1e-12);
+  }
+  {
+    // Level hover at constant height: mean command 0.45 + 0.001·t ≈ 0.452 ↔ m·g/4.
+    FlightSignals s = synthetic(0.002, 0.02, 0.002, 4.0, CommandKind::kThrustFraction);
+    for (auto& a : s.attitude.v) a = {0.0, 0.0, 0.3};
+    for (auto& p : s.position.v) p[0] = p[1] = 0.0;
+    ImportOptions o;
+    o.mass = 0.03;
+    LogSampleSource src;
+    ASSERT_FALSE(buildLogSampleSource(s, LogFormat::kUlog, o, src).refused());
+    EXPECT_TRUE(src.report().hover_calibrated);
+    EXPECT_NEAR(src.report().thrust_factor, 0.03 * 9.81 / 4 / 0.452, 0.002);
+    EXPECT_TRUE(contains(src.report().thrust, "calibrated from the log's steady hover")) << src.report().thrust;
+  }
+}
+
+TEST(TelemetryFromLog, PhasesFromEventsSkipMarginsAndLeaveAGapBetweenFlights) {
+  FlightSignals s = synthetic(0.002, 0.02, 0.002, 20.0);
+  // Two flights: 2–8 s and 11–18 s.
+  s.states = {{0.0, false, true}, {1.5, true, true}, {2.0, true, false}, {8.0, true, true},
+              {11.0, true, false}, {18.0, true, true}, {19.0, false, true}};
+  LogSampleSource src;
+  ASSERT_FALSE(buildLogSampleSource(s, LogFormat::kUlog, ImportOptions{}, src).refused());
+  const ImportReport& r = src.report();
+  ASSERT_EQ(r.phases.size(), 2u);
+  EXPECT_NEAR(r.phases[0].eval_begin, 3.0, 1e-9);
+  EXPECT_NEAR(r.phases[0].eval_end, 7.5, 1e-9);
+  EXPECT_NEAR(r.phases[1].eval_begin, 12.0, 1e-9);
+  EXPECT_NEAR(r.phases[1].eval_end, 17.5, 1e-9);
+  EXPECT_TRUE(contains(r.phasesLine(), "evaluated 2 of 2 airborne phases")) << r.phasesLine();
+  const std::vector<TelemetrySample> out = drain(src);
+  ASSERT_FALSE(out.empty());
+  EXPECT_NEAR(out.front().t, 3.0, 1e-9);
+  int jumps = 0;
+  for (std::size_t i = 1; i < out.size(); ++i) {
+    const double d = out[i].t - out[i - 1].t;
+    if (d > 0.02) ++jumps;
+    else EXPECT_NEAR(d, 0.002, 1e-9);
+  }
+  EXPECT_EQ(jumps, 1);  // the detector restarts between the flights
+}
+
+TEST(TelemetryFromLog, ACrashKeepsItsLastMomentsAndAHoleIsNotBridged) {
+  FlightSignals s = synthetic(0.002, 0.02, 0.002, 10.0);
+  s.states = {{0.0, true, true}, {1.0, true, false}, {9.0, true, true}};
+  for (std::size_t i = 0; i < s.attitude.t.size(); ++i)
+    if (s.attitude.t[i] > 8.8) s.attitude.v[i][0] = 1.4;  // flipped before "landing"
+  // A 50 ms hole in the attitude at 5 s.
+  for (std::size_t i = 0; i < s.attitude.t.size();)
+    if (s.attitude.t[i] > 5.0 && s.attitude.t[i] < 5.05) {
+      s.attitude.t.erase(s.attitude.t.begin() + static_cast<std::ptrdiff_t>(i));
+      s.attitude.v.erase(s.attitude.v.begin() + static_cast<std::ptrdiff_t>(i));
+    } else {
+      ++i;
+    }
+  LogSampleSource src;
+  ASSERT_FALSE(buildLogSampleSource(s, LogFormat::kUlog, ImportOptions{}, src).refused());
+  const PhaseReport& p = src.report().phases.at(0);
+  EXPECT_NEAR(p.eval_end, 9.0, 1e-9) << p.note;  // no landing margin: a crash
+  EXPECT_TRUE(contains(p.note, "crash")) << p.note;
+  EXPECT_TRUE(contains(p.note, "1 hole")) << p.note;
+  EXPECT_EQ(src.stretchCount(), 2u);
+}
+
+TEST(TelemetryFromLog, NoFlightIsRefused) {
+  FlightSignals s = synthetic(0.002, 0.02, 0.002, 5.0);
+  s.states = {{0.0, false, true}, {1.0, true, true}, {4.0, false, true}};  // armed, never airborne
+  LogSampleSource src;
+  const ImportRefusal r = buildLogSampleSource(s, LogFormat::kUlog, ImportOptions{}, src);
+  ASSERT_TRUE(r.refused());
+  EXPECT_EQ(r.message.rfind("no flight found", 0), 0u) << r.message;
+  // No events: the rule finds nothing either on a log that stays at one height with no thrust.
+  FlightSignals g = synthetic(0.002, 0.02, 0.002, 5.0);
+  g.states.clear();
+  for (auto& c : g.command.v) c = {0, 0, 0, 0};
+  LogSampleSource src2;
+  const ImportRefusal r2 = buildLogSampleSource(g, LogFormat::kCrazyflieUsd, ImportOptions{}, src2);
+  EXPECT_EQ(r2.message.rfind("no flight found", 0), 0u) << r2.message;
+}
+
+// ---------- simulated missions through each autopilot's log ----------
+
+class LogDetection : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    model_ = std::make_unique<TrainedModel>(readModelFile(QUADFDI_SOURCE_DIR "/models/lstm-model-free.qfdw"));
+  }
+  static void TearDownTestSuite() { model_.reset(); }
+
+  struct Result {
+    DetectorSummary summary;
+    long outputs = 0;
+    float lowest = 1.0f;  // lowest Θ̂ of any motor over the flight
+  };
+  class CountingSink : public DetectionSink {
+   public:
+    void output(const DetectorOutput& d) override {
+      ++outputs;
+      for (float t : d.theta) lowest = std::min(lowest, t);
+    }
+    void warning(const std::string&) override {}
+    long outputs = 0;
+    float lowest = 1.0f;
+  };
+  static Result detect(SampleSource& source) {
+    DetectorConfig c;
+    c.symmetry = model_->metadata.symmetry;
+    c.resampler.dt = model_->metadata.dt;
+    Detector d(c, *model_);
+    CountingSink sink;
+    const SessionResult r = runDetection(d, source, sink, SessionConfig{});
+    EXPECT_EQ(r.status, SessionStatus::kDone);
+    return {d.summary(), sink.outputs, sink.lowest};
+  }
+  // The CSV path: the flight's own 500 Hz samples from `from` on, written and read as CSV.
+  static Result detectCsv(const test::Mission& m, double from) {
+    std::stringstream csv;
+    writeTelemetryCsvHeader(csv);
+    for (const TelemetrySample& s : m.samples)
+      if (s.t >= from - 1e-9) writeTelemetryCsvRow(csv, s);
+    TelemetryReader reader(csv, "flight.csv");
+    return detect(reader);
+  }
+  static ImportOptions options() {
+    ImportOptions o;
+    o.dt = model_->metadata.dt;
+    o.max_thrust = test::kMissionMaxThrust;
+    return o;
+  }
+  static ImportRefusal fromBytes(const std::vector<std::uint8_t>& bytes, const ImportOptions& o, LogSampleSource& src) {
+    const ByteSpan span{bytes.data(), bytes.size()};
+    DecodedLog log;
+    FlightSignals signals;
+    LogIssue issue;
+    if (looksLikeUlog(span)) {
+      issue = readUlog(span, log);
+      if (issue.ok()) issue = extractPx4Signals(log, Px4SignalOptions{}, signals);
+    } else if (looksLikeDataflash(span)) {
+      issue = readDataflash(span, log);
+      if (issue.ok()) issue = extractArdupilotSignals(log, ArdupilotSignalOptions{}, signals);
+    } else {
+      issue = readCrazyflieUsd(span, log);
+      if (issue.ok()) issue = extractCrazyflieSignals(log, CrazyflieSignalOptions{}, signals);
+    }
+    EXPECT_TRUE(issue.ok()) << issue.message;
+    return buildLogSampleSource(std::move(signals), log.format, o, src);
+  }
+  static void expectSameAlarmAsCsv(const std::vector<std::uint8_t>& bytes, const test::Mission& m, int motor) {
+    LogSampleSource src;
+    const ImportRefusal r = fromBytes(bytes, options(), src);
+    ASSERT_FALSE(r.refused()) << r.message;
+    const ImportReport& rep = src.report();
+    ASSERT_EQ(rep.phases.size(), 1u) << rep.text();
+    ASSERT_TRUE(rep.phases[0].evaluated) << rep.text();
+    EXPECT_LT(rep.phases[0].eval_begin, m.fault_at - 0.5) << rep.text();
+    const Result log = detect(src);
+    const Result csv = detectCsv(m, rep.phases[0].eval_begin);
+    ASSERT_GE(csv.summary.alarms_raised, 1);
+    EXPECT_EQ(csv.summary.first_alarm_motor, motor);
+    ASSERT_GE(log.summary.alarms_raised, 1) << rep.text();
+    EXPECT_EQ(log.summary.first_alarm_motor, csv.summary.first_alarm_motor) << rep.text();
+    EXPECT_GT(log.summary.first_alarm_t, m.fault_at);
+    EXPECT_NEAR(log.summary.first_alarm_t, csv.summary.first_alarm_t, 0.016) << rep.text();
+    std::printf("[ measured ] %s, motor %d failing at %.3f s: first alarm via the log %.3f s (motor %d), via CSV %.3f s (motor %d)\n",
+                rep.format.c_str(), motor, m.fault_at, log.summary.first_alarm_t, log.summary.first_alarm_motor,
+                csv.summary.first_alarm_t, csv.summary.first_alarm_motor);
+  }
+  static void expectQuietLanding(const std::vector<std::uint8_t>& bytes, const test::Mission& m, const char* rule) {
+    LogSampleSource src;
+    const ImportRefusal r = fromBytes(bytes, options(), src);
+    ASSERT_FALSE(r.refused()) << r.message;
+    const ImportReport& rep = src.report();
+    const Result log = detect(src);
+    EXPECT_EQ(log.summary.alarms_raised, 0) << rep.text();
+    ASSERT_EQ(rep.phases.size(), 1u) << rep.text();
+    EXPECT_TRUE(contains(rep.phasesLine(), "evaluated 1 of 1 airborne phase")) << rep.phasesLine();
+    EXPECT_TRUE(contains(rep.phase_rule, rule)) << rep.phase_rule;
+    EXPECT_GT(rep.phases[0].eval_begin, m.takeoff_at + 1.0);
+    EXPECT_LT(rep.phases[0].eval_end, m.landed_at);
+    EXPECT_GT(rep.phases[0].eval_end - rep.phases[0].eval_begin, 5.0) << rep.text();
+    EXPECT_GT(log.outputs, 2000);
+    std::printf("[ measured ] %s, healthy: %s; lowest Θ̂ %.2f, %ld alarms\n", rep.format.c_str(), rep.phasesLine().c_str(),
+                static_cast<double>(log.lowest), log.summary.alarms_raised);
+  }
+  static std::unique_ptr<TrainedModel> model_;
+};
+std::unique_ptr<TrainedModel> LogDetection::model_;
+
+TEST_F(LogDetection, Px4MotorFailureGivesTheCsvPathsAlarmAndMotor) {
+  for (int motor : {1, 3}) {
+    SCOPED_TRACE(motor);
+    const test::Mission m = test::simulateMission(motor, 0.0, 4.0);
+    expectSameAlarmAsCsv(test::writePx4Mission(m), m, motor);
+  }
+}
+
+TEST_F(LogDetection, ArdupilotMotorFailureGivesTheCsvPathsAlarmAndMotor) {
+  for (int motor : {2, 4}) {
+    SCOPED_TRACE(motor);
+    const test::Mission m = test::simulateMission(motor, 0.0, 4.0);
+    expectSameAlarmAsCsv(test::writeArdupilotMission(m), m, motor);
+  }
+}
+
+TEST_F(LogDetection, CrazyflieMotorFailureGivesTheCsvPathsAlarmAndMotor) {
+  for (int motor : {1, 4}) {
+    SCOPED_TRACE(motor);
+    const test::Mission m = test::simulateMission(motor, 0.0, 4.0);
+    expectSameAlarmAsCsv(test::writeCrazyflieMission(m), m, motor);
+  }
+}
+
+TEST_F(LogDetection, HealthyTakeOffFlightAndLandingRaiseNoAlarmInAnyFormat) {
+  const test::Mission m = test::simulateMission(0, 1.0, -1.0);
+  ASSERT_GT(m.landed_at, 0.0);
+  {
+    SCOPED_TRACE("PX4");
+    expectQuietLanding(test::writePx4Mission(m), m, "armed/landed events");
+  }
+  {
+    SCOPED_TRACE("ArduPilot");
+    expectQuietLanding(test::writeArdupilotMission(m), m, "armed/landed events");
+  }
+  {
+    SCOPED_TRACE("Crazyflie");
+    expectQuietLanding(test::writeCrazyflieMission(m), m, "no armed/landed events");
+  }
+}
+
+TEST_F(LogDetection, HoverCalibrationRecoversTheMotorsMaximumThrust) {
+  const test::Mission m = test::simulateMission(0, 1.0, -1.0);
+  ImportOptions o = options();
+  o.max_thrust = 0.0;
+  o.mass = nominalParams().mass;
+  LogSampleSource src;
+  const ImportRefusal r = fromBytes(test::writePx4Mission(m), o, src);
+  ASSERT_FALSE(r.refused()) << r.message;
+  EXPECT_TRUE(src.report().hover_calibrated);
+  EXPECT_NEAR(src.report().thrust_factor, test::kMissionMaxThrust, 0.03 * test::kMissionMaxThrust) << src.report().thrust;
+}
+
+TEST_F(LogDetection, ALogThatNeverLeavesTheGroundIsRefused) {
+  test::Mission m = test::simulateMission(0, 1.0, -1.0);
+  m.samples.resize(400);  // 0.8 s on the ground
+  m.takeoff_at = 100.0;
+  m.landed_at = -1.0;
+  for (const auto& bytes : {test::writePx4Mission(m), test::writeCrazyflieMission(m)}) {
+    LogSampleSource src;
+    const ImportRefusal r = fromBytes(bytes, options(), src);
+    ASSERT_TRUE(r.refused());
+    EXPECT_EQ(r.message.rfind("no flight found", 0), 0u) << r.message;
+  }
+}
+
+// ---------- the real logs ----------
+
+const std::string kReal = QUADFDI_SOURCE_DIR "/../shared/logs/";
+
+bool readFile(const std::string& path, std::vector<std::uint8_t>& bytes) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  bytes.assign(s.begin(), s.end());
+  return true;
+}
+
+TEST(TelemetryFromLogReal, Px4SampleLogsAreRefusedForTheirTenHertzActuatorOutputs) {
+  for (const char* name : {"px4/sample_log_small.ulg", "px4/sample_logging_tagged_and_default_params.ulg"}) {
+    SCOPED_TRACE(name);
+    std::vector<std::uint8_t> bytes;
+    if (!readFile(kReal + name, bytes)) GTEST_SKIP() << "no real logs in " << kReal;
+    DecodedLog log;
+    ASSERT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok());
+    FlightSignals s;
+    ASSERT_TRUE(extractPx4Signals(log, Px4SignalOptions{}, s).ok());
+    ImportOptions o;
+    o.max_thrust = 10.0;
+    LogSampleSource src;
+    const ImportRefusal r = buildLogSampleSource(std::move(s), log.format, o, src);
+    ASSERT_TRUE(r.refused());
+    EXPECT_EQ(r.topic, "actuator_outputs");
+    EXPECT_TRUE(contains(r.message, "SDLOG_PROFILE")) << r.message;
+    const std::size_t at = r.message.find("logged at ");
+    ASSERT_NE(at, std::string::npos) << r.message;
+    const double hz = std::stod(r.message.substr(at + 10));
+    EXPECT_GT(hz, 5.0) << r.message;
+    EXPECT_LT(hz, 15.0) << r.message;
+  }
+}
+
+TEST(TelemetryFromLogReal, CrazyflieMotorLogIsTooCoarseBesidesMissingItsPitch) {
+  std::vector<std::uint8_t> bytes;
+  if (!readFile(kReal + "crazyflie-usd/motor_normal_flight_E8_log00", bytes)) GTEST_SKIP() << "no real logs in " << kReal;
+  DecodedLog log;
+  ASSERT_TRUE(readCrazyflieUsd(ByteSpan{bytes.data(), bytes.size()}, log).ok());
+  FlightSignals s;
+  const LogIssue i = extractCrazyflieSignals(log, CrazyflieSignalOptions{}, s);
+  EXPECT_EQ(i.status, LogStatus::kMissingSignal);
+  EXPECT_EQ(i.topic, "stateEstimate.pitch");
+  const std::string note = coarseTopicsNote(log, ImportOptions{});
+  EXPECT_TRUE(contains(note, "fixedFrequency")) << note;
+  EXPECT_TRUE(contains(note, "below the 125 Hz")) << note;
+  const std::size_t at = note.find("logged at ");
+  ASSERT_NE(at, std::string::npos) << note;
+  EXPECT_NEAR(std::stod(note.substr(at + 10)), 100.0, 5.0) << note;
+}
+
+}  // namespace
+}  // namespace quadfdi
