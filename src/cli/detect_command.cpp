@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "cli/cli_util.h"
+#include "cli/options.h"
 #include "cli/detection_plot.h"
 #include "detection/session.h"
 #include "io/atomic_file.h"
@@ -33,28 +34,26 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
       "ArduPilot DataFlash, Crazyflie micro-SD: recognised from its content, airborne phases only), writes\n"
       "one JSON object per sample from the first full window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"}.\n"
       "A summary goes to stderr.");
-  cmd->add_option("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)");
-  cmd->add_option("--input,-i", o.input,
-                  "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)")
-      ->capture_default_str();
-  cmd->add_option("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
-  cmd->add_option("--output,-o", o.output, "JSON Lines output, or - for standard output")->capture_default_str();
-  cmd->add_option("--stride", o.stride, "Evaluate every N samples while all Θ̂ are above --watch (extra first-look delay ≤ N−1 samples)")
-      ->capture_default_str()->check(CLI::Range(1, 1000));
-  cmd->add_option("--watch", o.watch, "Below this min Θ̂, evaluate every sample")->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--raise-below", o.raise_below, "Alarm evidence: the weakest motor's Θ̂ below this")
-      ->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--clear-above", o.clear_above, "Healthy evidence: every Θ̂ above this")->capture_default_str()->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--raise-after", o.raise_after, "Consecutive evaluations of evidence (same motor) to raise the alarm")
-      ->capture_default_str()->check(CLI::Range(1, 100000));
-  cmd->add_option("--watch-samples", o.watch_samples, "Full-rate evaluations after Θ̂ first dips below --watch")
-      ->capture_default_str()->check(CLI::Range(0, 100000));
-  cmd->add_option("--clear-after", o.clear_after, "Samples of healthy evidence (every Θ̂ above --clear-above) to clear it")
-      ->capture_default_str()->check(CLI::Range(1, 100000));
-  cmd->add_option("--max-input-period", o.max_input_period, "Refuse logs sampled coarser than this [s]")->capture_default_str();
-  cmd->add_option("--max-gap", o.max_gap, "A longer hole in the log restarts the detector [s]")->capture_default_str();
-  cmd->add_flag("--quiet,-q", o.quiet, "No summary or warnings on stderr (errors still go there)");
-  addLogInputOptions(cmd, o.log);
+  auto t = std::make_shared<OptionTable>();
+  t->addConfigFile(o.config);
+  t->add("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)").defaultText("");
+  t->add("--input,-i", o.input,
+         "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)");
+  t->add("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
+  t->add("--output,-o", o.output, "JSON Lines output, or - for standard output");
+  t->add("--stride", o.stride, "Evaluate every N samples while all Θ̂ are above --watch (extra first-look delay ≤ N−1 samples)")
+      .range(1, 1000);
+  t->add("--watch", o.watch, "Below this min Θ̂, evaluate every sample").range(0.0, 1.0);
+  t->add("--raise-below", o.raise_below, "Alarm evidence: the weakest motor's Θ̂ below this").range(0.0, 1.0);
+  t->add("--clear-above", o.clear_above, "Healthy evidence: every Θ̂ above this").range(0.0, 1.0);
+  t->add("--raise-after", o.raise_after, "Consecutive evaluations of evidence (same motor) to raise the alarm").range(1, 100000);
+  t->add("--watch-samples", o.watch_samples, "Full-rate evaluations after Θ̂ first dips below --watch").range(0, 100000);
+  t->add("--clear-after", o.clear_after, "Samples of healthy evidence (every Θ̂ above --clear-above) to clear it").range(1, 100000);
+  t->add("--max-input-period", o.max_input_period, "Refuse logs sampled coarser than this [s]").above(0.0);
+  t->add("--max-gap", o.max_gap, "A longer hole in the log restarts the detector [s]").above(0.0);
+  t->add("--quiet,-q", o.quiet, "No summary or warnings on stderr (errors still go there)");
+  addLogInputOptions(*t, o.log);
+  attachOptions(*cmd, t);
   return cmd;
 }
 

@@ -8,6 +8,7 @@
 namespace quadfdi::cli {
 
 struct DetectOptions {
+  std::string config;          // --config FILE (keys as the long flags)
   std::string model;           // empty: the shipped default model
   std::string input = "-";
   std::string output = "-";

@@ -17,14 +17,15 @@ CLI::App* addImportCommand(CLI::App& app, ImportCommandOptions& o) {
       "telemetry CSV t,x,y,z,roll,pitch,yaw,u1..u4 on the model's clock, airborne phases only, and print the import\n"
       "report: each signal's topic, rate and span, the conventions applied, the thrust scaling, the flight phases.");
   cmd->add_option("input", o.input, "Flight log")->required();
-  cmd->add_option("--output,-o", o.output, "Telemetry CSV, or - for standard output")->capture_default_str();
-  cmd->add_option("--report", o.report, "Also write the import report to this file");
-  cmd->add_option("--dt", o.dt, "Clock period [s] (the model's: the shipped model's is 0.002)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--max-gap", o.max_gap, "Holes in a signal longer than this [s] are not bridged (the detector's --max-gap)")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_flag("--quiet,-q", o.quiet, "No report on the terminal");
-  addLogInputOptions(cmd, o.log);
+  auto t = std::make_shared<OptionTable>();
+  t->addConfigFile(o.config);
+  t->add("--output,-o", o.output, "Telemetry CSV, or - for standard output");
+  t->add("--report", o.report, "Also write the import report to this file");
+  t->add("--dt", o.dt, "Clock period [s] (the model's: the shipped model's is 0.002)").above(0.0);
+  t->add("--max-gap", o.max_gap, "Holes in a signal longer than this [s] are not bridged (the detector's --max-gap)").above(0.0);
+  t->add("--quiet,-q", o.quiet, "No report on the terminal");
+  addLogInputOptions(*t, o.log);
+  attachOptions(*cmd, t);
   return cmd;
 }
 

@@ -12,6 +12,7 @@ namespace quadfdi::cli {
 
 struct ImportCommandOptions {
   std::string input;
+  std::string config;         // --config FILE (keys as the long flags)
   std::string output = "-";
   std::string report;         // also write the report to this file; empty: none
   double dt = 0.002;          // [s] the model's period

@@ -13,39 +13,30 @@
 
 namespace quadfdi::cli {
 
-void addLogInputOptions(CLI::App* cmd, LogInputOptions& o) {
-  cmd->add_option("--format", o.format,
-                  "Input format: auto (from the content: ULog, DataFlash or Crazyflie magic, else CSV), csv, ulog, "
-                  "dataflash, crazyflie")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "csv", "ulog", "dataflash", "crazyflie"}));
-  cmd->add_option("--max-thrust", o.max_thrust,
-                  "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--mass", o.mass,
-                  "Logs with thrust-fraction commands: the vehicle's mass [kg]; without --max-thrust the thrust scale is "
-                  "calibrated from the log's own steady hover")
-      ->check(CLI::PositiveNumber);
-  cmd->add_flag("--hover-calibrate", o.hover_calibrate,
-                "Calibrate the thrust scale from the log's steady hover even when --max-thrust is given (needs --mass)");
-  cmd->add_option("--min-rate-attitude", o.min_rate_attitude, "Refuse logs whose attitude is logged slower than this [Hz]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--min-rate-command", o.min_rate_command, "Refuse logs whose motor commands are logged slower than this [Hz]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--min-rate-position", o.min_rate_position, "Refuse logs whose position is logged slower than this [Hz]")
-      ->capture_default_str()->check(CLI::PositiveNumber);
-  cmd->add_option("--settle-after-takeoff", o.settle_after_takeoff, "Skipped after each take-off [s]")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
-  cmd->add_option("--settle-before-landing", o.settle_before_landing, "Skipped before each controlled landing [s]")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
-  cmd->add_flag("--phases-by-rule", o.phases_by_rule,
-                "Find airborne phases from height and thrust even when the log has armed/landed events");
-  cmd->add_option("--ekf-core", o.ekf_core, "ArduPilot: the EKF core whose position is used")
-      ->capture_default_str()->check(CLI::Range(0, 255));
-  cmd->add_option("--cf-thrust-map", o.crazyflie_thrust,
-                  "Crazyflie: motor command → thrust: auto (battery model when pwm.* and pm.vbatMV are logged), duty, battery")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "duty", "battery"}));
+void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
+  t.add("--format", o.format,
+        "Input format: auto (from the content: ULog, DataFlash or Crazyflie magic, else CSV), csv, ulog, dataflash, crazyflie")
+      .choices({"auto", "csv", "ulog", "dataflash", "crazyflie"});
+  t.add("--max-thrust", o.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
+      .atLeast(0.0)
+      .defaultText("");
+  t.add("--mass", o.mass,
+        "Logs with thrust-fraction commands: the vehicle's mass [kg]; without --max-thrust the thrust scale is "
+        "calibrated from the log's own steady hover")
+      .atLeast(0.0)
+      .defaultText("");
+  t.add("--hover-calibrate", o.hover_calibrate,
+        "Calibrate the thrust scale from the log's steady hover even when --max-thrust is given (needs --mass)");
+  t.add("--min-rate-attitude", o.min_rate_attitude, "Refuse logs whose attitude is logged slower than this [Hz]").above(0.0);
+  t.add("--min-rate-command", o.min_rate_command, "Refuse logs whose motor commands are logged slower than this [Hz]").above(0.0);
+  t.add("--min-rate-position", o.min_rate_position, "Refuse logs whose position is logged slower than this [Hz]").above(0.0);
+  t.add("--settle-after-takeoff", o.settle_after_takeoff, "Skipped after each take-off [s]").atLeast(0.0);
+  t.add("--settle-before-landing", o.settle_before_landing, "Skipped before each controlled landing [s]").atLeast(0.0);
+  t.add("--phases-by-rule", o.phases_by_rule, "Find airborne phases from height and thrust even when the log has armed/landed events");
+  t.add("--ekf-core", o.ekf_core, "ArduPilot: the EKF core whose position is used").range(0, 255);
+  t.add("--cf-thrust-map", o.crazyflie_thrust,
+        "Crazyflie: motor command → thrust: auto (battery model when pwm.* and pm.vbatMV are logged), duty, battery")
+      .choices({"auto", "duty", "battery"});
 }
 
 namespace {

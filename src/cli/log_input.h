@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/options.h"
 #include "logs/telemetry_from_log.h"
 
 namespace quadfdi::cli {
@@ -28,9 +29,9 @@ struct LogInputOptions {
   std::string crazyflie_thrust = "auto";  // auto|duty|battery
 };
 
-// Adds --format, --max-thrust, --mass, --hover-calibrate, --min-rate-*, --settle-*, --phases-by-rule,
-// --ekf-core, --cf-thrust-map to `cmd`.
-void addLogInputOptions(CLI::App* cmd, LogInputOptions& o);
+// Declares --format, --max-thrust, --mass, --hover-calibrate, --min-rate-*, --settle-*,
+// --phases-by-rule, --ekf-core, --cf-thrust-map in a command's option table (cli/options.h).
+void addLogInputOptions(OptionTable& table, LogInputOptions& o);
 
 // "csv", "ulog", "dataflash" or "crazyflie": --format, else the file's first bytes (magic).
 // Throws "FILE: unknown format: …" for a binary file with no known magic.
