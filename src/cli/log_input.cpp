@@ -17,21 +17,21 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
   t.add("--format", o.format,
         "Input format: auto (from the content: ULog, DataFlash or Crazyflie magic, else CSV), csv, ulog, dataflash, crazyflie")
       .choices({"auto", "csv", "ulog", "dataflash", "crazyflie"});
-  t.add("--max-thrust", o.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
+  t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
       .atLeast(0.0)
       .defaultText("");
-  t.add("--mass", o.mass,
+  t.add("--mass", o.import.mass,
         "Logs with thrust-fraction commands: the vehicle's mass [kg]; without --max-thrust the thrust scale is "
         "calibrated from the log's own steady hover")
       .atLeast(0.0)
       .defaultText("");
-  t.add("--hover-calibrate", o.hover_calibrate,
+  t.add("--hover-calibrate", o.import.hover_calibrate,
         "Calibrate the thrust scale from the log's steady hover even when --max-thrust is given (needs --mass)");
-  t.add("--min-rate-attitude", o.min_rate_attitude, "Refuse logs whose attitude is logged slower than this [Hz]").above(0.0);
-  t.add("--min-rate-command", o.min_rate_command, "Refuse logs whose motor commands are logged slower than this [Hz]").above(0.0);
-  t.add("--min-rate-position", o.min_rate_position, "Refuse logs whose position is logged slower than this [Hz]").above(0.0);
-  t.add("--settle-after-takeoff", o.settle_after_takeoff, "Skipped after each take-off [s]").atLeast(0.0);
-  t.add("--settle-before-landing", o.settle_before_landing, "Skipped before each controlled landing [s]").atLeast(0.0);
+  t.add("--min-rate-attitude", o.import.min_rate_attitude, "Refuse logs whose attitude is logged slower than this [Hz]").above(0.0);
+  t.add("--min-rate-command", o.import.min_rate_command, "Refuse logs whose motor commands are logged slower than this [Hz]").above(0.0);
+  t.add("--min-rate-position", o.import.min_rate_position, "Refuse logs whose position is logged slower than this [Hz]").above(0.0);
+  t.add("--settle-after-takeoff", o.import.settle_after_takeoff, "Skipped after each take-off [s]").atLeast(0.0);
+  t.add("--settle-before-landing", o.import.settle_before_landing, "Skipped before each controlled landing [s]").atLeast(0.0);
   t.add("--phases-by-rule", o.phases_by_rule, "Find airborne phases from height and thrust even when the log has armed/landed events");
   t.add("--ekf-core", o.ekf_core, "ArduPilot: the EKF core whose position is used").range(0, 255);
   t.add("--cf-thrust-map", o.crazyflie_thrust,
@@ -99,16 +99,8 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
   OpenedLog opened;
   for (const std::string& w : log.warnings) opened.warnings.push_back(path + ": " + w);
 
-  quadfdi::ImportOptions io;
+  quadfdi::ImportOptions io = o.import;
   io.dt = dt;
-  io.min_rate_attitude = o.min_rate_attitude;
-  io.min_rate_command = o.min_rate_command;
-  io.min_rate_position = o.min_rate_position;
-  io.max_thrust = o.max_thrust;
-  io.mass = o.mass;
-  io.hover_calibrate = o.hover_calibrate;
-  io.settle_after_takeoff = o.settle_after_takeoff;
-  io.settle_before_landing = o.settle_before_landing;
   io.use_events = !o.phases_by_rule;
   io.max_hole = max_gap;
   io.restart_gap = max_gap;

@@ -16,15 +16,10 @@ namespace quadfdi::cli {
 
 struct LogInputOptions {
   std::string format = "auto";       // auto|csv|ulog|dataflash|crazyflie
-  double max_thrust = 0.0;           // [N] per motor; 0: not given
-  double mass = 0.0;                 // [kg]; 0: not given
-  bool hover_calibrate = false;
-  double min_rate_attitude = 125.0;  // [Hz]
-  double min_rate_command = 125.0;   // [Hz]
-  double min_rate_position = 20.0;   // [Hz]
-  double settle_after_takeoff = 1.0; // [s]
-  double settle_before_landing = 0.5;// [s]
-  bool phases_by_rule = false;       // ignore the log's armed/landed events
+  // Rates, thrust scaling and phase margins, filled by the flags directly (defaults and units
+  // live in ImportOptions, logs/telemetry_from_log.h); dt and the hole limits are set per run.
+  ImportOptions import;
+  bool phases_by_rule = false;       // ignore the log's armed/landed events (import.use_events = false)
   int ekf_core = 0;                  // ArduPilot
   std::string crazyflie_thrust = "auto";  // auto|duty|battery
 };

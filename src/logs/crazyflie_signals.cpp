@@ -57,11 +57,7 @@ std::string join(const std::vector<std::string>& v) {
 }
 
 LogIssue refuse(const std::string& topic, const std::string& message, LogStatus status = LogStatus::kCorrupt) {
-  LogIssue i;
-  i.status = status;
-  i.topic = topic;
-  i.message = message;
-  return i;
+  return LogIssue{status, 0, topic, message};
 }
 
 // Rows of `loc` → series; `convert(row, values)` fills one row's values (false: skip the row).

@@ -114,12 +114,7 @@ double decodeValue(const Variable& v, const std::uint8_t* p) {
 }
 
 LogIssue issue(LogStatus status, std::size_t offset, std::string topic, std::string message) {
-  LogIssue i;
-  i.status = status;
-  i.offset = offset;
-  i.topic = std::move(topic);
-  i.message = std::move(message);
-  return i;
+  return LogIssue{status, offset, std::move(topic), std::move(message)};
 }
 
 std::string hex32(std::uint32_t v) {

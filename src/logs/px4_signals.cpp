@@ -32,11 +32,7 @@ namespace quadfdi {
 namespace {
 
 LogIssue missing(const std::string& topic, const std::string& what, LogStatus status = LogStatus::kMissingSignal) {
-  LogIssue issue;
-  issue.status = status;
-  issue.topic = topic;
-  issue.message = what;
-  return issue;
+  return LogIssue{status, 0, topic, what};
 }
 
 // Column indices of the named fields, or a LogIssue naming the first that is absent.
