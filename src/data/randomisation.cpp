@@ -1,0 +1,137 @@
+#include "data/randomisation.h"
+
+#include <cmath>
+
+namespace quadfdi {
+namespace {
+
+double draw(const Interval& i, Rng& rng) { return i.hi > i.lo ? rng.uniform(i.lo, i.hi) : i.lo; }
+
+bool validInterval(const Interval& i) { return std::isfinite(i.lo) && std::isfinite(i.hi) && i.lo >= 0.0 && i.hi >= i.lo; }
+
+// Index drawn with probability proportional to its weight (weights ≥ 0, sum > 0).
+template <std::size_t N>
+int pick(const double (&weights)[N], Rng& rng) {
+  double total = 0.0;
+  for (double w : weights) total += w;
+  double u = rng.uniform() * total;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (u < weights[i]) return static_cast<int>(i);
+    u -= weights[i];
+  }
+  for (std::size_t i = N; i-- > 0;)
+    if (weights[i] > 0.0) return static_cast<int>(i);
+  return 0;
+}
+
+}  // namespace
+
+const char* toString(ManoeuvreKind k) {
+  switch (k) {
+    case ManoeuvreKind::kHover: return "hover";
+    case ManoeuvreKind::kPointToPoint: return "point-to-point";
+    case ManoeuvreKind::kCircle: return "circle";
+    case ManoeuvreKind::kFigureEight: return "figure-eight";
+  }
+  return "?";
+}
+
+bool parseManoeuvreKind(const std::string& text, ManoeuvreKind& kind) {
+  for (ManoeuvreKind k : {ManoeuvreKind::kHover, ManoeuvreKind::kPointToPoint, ManoeuvreKind::kCircle, ManoeuvreKind::kFigureEight})
+    if (text == toString(k)) {
+      kind = k;
+      return true;
+    }
+  return false;
+}
+
+const char* toString(DrawnController c) {
+  switch (c) {
+    case DrawnController::kLqr: return "lqr";
+    case DrawnController::kPid: return "pid";
+    case DrawnController::kCbfQp: return "cbf";
+  }
+  return "?";
+}
+
+std::string validate(const Randomisation& r) {
+  if (r.vehicle_names.size() != r.vehicles.size()) return "randomisation: one name per vehicle";
+  for (std::size_t i = 0; i < r.vehicles.size(); ++i)
+    if (const std::string p = validate(r.vehicles[i]); !p.empty()) return "vehicle '" + r.vehicle_names[i] + "': " + p;
+  const ParameterSpread& p = r.parameters;
+  for (const Interval* f : {&p.mass, &p.inertia, &p.thrust, &p.yaw_moment})
+    if (!validInterval(*f) || !(f->lo >= 0.1 && f->hi <= 10.0)) return "randomisation: parameter factors must be 0.1 <= lo <= hi <= 10";
+  if (!validInterval(p.motor_time_constant)) return "randomisation: motor time constant range must be 0 <= lo <= hi";
+  const SensorRanges& s = r.sensors;
+  for (const Interval* i : {&s.position_std, &s.velocity_std, &s.attitude_std, &s.rate_std, &s.attitude_filter_tau, &s.rate_filter_tau})
+    if (!validInterval(*i)) return "randomisation: sensor ranges must be 0 <= lo <= hi";
+  if (s.delay_steps_max < 0 || s.delay_steps_max > 1000) return "randomisation: sensor delay must be in 0 … 1000 steps";
+  const ManoeuvreMix& m = r.manoeuvres;
+  for (double w : {m.hover, m.point_to_point, m.circle, m.figure_eight})
+    if (!(w >= 0.0) || !std::isfinite(w)) return "randomisation: manoeuvre weights must be >= 0";
+  if (!(m.hover + m.point_to_point + m.circle + m.figure_eight > 0.0)) return "randomisation: some manoeuvre weight must be > 0";
+  if (!validInterval(m.speed) || !validInterval(m.size) || !(m.size.lo > 0.0 || m.hover > 0.0))
+    return "randomisation: manoeuvre speed and size ranges must be 0 <= lo <= hi";
+  if (!(m.max_lateral_accel > 0.0)) return "randomisation: max lateral acceleration must be > 0";
+  const ControllerMix& c = r.controllers;
+  for (double w : {c.lqr, c.pid, c.cbf})
+    if (!(w >= 0.0) || !std::isfinite(w)) return "randomisation: controller weights must be >= 0";
+  if (!(c.lqr + c.pid + c.cbf > 0.0)) return "randomisation: some controller weight must be > 0";
+  if (!validInterval(c.gain_scale) || !(c.gain_scale.lo > 0.0)) return "randomisation: gain scale range must be 0 < lo <= hi";
+  if (!validInterval(r.preroll_seconds)) return "randomisation: pre-roll range must be 0 <= lo <= hi";
+  return {};
+}
+
+FlightDraw drawFlight(const Randomisation& r, double dt, Rng& rng) {
+  FlightDraw d;
+  // A fixed number of draws in a fixed order, whatever the ranges, so that widening one range
+  // does not reshuffle the others.
+  d.vehicle = static_cast<int>(rng.next() % r.vehicles.size());
+  VehicleParams& p = d.plant;
+  p = r.vehicles[static_cast<std::size_t>(d.vehicle)];
+  p.mass *= draw(r.parameters.mass, rng);
+  p.inertia_xx *= draw(r.parameters.inertia, rng);
+  p.inertia_yy *= draw(r.parameters.inertia, rng);
+  p.inertia_zz *= draw(r.parameters.inertia, rng);
+  d.thrust_gain = draw(r.parameters.thrust, rng);
+  const double yaw = draw(r.parameters.yaw_moment, rng);
+  p.drag_coeff *= yaw;
+  const double tau = draw(r.parameters.motor_time_constant, rng);
+  if (r.parameters.motor_time_constant.hi > 0.0) p.motor_time_constant = tau;
+
+  const SensorRanges& s = r.sensors;
+  d.sensors.position_std = draw(s.position_std, rng);
+  d.sensors.velocity_std = draw(s.velocity_std, rng);
+  d.sensors.attitude_std = draw(s.attitude_std, rng);
+  d.sensors.rate_std = draw(s.rate_std, rng);
+  d.sensors.attitude_filter_tau = draw(s.attitude_filter_tau, rng);
+  d.sensors.rate_filter_tau = draw(s.rate_filter_tau, rng);
+  d.sensors.delay_steps = static_cast<int>(rng.next() % static_cast<std::uint64_t>(s.delay_steps_max + 1));
+
+  const ControllerMix& c = r.controllers;
+  const double controller_weights[3] = {c.lqr, c.pid, c.cbf};
+  d.controller = static_cast<DrawnController>(pick(controller_weights, rng));
+  // Gains spread log-uniformly: ×2 and ×½ are equally likely departures.
+  d.gain_scale = std::exp(draw({std::log(c.gain_scale.lo), std::log(c.gain_scale.hi)}, rng));
+
+  const ManoeuvreMix& m = r.manoeuvres;
+  const double manoeuvre_weights[4] = {m.hover, m.point_to_point, m.circle, m.figure_eight};
+  ManoeuvreDraw& md = d.manoeuvre;
+  md.kind = static_cast<ManoeuvreKind>(pick(manoeuvre_weights, rng));
+  md.speed = draw(m.speed, rng);
+  md.size = draw(m.size, rng);
+  md.direction = rng.uniform(-M_PI, M_PI);
+  md.clockwise = rng.uniform() < 0.5;
+  if (md.kind == ManoeuvreKind::kHover) {
+    md.speed = 0.0;
+  } else if (md.kind != ManoeuvreKind::kPointToPoint) {
+    // A circle's acceleration is v²/r; the 1:2 Lissajous figure-eight of half-length a and peak
+    // speed v (control/reference.h) peaks at √5·a·ω² = (√5/2)·v²/a ≈ 1.12·v²/a.
+    const double accel_per_v2_over_size = md.kind == ManoeuvreKind::kCircle ? 1.0 : 0.5 * std::sqrt(5.0);
+    md.size = std::max(md.size, accel_per_v2_over_size * md.speed * md.speed / m.max_lateral_accel);
+  }
+  d.preroll_steps = static_cast<int>(std::lround(draw(r.preroll_seconds, rng) / dt));
+  return d;
+}
+
+}  // namespace quadfdi

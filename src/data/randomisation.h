@@ -1,0 +1,99 @@
+// Randomised flights (docs/data.md#randomisation): each trajectory draws its vehicle, the plant's
+// errors against the description, the estimator's noise, lag and delay, the controller and its
+// gains, and the manoeuvre, as a pure function of (seed, scenario index). Ranges are plain data,
+// recorded in the model file; all-zero spreads and single-choice mixes give the paper's setting.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "model/vehicle_params.h"
+#include "simulation/rng.h"
+#include "simulation/sampling.h"
+#include "simulation/sensor_model.h"
+
+namespace quadfdi {
+
+// The plant's error against the described vehicle: uniform factors on the described values
+// ({1, 1}: none; {1.25, 1.25}: a fixed 25 % error, as the E7 test cells use).
+struct ParameterSpread {
+  Interval mass{1.0, 1.0};        // [-] plant mass = described · U(lo, hi) (payload, battery)
+  Interval inertia{1.0, 1.0};     // [-] each diagonal element independently (payload placement)
+  Interval thrust{1.0, 1.0};      // [-] thrust per command, all rotors alike (battery sag, wear)
+  Interval yaw_moment{1.0, 1.0};  // [-] κ, the rotors' yaw moment per newton of thrust
+  Interval motor_time_constant{0.0, 0.0};  // [s] absolute; {0, 0} keeps the description's value
+};
+
+// The flight controller's state estimate (simulation/sensor_model.h), drawn per flight.
+struct SensorRanges {
+  Interval position_std{0.0, 0.0};         // [m]
+  Interval velocity_std{0.0, 0.0};         // [m/s]
+  Interval attitude_std{0.0, 0.0};         // [rad]
+  Interval rate_std{0.0, 0.0};             // [rad/s]
+  Interval attitude_filter_tau{0.0, 0.0};  // [s]
+  Interval rate_filter_tau{0.0, 0.0};      // [s]
+  int delay_steps_max = 0;                 // [steps] delay drawn from U{0 … max}
+};
+
+enum class ManoeuvreKind { kHover, kPointToPoint, kCircle, kFigureEight };
+const char* toString(ManoeuvreKind k);
+bool parseManoeuvreKind(const std::string& text, ManoeuvreKind& kind);
+
+// Relative weights (≥ 0, not all zero) of what is flown, and its size.
+struct ManoeuvreMix {
+  double hover = 1.0, point_to_point = 0.0, circle = 0.0, figure_eight = 0.0;  // [-] weights
+  Interval speed{0.5, 2.0};   // [m/s] cruise speed (point-to-point peak, circle and figure-eight path speed)
+  Interval size{0.5, 1.5};    // [m] point-to-point distance, circle radius, figure-eight half-width
+  double max_lateral_accel = 4.9;  // [m/s²] paths are widened until v²/r ≤ this (0.5 g keeps tilt ≤ 27°)
+};
+
+// Controllers flown (relative weights) and the spread of their gains.
+struct ControllerMix {
+  double lqr = 1.0, pid = 0.0, cbf = 0.0;  // [-] weights
+  Interval gain_scale{1.0, 1.0};           // [-] PID loop bandwidths and LQR speed multiplied by this
+};
+
+struct Randomisation {
+  // The described vehicles (the controllers' design models); the plant is drawn around one of them.
+  std::vector<VehicleParams> vehicles;
+  std::vector<std::string> vehicle_names;  // for reports, parallel to `vehicles`
+  ParameterSpread parameters;
+  SensorRanges sensors;
+  ManoeuvreMix manoeuvres;
+  ControllerMix controllers;
+  Interval preroll_seconds{0.0, 0.0};  // [s] healthy flight before the first recorded sample
+
+  bool enabled() const { return !vehicles.empty(); }
+};
+
+// Empty when valid, else a one-line description of the first problem.
+std::string validate(const Randomisation& r);
+
+enum class DrawnController { kLqr, kPid, kCbfQp };
+const char* toString(DrawnController c);
+
+struct ManoeuvreDraw {
+  ManoeuvreKind kind = ManoeuvreKind::kHover;
+  double speed = 0.0;      // [m/s]
+  double size = 0.0;       // [m]
+  double direction = 0.0;  // [rad] heading of the path's main axis in the world frame
+  bool clockwise = false;  // circles and figure-eights
+};
+
+// One flight's draw.
+struct FlightDraw {
+  int vehicle = 0;            // index into Randomisation::vehicles
+  VehicleParams plant;        // the vehicle flown: the description with the drawn errors
+  double thrust_gain = 1.0;   // [-] thrust the rotors produce per newton commanded, all alike
+  SensorModelConfig sensors;  // the estimator
+  DrawnController controller = DrawnController::kLqr;
+  double gain_scale = 1.0;    // [-]
+  ManoeuvreDraw manoeuvre;
+  int preroll_steps = 0;      // [steps]
+};
+
+// Draws one flight from `rng` (its own stream: the caller seeds it from (seed, scenario index)).
+FlightDraw drawFlight(const Randomisation& r, double dt, Rng& rng);
+
+}  // namespace quadfdi

@@ -1,0 +1,124 @@
+#include "io/randomisation_file.h"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "io/key_value.h"
+#include "io/params_file.h"
+
+namespace quadfdi {
+namespace {
+
+// Every interval key of the file and where it lands.
+std::vector<std::pair<std::string, Interval*>> intervalFields(Randomisation& r) {
+  return {{"parameters.mass", &r.parameters.mass},
+          {"parameters.inertia", &r.parameters.inertia},
+          {"parameters.thrust", &r.parameters.thrust},
+          {"parameters.yaw_moment", &r.parameters.yaw_moment},
+          {"parameters.motor_time_constant", &r.parameters.motor_time_constant},
+          {"sensors.position_std", &r.sensors.position_std},
+          {"sensors.velocity_std", &r.sensors.velocity_std},
+          {"sensors.attitude_std", &r.sensors.attitude_std},
+          {"sensors.rate_std", &r.sensors.rate_std},
+          {"sensors.attitude_filter_tau", &r.sensors.attitude_filter_tau},
+          {"sensors.rate_filter_tau", &r.sensors.rate_filter_tau},
+          {"manoeuvres.speed", &r.manoeuvres.speed},
+          {"manoeuvres.size", &r.manoeuvres.size},
+          {"controllers.gain_scale", &r.controllers.gain_scale},
+          {"preroll_seconds", &r.preroll_seconds}};
+}
+
+std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
+  return {{"manoeuvres.hover", &r.manoeuvres.hover},
+          {"manoeuvres.point_to_point", &r.manoeuvres.point_to_point},
+          {"manoeuvres.circle", &r.manoeuvres.circle},
+          {"manoeuvres.figure_eight", &r.manoeuvres.figure_eight},
+          {"manoeuvres.max_lateral_accel", &r.manoeuvres.max_lateral_accel},
+          {"controllers.lqr", &r.controllers.lqr},
+          {"controllers.pid", &r.controllers.pid},
+          {"controllers.cbf", &r.controllers.cbf}};
+}
+
+std::string vehicleName(const std::string& spec) { return std::filesystem::path(spec).stem().string(); }
+
+}  // namespace
+
+Randomisation randomisationFromText(const std::string& text, const std::string& source) {
+  const KeyValueDocument doc = parseKeyValue(text, source);
+  Randomisation r;
+  const auto intervals = intervalFields(r);
+  const auto numbers = numberFields(r);
+  for (const KeyValueEntry& e : doc.entries) {
+    bool known = false;
+    for (const auto& [key, field] : intervals)
+      if (e.key == key) {
+        const std::vector<double> v = doc.numberList(e);
+        if (v.size() != 2) doc.fail(e, "'" + key + "' needs [lo, hi]");
+        *field = {v[0], v[1]};
+        known = true;
+      }
+    for (const auto& [key, field] : numbers)
+      if (e.key == key) {
+        *field = doc.number(e);
+        known = true;
+      }
+    if (e.key == "sensors.delay_steps_max") {
+      const long long v = doc.integer(e);
+      if (v < 0 || v > 1000) doc.fail(e, "sensors.delay_steps_max must be in 0 … 1000");
+      r.sensors.delay_steps_max = static_cast<int>(v);
+      known = true;
+    }
+    if (e.key == "vehicles") {
+      // A list of quoted paths: the key-value reader's lists hold numbers, so split here.
+      std::string list = e.value;
+      if (list.size() < 2 || list.front() != '[' || list.back() != ']') doc.fail(e, "vehicles must be a list of \"paths\"");
+      list = list.substr(1, list.size() - 2);
+      std::size_t at = 0;
+      while (true) {
+        const std::size_t open = list.find('"', at);
+        if (open == std::string::npos) break;
+        const std::size_t close = list.find('"', open + 1);
+        if (close == std::string::npos) doc.fail(e, "unterminated string in vehicles");
+        std::string spec = list.substr(open + 1, close - open - 1);
+        if (!isNamedParamSet(spec) && !std::filesystem::exists(spec)) {
+          const std::filesystem::path near = std::filesystem::path(source).parent_path() / spec;
+          if (std::filesystem::exists(near)) spec = near.string();
+        }
+        try {
+          r.vehicles.push_back(loadVehicleParams(spec));
+        } catch (const std::exception& ex) {
+          doc.fail(e, std::string("vehicle: ") + ex.what());
+        }
+        r.vehicle_names.push_back(vehicleName(spec));
+        at = close + 1;
+      }
+      if (r.vehicles.empty()) doc.fail(e, "vehicles must name at least one vehicle");
+      known = true;
+    }
+    if (!known) doc.fail(e, "unknown key '" + e.key + "'");
+  }
+  if (const std::string problem = validate(r); !problem.empty()) throw ConfigError(source + ": " + problem);
+  return r;
+}
+
+Randomisation loadRandomisation(const std::string& path) { return randomisationFromText(readTextFile(path), path); }
+
+std::string randomisationToText(const Randomisation& r) {
+  Randomisation copy = r;
+  std::string out = "vehicles = [";
+  for (std::size_t i = 0; i < r.vehicle_names.size(); ++i) out += (i ? ", \"" : "\"") + r.vehicle_names[i] + "\"";
+  out += "]\n";
+  char buf[160];
+  for (const auto& [key, field] : numberFields(copy)) {
+    std::snprintf(buf, sizeof buf, "%s = %.17g\n", key.c_str(), *field);
+    out += buf;
+  }
+  for (const auto& [key, field] : intervalFields(copy)) {
+    std::snprintf(buf, sizeof buf, "%s = [%.17g, %.17g]\n", key.c_str(), field->lo, field->hi);
+    out += buf;
+  }
+  std::snprintf(buf, sizeof buf, "sensors.delay_steps_max = %d\n", r.sensors.delay_steps_max);
+  return out + buf;
+}
+
+}  // namespace quadfdi

@@ -1,0 +1,102 @@
+#include <gtest/gtest.h>
+
+#include "data/randomisation.h"
+
+namespace quadfdi {
+namespace {
+
+Randomisation twoVehicles() {
+  Randomisation r;
+  r.vehicles = {nominalParams(), perturbedParams()};
+  r.vehicle_names = {"nominal", "perturbed"};
+  r.parameters.mass = {0.85, 1.15};
+  r.parameters.inertia = {0.8, 1.2};
+  r.parameters.thrust = {0.9, 1.1};
+  r.parameters.motor_time_constant = {0.01, 0.05};
+  r.sensors.position_std = {0.0, 0.005};
+  r.sensors.rate_filter_tau = {0.002, 0.008};
+  r.sensors.delay_steps_max = 5;
+  r.manoeuvres = {0.4, 0.3, 0.3, 0.0, {0.3, 2.0}, {0.5, 2.0}, 4.9};
+  r.controllers = {0.35, 0.45, 0.2, {0.7, 1.4}};
+  r.preroll_seconds = {0.2, 2.0};
+  return r;
+}
+
+TEST(Randomisation, DrawsArePureFunctionsOfTheStream) {
+  const Randomisation r = twoVehicles();
+  ASSERT_EQ(validate(r), "");
+  Rng a(5, 11), b(5, 11), c(5, 12);
+  const FlightDraw da = drawFlight(r, 0.002, a), db = drawFlight(r, 0.002, b), dc = drawFlight(r, 0.002, c);
+  EXPECT_EQ(da.plant.mass, db.plant.mass);
+  EXPECT_EQ(da.sensors.position_std, db.sensors.position_std);
+  EXPECT_EQ(da.manoeuvre.speed, db.manoeuvre.speed);
+  EXPECT_EQ(da.preroll_steps, db.preroll_steps);
+  EXPECT_NE(da.plant.mass, dc.plant.mass);
+}
+
+TEST(Randomisation, DrawsStayInsideTheirRangesAndFollowTheWeights) {
+  const Randomisation r = twoVehicles();
+  int counts[3] = {0, 0, 0}, manoeuvres[4] = {0, 0, 0, 0}, vehicles[2] = {0, 0};
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    Rng rng(1, static_cast<std::uint64_t>(i));
+    const FlightDraw d = drawFlight(r, 0.002, rng);
+    const VehicleParams& described = r.vehicles[static_cast<std::size_t>(d.vehicle)];
+    ASSERT_GE(d.plant.mass, described.mass * 0.85 - 1e-15);
+    ASSERT_LE(d.plant.mass, described.mass * 1.15 + 1e-15);
+    ASSERT_GE(d.plant.inertia_zz, described.inertia_zz * 0.8 - 1e-15);
+    ASSERT_LE(d.plant.inertia_zz, described.inertia_zz * 1.2 + 1e-15);
+    ASSERT_GE(d.thrust_gain, 0.9);
+    ASSERT_LE(d.thrust_gain, 1.1);
+    ASSERT_GE(d.plant.motor_time_constant, 0.01);
+    ASSERT_LE(d.plant.motor_time_constant, 0.05);
+    ASSERT_GE(d.sensors.rate_filter_tau, 0.002);
+    ASSERT_LE(d.sensors.delay_steps, 5);
+    ASSERT_GE(d.gain_scale, 0.7 - 1e-12);
+    ASSERT_LE(d.gain_scale, 1.4 + 1e-12);
+    ASSERT_GE(d.preroll_steps, 100);
+    ASSERT_LE(d.preroll_steps, 1000);
+    if (d.manoeuvre.kind == ManoeuvreKind::kCircle)  // widened until v²/r ≤ the lateral acceleration bound
+      ASSERT_LE(d.manoeuvre.speed * d.manoeuvre.speed / d.manoeuvre.size, 4.9 + 1e-9);
+    ++counts[static_cast<int>(d.controller)];
+    ++manoeuvres[static_cast<int>(d.manoeuvre.kind)];
+    ++vehicles[d.vehicle];
+  }
+  EXPECT_NEAR(counts[0] / double(n), 0.35, 0.015);
+  EXPECT_NEAR(counts[1] / double(n), 0.45, 0.015);
+  EXPECT_NEAR(counts[2] / double(n), 0.20, 0.015);
+  EXPECT_EQ(manoeuvres[3], 0);  // weight 0: never drawn
+  EXPECT_NEAR(manoeuvres[0] / double(n), 0.4, 0.015);
+  EXPECT_NEAR(vehicles[0] / double(n), 0.5, 0.015);
+}
+
+TEST(Randomisation, ZeroSpreadsGiveTheDescribedVehicleExactly) {
+  Randomisation r;
+  r.vehicles = {nominalParams()};
+  r.vehicle_names = {"nominal"};
+  Rng rng(3, 4);
+  const FlightDraw d = drawFlight(r, 0.002, rng);
+  EXPECT_EQ(d.plant.mass, nominalParams().mass);
+  EXPECT_EQ(d.plant.inertia_xx, nominalParams().inertia_xx);
+  EXPECT_EQ(d.plant.motor_time_constant, nominalParams().motor_time_constant);
+  EXPECT_EQ(d.thrust_gain, 1.0);
+  EXPECT_FALSE(d.sensors.active());
+  EXPECT_EQ(d.controller, DrawnController::kLqr);
+  EXPECT_EQ(d.manoeuvre.kind, ManoeuvreKind::kHover);
+  EXPECT_EQ(d.preroll_steps, 0);
+}
+
+TEST(Randomisation, ValidateNamesTheProblem) {
+  Randomisation r = twoVehicles();
+  r.controllers = {0.0, 0.0, 0.0, {1.0, 1.0}};
+  EXPECT_NE(validate(r).find("controller weight"), std::string::npos);
+  r = twoVehicles();
+  r.sensors.attitude_std = {0.01, 0.0};
+  EXPECT_NE(validate(r).find("sensor ranges"), std::string::npos);
+  r = twoVehicles();
+  r.parameters.mass = {1.2, 1.1};
+  EXPECT_NE(validate(r).find("parameter factors"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace quadfdi
