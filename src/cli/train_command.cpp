@@ -13,6 +13,7 @@
 #include "io/model_file.h"
 #include "io/params_file.h"
 #include "networks/trainer.h"
+#include "symmetry/symmetry.h"
 
 namespace quadfdi::cli {
 
@@ -94,6 +95,8 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
           "--architecture tcn: the receptive field (" + std::to_string(c.model.tcn.receptiveField()) +
               " samples) must fit in the window minus one (" + std::to_string(c.data.rollout.window - 1) + ")");
   require(parseSymmetryMode(o.symmetry, c.model.symmetry), "--symmetry must be exact or paper");
+  const std::string symmetry_problem = symmetryModeProblem(c.model.symmetry, c.data.rollout.plant);
+  require(symmetry_problem.empty(), "--symmetry " + o.symmetry + ": " + symmetry_problem);
   c.loss = o.loss == "norm" ? LossKind::kNorm : LossKind::kPerMotor;
   c.model.window = c.data.rollout.window;
   c.model.params = o.params;

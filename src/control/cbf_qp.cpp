@@ -44,8 +44,8 @@ void computeCbfRows(const RigidBodyModel& model, const CbfConfig& config, const 
     // (r3 × a)₃ = r3ₓ a_y − r3_y aₓ
     const double drift = r3dot.cross(w).z() + r3.x() * wdot_drift.y() - r3.y() * wdot_drift.x();
     for (int j = 0; j < kInputDim; ++j) {
-      const double dwx = model.lever * kRollSign[j] * model.inv_inertia.x();
-      const double dwy = model.lever * kPitchSign[j] * model.inv_inertia.y();
+      const double dwx = model.roll_lever * kRollSign[j] * model.inv_inertia.x();
+      const double dwy = model.pitch_lever * kPitchSign[j] * model.inv_inertia.y();
       rows.a(n, j) = r3.x() * dwy - r3.y() * dwx;
     }
     rows.b(n) = -(drift + (a1 + a2) * hdot + a1 * a2 * h);

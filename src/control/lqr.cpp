@@ -54,8 +54,8 @@ LinearModel linearizeAtHover(const VehicleParams& params) {
   for (int i = 0; i < 3; ++i) A(idx::kRate + i, idx::kRate + i) = -m.rotational_drag * m.inv_inertia(i);
   for (int j = 0; j < kInputDim; ++j) {
     B(idx::kVz, j) = m.inv_mass;
-    B(idx::kP, j) = m.lever * kRollSign[j] * m.inv_inertia.x();
-    B(idx::kQ, j) = m.lever * kPitchSign[j] * m.inv_inertia.y();
+    B(idx::kP, j) = m.roll_lever * kRollSign[j] * m.inv_inertia.x();
+    B(idx::kQ, j) = m.pitch_lever * kPitchSign[j] * m.inv_inertia.y();
     B(idx::kR, j) = m.yaw_coeff * kYawSign[j] * m.inv_inertia.z();
   }
   return lin;

@@ -13,7 +13,8 @@ namespace {
 bool sameDynamics(const VehicleParams& a, const VehicleParams& b) {
   return a.mass == b.mass && a.inertia_xx == b.inertia_xx && a.inertia_yy == b.inertia_yy &&
          a.inertia_zz == b.inertia_zz && a.thrust_coeff == b.thrust_coeff && a.drag_coeff == b.drag_coeff &&
-         a.arm_length == b.arm_length && a.gravity == b.gravity && a.linear_drag == b.linear_drag &&
+         a.arm_length == b.arm_length && a.rotor_x == b.rotor_x && a.rotor_y == b.rotor_y &&
+         a.yaw_moment_coeff == b.yaw_moment_coeff && a.gravity == b.gravity && a.linear_drag == b.linear_drag &&
          a.rotational_drag == b.rotational_drag && a.motor_time_constant == 0.0 && b.motor_time_constant == 0.0;
 }
 

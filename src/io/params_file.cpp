@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "io/key_value.h"
+#include "io/vehicle_file.h"
 
 namespace quadfdi {
 namespace {
@@ -19,9 +20,13 @@ const std::vector<std::pair<const char*, double VehicleParams::*>>& fields() {
       {"thrust_coeff", &VehicleParams::thrust_coeff},
       {"drag_coeff", &VehicleParams::drag_coeff},
       {"arm_length", &VehicleParams::arm_length},
+      {"rotor_x", &VehicleParams::rotor_x},
+      {"rotor_y", &VehicleParams::rotor_y},
+      {"yaw_moment_coeff", &VehicleParams::yaw_moment_coeff},
       {"gravity", &VehicleParams::gravity},
       {"min_thrust", &VehicleParams::min_thrust},
       {"max_thrust", &VehicleParams::max_thrust},
+      {"thrust_model_factor", &VehicleParams::thrust_model_factor},
       {"motor_time_constant", &VehicleParams::motor_time_constant},
       {"linear_drag", &VehicleParams::linear_drag},
       {"rotational_drag", &VehicleParams::rotational_drag},
@@ -63,7 +68,9 @@ VehicleParams vehicleParamsFromText(const std::string& text, const std::string& 
 
 VehicleParams loadVehicleParams(const std::string& spec) {
   if (isNamedParamSet(spec)) return namedParams(spec);
-  return vehicleParamsFromText(readTextFile(spec), spec);
+  const std::string text = readTextFile(spec);
+  if (looksLikeVehicleDescription(text)) return vehicleDescriptionFromText(text, spec).params;
+  return vehicleParamsFromText(text, spec);
 }
 
 std::string vehicleParamsToText(const VehicleParams& params) {

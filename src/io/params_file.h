@@ -7,7 +7,8 @@
 
 namespace quadfdi {
 
-// `spec` is "nominal", "perturbed", "perturbed-strong" or a path to a file.
+// `spec` is "nominal", "perturbed", "perturbed-strong" or a path to a file: a vehicle
+// description (it has [motor.N] sections; io/vehicle_file.h, docs/vehicles.md) or a parameter file.
 // A file may start from a named set with `base = "nominal"` and override any field of
 // VehicleParams by name. Throws ConfigError("FILE:LINE: problem") on bad input.
 VehicleParams loadVehicleParams(const std::string& spec);

@@ -9,10 +9,11 @@
 
 namespace quadfdi {
 
-// Mixer rows: thrust-to-wrench map with Crazyflie numbering
-// (1 front-right +x−y, 2 back-right −x−y, 3 back-left −x+y, 4 front-left +x+y).
+// Mixer rows: thrust-to-wrench map with Crazyflie numbering, rotors at (±a, ±b)
+// (1 front-right +a−b, 2 back-right −a−b, 3 back-left −a+b, 4 front-left +a+b).
 //   T  = f1 + f2 + f3 + f4
-//   τx = ℓ(−f1 − f2 + f3 + f4),  τy = ℓ(−f1 + f2 + f3 − f4),  τz = κ(−f1 + f2 − f3 + f4)
+//   τx = ℓx(−f1 − f2 + f3 + f4),  τy = ℓy(−f1 + f2 + f3 − f4),  τz = κ(−f1 + f2 − f3 + f4)
+// with the roll lever ℓx = b = |y| and the pitch lever ℓy = a = |x| (the seed: ℓx = ℓy = √2·d).
 inline constexpr double kRollSign[4] = {-1.0, -1.0, 1.0, 1.0};
 inline constexpr double kPitchSign[4] = {-1.0, 1.0, 1.0, -1.0};
 inline constexpr double kYawSign[4] = {-1.0, 1.0, -1.0, 1.0};
@@ -23,8 +24,9 @@ struct RigidBodyModel {
   double inv_mass = 0.0;         // [1/kg]
   Vec3 inertia = Vec3::Zero();   // [kg·m²] diagonal of J
   Vec3 inv_inertia = Vec3::Zero();  // [1/(kg·m²)]
-  double lever = 0.0;            // [m] √2·d
-  double yaw_coeff = 0.0;        // [m] κ = C_D/C_T
+  double roll_lever = 0.0;       // [m] |y| of every rotor (seed: √2·d); thrust differences → τx
+  double pitch_lever = 0.0;      // [m] |x| of every rotor (seed: √2·d); thrust differences → τy
+  double yaw_coeff = 0.0;        // [m] κ, yaw moment per newton of thrust (seed: C_D/C_T)
   double gravity = 0.0;          // [m/s²]
   double linear_drag_per_mass = 0.0;  // [1/s] c/m
   double rotational_drag = 0.0;  // [N·m·s/rad]
@@ -34,7 +36,8 @@ struct RigidBodyModel {
     m.inv_mass = 1.0 / p.mass;
     m.inertia = Vec3(p.inertia_xx, p.inertia_yy, p.inertia_zz);
     m.inv_inertia = m.inertia.cwiseInverse();
-    m.lever = p.lever();
+    m.roll_lever = p.rollLever();
+    m.pitch_lever = p.pitchLever();
     m.yaw_coeff = p.yawCoeff();
     m.gravity = p.gravity;
     m.linear_drag_per_mass = p.linear_drag / p.mass;
@@ -52,8 +55,8 @@ struct Wrench {
 inline Wrench mix(const RigidBodyModel& m, const Input& f) {
   Wrench w;
   w.thrust = (f(0) + f(1)) + (f(2) + f(3));
-  w.torque.x() = m.lever * ((f(2) + f(3)) - (f(0) + f(1)));
-  w.torque.y() = m.lever * ((f(1) + f(2)) - (f(0) + f(3)));
+  w.torque.x() = m.roll_lever * ((f(2) + f(3)) - (f(0) + f(1)));
+  w.torque.y() = m.pitch_lever * ((f(1) + f(2)) - (f(0) + f(3)));
   w.torque.z() = m.yaw_coeff * ((f(1) + f(3)) - (f(0) + f(2)));
   return w;
 }

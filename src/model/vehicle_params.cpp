@@ -1,13 +1,29 @@
 #include "model/vehicle_params.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 namespace quadfdi {
 
-double VehicleParams::lever() const { return std::sqrt(2.0) * arm_length; }
-double VehicleParams::yawCoeff() const { return drag_coeff / thrust_coeff; }
+// The seed's lever √2·d is kept as the expression it always was, so the default stays bit-identical.
+double VehicleParams::rollLever() const { return rotor_y > 0.0 ? rotor_y : std::sqrt(2.0) * arm_length; }
+double VehicleParams::pitchLever() const { return rotor_x > 0.0 ? rotor_x : std::sqrt(2.0) * arm_length; }
+double VehicleParams::yawCoeff() const { return yaw_moment_coeff > 0.0 ? yaw_moment_coeff : drag_coeff / thrust_coeff; }
+
+double VehicleParams::thrustAtCommand(double command) const {
+  const double c = std::clamp(command, 0.0, 1.0), k = thrust_model_factor;
+  return max_thrust * ((1.0 - k) * c + k * c * c);
+}
+
+double VehicleParams::commandForThrust(double thrust) const {
+  const double r = std::clamp(thrust / max_thrust, 0.0, 1.0), k = thrust_model_factor;
+  if (k <= 0.0 || r <= 0.0) return r;
+  // k c² + (1 − k) c − r = 0, the root in [0, 1]; written as 2r / (b + √(b² + 4kr)) to avoid cancellation.
+  const double b = 1.0 - k;
+  return 2.0 * r / (b + std::sqrt(b * b + 4.0 * k * r));
+}
 double VehicleParams::hoverThrust() const { return mass * gravity / 4.0; }
 
 VehicleParams nominalParams() { return VehicleParams{}; }
@@ -63,6 +79,10 @@ std::string validate(const VehicleParams& p) {
   positive(p.thrust_coeff, "thrust_coeff");
   nonNegative(p.drag_coeff, "drag_coeff");
   positive(p.arm_length, "arm_length");
+  nonNegative(p.rotor_x, "rotor_x");
+  nonNegative(p.rotor_y, "rotor_y");
+  nonNegative(p.yaw_moment_coeff, "yaw_moment_coeff");
+  nonNegative(p.thrust_model_factor, "thrust_model_factor");
   positive(p.gravity, "gravity");
   nonNegative(p.min_thrust, "min_thrust");
   positive(p.max_thrust, "max_thrust");
@@ -70,6 +90,10 @@ std::string validate(const VehicleParams& p) {
   nonNegative(p.linear_drag, "linear_drag");
   nonNegative(p.rotational_drag, "rotational_drag");
   if (msg.tellp() != 0) return msg.str();
+  if (p.thrust_model_factor > 1.0)
+    return "thrust_model_factor must lie in [0, 1] (PX4 THR_MDL_FAC convention), got " + std::to_string(p.thrust_model_factor);
+  if (!(std::isfinite(p.yawCoeff()) && p.yawCoeff() > 0.0))
+    return "the yaw moment coefficient (yaw_moment_coeff, or drag_coeff / thrust_coeff) must be finite and > 0";
   if (p.min_thrust >= p.max_thrust)
     return "min_thrust (" + std::to_string(p.min_thrust) + ") must be below max_thrust (" +
            std::to_string(p.max_thrust) + ")";

@@ -76,6 +76,13 @@ SymmetryMap SymmetryMap::inverse() const {
   return inv;
 }
 
+std::string symmetryModeProblem(SymmetryMode mode, const VehicleParams& p) {
+  if (mode != SymmetryMode::kPaperRotation || p.rollLever() == p.pitchLever()) return {};
+  return "the paper's rotation map needs a square X, but this vehicle's rotors sit at |x| = " +
+         std::to_string(p.pitchLever()) + " m, |y| = " + std::to_string(p.rollLever()) +
+         " m (a rectangular X): a quarter turn does not map it onto itself; use --symmetry exact";
+}
+
 SymmetryMap mapMotorToMotor2(int faulty_motor, SymmetryMode mode) {
   if (faulty_motor < 1 || faulty_motor > 4)
     throw std::invalid_argument("motor must be 1..4, got " + std::to_string(faulty_motor));

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "model/state.h"
+#include "model/vehicle_params.h"
 
 namespace quadfdi {
 
@@ -36,6 +37,12 @@ struct SymmetryMap {
   int imageOfMotor(int motor) const { return motor_image[static_cast<std::size_t>(motor - 1)] + 1; }
   SymmetryMap inverse() const;
 };
+
+// Empty when `mode` is exact for this vehicle's geometry, else a one-line reason. The exact group
+// holds for any symmetric X with rotors at (±rotor_x, ±rotor_y) and diagonal J, rectangular
+// included; the paper's quarter turns carry the x arm onto the y arm, so they need a square X
+// (rollLever = pitchLever). Callers that pick a mode for a vehicle (quadfdi train) refuse on it.
+std::string symmetryModeProblem(SymmetryMode mode, const VehicleParams& params);
 
 // The map sending motor `faulty_motor` (1..4) to motor 2.
 SymmetryMap mapMotorToMotor2(int faulty_motor, SymmetryMode mode);

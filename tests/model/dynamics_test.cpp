@@ -41,6 +41,28 @@ TEST(Dynamics, MixerProducesTheSeedsWrench) {
   EXPECT_NEAR(w.torque.z(), k * (-0.01 + 0.02 - 0.03 + 0.05), 1e-15);
 }
 
+TEST(Dynamics, RectangularXMixerUsesRotorYForRollAndRotorXForPitch) {
+  VehicleParams p = nominalParams();
+  p.rotor_x = 0.03;
+  p.rotor_y = 0.05;
+  p.yaw_moment_coeff = 0.006;
+  const RigidBodyModel m = RigidBodyModel::fromParams(p);
+  EXPECT_EQ(m.roll_lever, 0.05);
+  EXPECT_EQ(m.pitch_lever, 0.03);
+  const Input f(0.01, 0.02, 0.03, 0.05);
+  const Wrench w = mix(m, f);
+  // τ = Σ r_i × (0, 0, f_i) with r_i = (±0.03, ±0.05, 0) in FLU: τx = Σ y_i f_i, τy = −Σ x_i f_i.
+  const double x[4] = {0.03, -0.03, -0.03, 0.03}, y[4] = {-0.05, -0.05, 0.05, 0.05};
+  double tx = 0.0, ty = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    tx += y[i] * f(i);
+    ty -= x[i] * f(i);
+  }
+  EXPECT_NEAR(w.torque.x(), tx, 1e-17);
+  EXPECT_NEAR(w.torque.y(), ty, 1e-17);
+  EXPECT_NEAR(w.torque.z(), 0.006 * (-0.01 + 0.02 - 0.03 + 0.05), 1e-17);
+}
+
 TEST(Dynamics, RotationMatrixIsZyxAndOrthonormal) {
   const Mat3 r = rotationBodyToWorld(0.3, -0.2, 1.1);
   const Mat3 expected = (Eigen::AngleAxisd(1.1, Vec3::UnitZ()) * Eigen::AngleAxisd(-0.2, Vec3::UnitY()) *

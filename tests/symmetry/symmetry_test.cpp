@@ -198,5 +198,73 @@ INSTANTIATE_TEST_SUITE_P(Controllers, ClosedLoopEquivariance,
                            return std::string(param_info.param.params) + "_" + toString(param_info.param.kind);
                          });
 
+// A rectangular X (rotor_x ≠ rotor_y, Ixx ≠ Iyy, own κ, motor lag): the exact group stays exact.
+VehicleParams rectangularCrazyflie() {
+  VehicleParams p = nominalParams();
+  p.rotor_x = 0.045;
+  p.rotor_y = 0.065;
+  p.inertia_xx = 1.2e-5;
+  p.inertia_yy = 1.7e-5;
+  p.yaw_moment_coeff = 0.006;
+  p.motor_time_constant = 0.02;
+  return p;
+}
+
+// The Agilicious racer of configs/vehicles/racer250.toml, written out (this test links no io).
+VehicleParams racer250() {
+  VehicleParams p;
+  p.mass = 0.752;
+  p.inertia_xx = 2.5e-3;
+  p.inertia_yy = 2.1e-3;
+  p.inertia_zz = 4.3e-3;
+  p.rotor_x = 0.075;
+  p.rotor_y = 0.10;
+  p.arm_length = 0.125;
+  p.yaw_moment_coeff = 0.022;
+  p.motor_time_constant = 0.033;
+  p.max_thrust = 12.2502;
+  p.min_thrust = 0.0352;
+  p.gravity = 9.81;
+  return p;
+}
+
+TEST(ExactGroup, RectangularXVectorFieldIsEquivariantToRoundOff) {
+  EXPECT_LT(vectorFieldDefect(rectangularCrazyflie(), SymmetryMode::kExactGroup, 500, 4), 1e-12);
+  EXPECT_GT(vectorFieldDefect(rectangularCrazyflie(), SymmetryMode::kPaperRotation, 500, 4), 1e-3);
+}
+
+TEST(ExactGroup, RectangularXMotorKFaultEqualsMappedMotor2FaultToRoundOff) {
+  struct Case {
+    const char* name;
+    VehicleParams params;
+    ControllerKind kind;
+  };
+  for (const Case& c : {Case{"rectangular-crazyflie", rectangularCrazyflie(), ControllerKind::kLqr},
+                        Case{"rectangular-crazyflie", rectangularCrazyflie(), ControllerKind::kCbfQp},
+                        Case{"racer250", racer250(), ControllerKind::kLqr}}) {
+    ASSERT_EQ(validate(c.params), "") << c.name;
+    double worst = 0.0;
+    for (int motor = 1; motor <= 4; ++motor) {
+      for (double theta : {0.0, 0.5}) {
+        const Drift d = closedLoopDrift(c.params, c.kind, SymmetryMode::kExactGroup, motor, theta, 7);
+        ASSERT_GT(d.steps, 100) << c.name;
+        EXPECT_TRUE(d.same_length) << c.name;
+        EXPECT_LT(d.worst, 1e-9) << c.name << "/" << toString(c.kind) << " motor " << motor << " theta " << theta;
+        worst = std::max(worst, d.worst);
+      }
+    }
+    std::printf("[ measured ] %s/%s: exact group drift %.2e (max abs. state/command difference, 8 flights)\n", c.name,
+                toString(c.kind), worst);
+  }
+}
+
+TEST(SymmetryMode, PaperRotationIsRefusedForARectangularX) {
+  EXPECT_EQ(symmetryModeProblem(SymmetryMode::kPaperRotation, nominalParams()), "");
+  EXPECT_EQ(symmetryModeProblem(SymmetryMode::kExactGroup, rectangularCrazyflie()), "");
+  const std::string problem = symmetryModeProblem(SymmetryMode::kPaperRotation, rectangularCrazyflie());
+  EXPECT_EQ(problem.rfind("the paper's rotation map needs a square X", 0), 0u) << problem;
+  EXPECT_NE(problem.find("use --symmetry exact"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace quadfdi
