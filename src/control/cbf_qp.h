@@ -50,8 +50,8 @@ class CbfQpController final : public Controller {
  public:
   // setup: `params` is the model the filter believes (the controller's design model).
   CbfQpController(const VehicleParams& params, const GainMatrix& lqr_gain, const CbfConfig& config);
-  void setGoal(const Vec3& goal_position) override { lqr_.setGoal(goal_position); }
-  const Vec3& goal() const override { return lqr_.goal(); }
+  void setReference(const Reference& reference) override { lqr_.setReference(reference); }
+  const Reference& reference() const override { return lqr_.reference(); }
   void compute(const State& x, ControlStep& out) override;
   const CbfConfig& config() const { return config_; }
 

@@ -1,12 +1,22 @@
 #include "control/controller_factory.h"
 
+#include <cmath>
+
 namespace quadfdi {
 
-const char* toString(ControllerKind k) { return k == ControllerKind::kLqr ? "lqr" : "cbf"; }
+const char* toString(ControllerKind k) {
+  switch (k) {
+    case ControllerKind::kLqr: return "lqr";
+    case ControllerKind::kCbfQp: return "cbf";
+    case ControllerKind::kPid: return "pid";
+  }
+  return "?";
+}
 
 bool parseControllerKind(const std::string& text, ControllerKind& kind) {
   if (text == "lqr") { kind = ControllerKind::kLqr; return true; }
   if (text == "cbf" || text == "cbf-qp") { kind = ControllerKind::kCbfQp; return true; }
+  if (text == "pid") { kind = ControllerKind::kPid; return true; }
   return false;
 }
 
@@ -14,6 +24,18 @@ ControllerBuild makeController(const VehicleParams& design_params, const Control
   ControllerBuild build;
   if (const std::string problem = validate(design_params); !problem.empty()) {
     build.error = "controller design parameters: " + problem;
+    return build;
+  }
+  if (config.kind == ControllerKind::kPid) {
+    if (!(dt > 0.0) || !std::isfinite(dt)) {
+      build.error = "time step must be finite and > 0";
+      return build;
+    }
+    if (const std::string problem = validate(config.pid); !problem.empty()) {
+      build.error = problem;
+      return build;
+    }
+    build.controller = std::make_unique<PidController>(design_params, config.pid, dt);
     return build;
   }
   build.lqr = designLqr(design_params, config.lqr, dt);

@@ -6,22 +6,24 @@
 
 #include "control/cbf_qp.h"
 #include "control/lqr.h"
+#include "control/pid.h"
 
 namespace quadfdi {
 
-enum class ControllerKind { kLqr, kCbfQp };
+enum class ControllerKind { kLqr, kCbfQp, kPid };
 const char* toString(ControllerKind k);
-bool parseControllerKind(const std::string& text, ControllerKind& kind);  // "lqr" | "cbf"
+bool parseControllerKind(const std::string& text, ControllerKind& kind);  // "lqr" | "cbf" | "pid"
 
 struct ControllerConfig {
   ControllerKind kind = ControllerKind::kLqr;
   LqrConfig lqr = LqrConfig::bryson();
   CbfConfig cbf;
+  PidConfig pid;
 };
 
 struct ControllerBuild {
   std::unique_ptr<Controller> controller;  // null on failure
-  LqrDesign lqr;                           // the design behind it
+  LqrDesign lqr;                           // the design behind it (LQR and CBF-QP only)
   std::string error;                       // empty on success
 };
 

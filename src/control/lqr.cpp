@@ -140,12 +140,16 @@ LqrController::LqrController(const VehicleParams& params, const GainMatrix& gain
       min_thrust_(params.min_thrust),
       max_thrust_(params.max_thrust) {}
 
-void LqrController::setGoal(const Vec3& goal_position) { goal_ = goal_position; }
-
 void LqrController::compute(const State& x, ControlStep& out) {
+  // e = x − x_ref, x_ref = (reference position, reference velocity in the body frame, 0, 0,
+  // reference yaw, 0, 0, 0). The hover reference skips the rotation: e is then bit for bit
+  // the hover LQR's (x − 0 = x).
   State err = x;
-  err.segment<3>(idx::kPos) -= goal_;
-  err(idx::kYaw) = wrapAngle(err(idx::kYaw));
+  err.segment<3>(idx::kPos) -= reference_.position;
+  if ((reference_.velocity.array() != 0.0).any())
+    err.segment<3>(idx::kVel) -=
+        rotationBodyToWorld(x(idx::kRoll), x(idx::kPitch), x(idx::kYaw)).transpose() * reference_.velocity;
+  err(idx::kYaw) = wrapAngle(err(idx::kYaw) - reference_.yaw);
   out.u_nominal = Input::Constant(hover_thrust_) - gain_ * err;
   out.u_cmd = out.u_nominal.cwiseMax(min_thrust_).cwiseMin(max_thrust_);
   const bool saturated = (out.u_cmd.array() != out.u_nominal.array()).any();

@@ -60,8 +60,8 @@ class LqrController final : public Controller {
  public:
   // setup: the gain comes from designLqr(); bounds and hover thrust from params.
   LqrController(const VehicleParams& params, const GainMatrix& gain);
-  void setGoal(const Vec3& goal_position) override;
-  const Vec3& goal() const override { return goal_; }
+  void setReference(const Reference& reference) override { reference_ = reference; }
+  const Reference& reference() const override { return reference_; }
   void compute(const State& x, ControlStep& out) override;
   const GainMatrix& gain() const { return gain_; }
 
@@ -70,7 +70,7 @@ class LqrController final : public Controller {
   double hover_thrust_;  // [N]
   double min_thrust_;    // [N]
   double max_thrust_;    // [N]
-  Vec3 goal_ = Vec3::Zero();
+  Reference reference_;
 };
 
 // Wraps an angle to (−π, π].

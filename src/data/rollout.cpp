@@ -32,6 +32,8 @@ std::string validate(const RolloutConfig& c) {
   if (!(c.dt > 0.0) || !std::isfinite(c.dt)) return "dt must be finite and > 0";
   if (c.window < 1 || c.window > 100000) return "window T must be in 1 … 100000";
   if (c.preroll_max_steps < 0) return "pre-roll must be >= 0 steps";
+  if (c.controller.kind == ControllerKind::kPid)
+    if (const std::string problem = validate(c.controller.pid); !problem.empty()) return problem;
   return {};
 }
 
@@ -59,6 +61,8 @@ RolloutEngine::RolloutEngine(const RolloutConfig& config)
 std::unique_ptr<Controller> RolloutEngine::makeWorkerController() const {
   if (config_.controller.kind == ControllerKind::kLqr)
     return std::make_unique<LqrController>(config_.controller_model, lqr_.gain);
+  if (config_.controller.kind == ControllerKind::kPid)
+    return std::make_unique<PidController>(config_.controller_model, config_.controller.pid, config_.dt);
   return std::make_unique<CbfQpController>(config_.controller_model, lqr_.gain, config_.controller.cbf);
 }
 
@@ -69,6 +73,7 @@ void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller,
 
   Rng rng(config_.seed, job.scenario_index);
   const Scenario sc = sampleScenario(config_.ranges, rng);
+  controller.reset();  // a worker's controller flies many scenarios: no state carries over
   controller.setGoal(sc.goal);
   Input theta = Input::Ones();
   theta(job.faulty_motor - 1) = job.theta;

@@ -27,6 +27,8 @@ std::string validate(const SimulationSettings& s) {
   if (!(s.noise.position_std >= 0.0 && s.noise.attitude_std >= 0.0 && std::isfinite(s.noise.position_std) &&
         std::isfinite(s.noise.attitude_std)))
     return "sensor noise standard deviations must be finite and >= 0";
+  if (s.trajectory)
+    if (std::string problem = validate(*s.trajectory); !problem.empty()) return problem;
   return {};
 }
 
@@ -55,7 +57,9 @@ FlightSummary ClosedLoopSimulator::run(Controller& controller, const State& x0, 
   const bool noisy = settings_.noise.position_std > 0.0 || settings_.noise.attitude_std > 0.0;
   Rng noise_rng(settings_.noise.seed, 0x5E45);
   ControlStep control;
+  controller.reset();
   for (int k = 0; k < n; ++k) {
+    if (settings_.trajectory) controller.setReference(referenceAt(*settings_.trajectory, k * settings_.dt));
     controller.compute(plant.x, control);
     const Input applied =
         k >= settings_.fault.fault_step ? Input(settings_.fault.theta.cwiseProduct(control.u_cmd)) : control.u_cmd;

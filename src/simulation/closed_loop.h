@@ -4,9 +4,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "control/controller.h"
+#include "control/reference.h"
 #include "model/integrator.h"
 #include "model/vehicle_params.h"
 
@@ -33,6 +35,9 @@ struct SimulationSettings {
   StateBounds bounds;
   FaultSpec fault;
   SensorNoise noise;
+  // A manoeuvre to fly: before step k the simulator calls controller.setReference(referenceAt(
+  // *trajectory, k·dt)). Empty (default): the controller keeps the reference it was given.
+  std::optional<TrajectorySpec> trajectory;
 };
 
 // Empty when valid, else a one-line description of the first problem.
@@ -64,7 +69,8 @@ class ClosedLoopSimulator {
  public:
   // setup: the plant's true parameters (may differ from the controller's design model).
   ClosedLoopSimulator(const VehicleParams& plant_params, const SimulationSettings& settings);
-  // Runs settings.steps steps from x0 (rotors start at hover thrust). `log` may be null;
+  // Runs settings.steps steps from x0 (rotors start at hover thrust), after controller.reset().
+  // `log` may be null;
   // otherwise it is cleared and filled (reserve happens here, not per step).
   FlightSummary run(Controller& controller, const State& x0, FlightLog* log) const;
 

@@ -1,0 +1,431 @@
+// The cascaded PID (src/control/pid.*): hover, trajectory tracking with and without
+// feed-forward, equivariance under the exact symmetry group, loop-rate holding, the allocator's
+// priorities, and no heap allocation in compute().
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <new>
+#include <vector>
+
+#include "control/controller_factory.h"
+#include "control/pid.h"
+#include "control/reference.h"
+#include "model/integrator.h"
+#include "simulation/closed_loop.h"
+#include "symmetry/symmetry.h"
+#include "test_support.h"
+
+// Counts every global operator new in this test binary, so a test can assert that compute()
+// does not touch the heap (the pattern of tests/control/qp_solver_test.cpp).
+namespace {
+std::atomic<long> g_heap_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  g_heap_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* ptr = std::malloc(size == 0 ? 1 : size)) return ptr;
+  throw std::bad_alloc();
+}
+[[gnu::noinline]] void operator delete(void* ptr) noexcept { std::free(ptr); }
+[[gnu::noinline]] void operator delete(void* ptr, std::size_t) noexcept { std::free(ptr); }
+
+namespace quadfdi {
+namespace {
+
+constexpr double kDt = 0.002;
+
+std::unique_ptr<Controller> makePid(const VehicleParams& design, const PidConfig& pid = {}) {
+  ControllerConfig cc;
+  cc.kind = ControllerKind::kPid;
+  cc.pid = pid;
+  ControllerBuild build = makeController(design, cc, kDt);
+  if (!build.controller) throw std::runtime_error(build.error);
+  return std::move(build.controller);
+}
+
+// A flight driven by an arbitrary reference function (the simulator's loop, written out so the
+// reference can be mapped or stripped of its feed-forward).
+struct Flight {
+  std::vector<State> states;
+  std::vector<Input> commands;
+  std::vector<Reference> references;
+  bool cut = false;
+};
+
+Flight fly(Controller& ctrl, const VehicleParams& plant, const State& x0, int steps,
+           const std::function<Reference(double)>& reference, const Input& theta = Input::Ones()) {
+  const RigidBodyModel model = RigidBodyModel::fromParams(plant);
+  PlantState ps;
+  ps.x = x0;
+  ps.rotor_thrust = Input::Constant(plant.hoverThrust());
+  ctrl.reset();
+  Flight f;
+  ControlStep step;
+  for (int k = 0; k < steps; ++k) {
+    const Reference r = reference(k * kDt);
+    ctrl.setReference(r);
+    ctrl.compute(ps.x, step);
+    f.states.push_back(ps.x);
+    f.commands.push_back(step.u_cmd);
+    f.references.push_back(r);
+    stepPlant(model, Integrator::kRk4, kDt, plant.motor_time_constant, theta.cwiseProduct(step.u_cmd), ps);
+    if (checkState(ps.x, StateBounds{}) != StepStatus::kOk) {
+      f.cut = true;
+      break;
+    }
+  }
+  return f;
+}
+
+struct TrackingError {
+  double rms = 0.0;  // [m]
+  double max = 0.0;  // [m]
+};
+
+TrackingError trackingError(const Flight& f, int from_step) {
+  TrackingError e;
+  int n = 0;
+  for (std::size_t k = static_cast<std::size_t>(from_step); k < f.states.size(); ++k) {
+    const double d = (f.states[k].head<3>() - f.references[k].position).norm();
+    e.rms += d * d;
+    e.max = std::max(e.max, d);
+    ++n;
+  }
+  e.rms = std::sqrt(e.rms / std::max(n, 1));
+  return e;
+}
+
+Reference withoutFeedForward(Reference r) {
+  r.velocity.setZero();
+  r.acceleration.setZero();
+  r.yaw_rate = 0.0;
+  return r;
+}
+
+
+Reference mapped(const Reference& r, const SymmetryMap& g) {
+  const Mat3 s = g.state_map.block<3, 3>(idx::kPos, idx::kPos);
+  const double yaw_sign = g.state_map(idx::kYaw, idx::kYaw);
+  Reference m;
+  m.position = s * r.position;
+  m.velocity = s * r.velocity;
+  m.acceleration = s * r.acceleration;
+  m.yaw = yaw_sign * r.yaw;
+  m.yaw_rate = yaw_sign * r.yaw_rate;
+  return m;
+}
+
+TrajectorySpec spec(TrajectoryKind kind, double speed) {
+  TrajectorySpec s;
+  s.kind = kind;
+  s.start = Vec3(0.0, 0.0, 1.0);
+  s.goal = Vec3(2.0, 1.0, 1.5);
+  s.radius = 1.0;
+  s.speed = speed;
+  s.yaw_mode = YawMode::kFacingVelocity;
+  return s;
+}
+
+State startOf(const TrajectorySpec& s) {
+  const Reference r = referenceAt(s, 0.0);
+  State x = test::hoverState(r.position);
+  x(idx::kYaw) = r.yaw;
+  return x;
+}
+
+TEST(Pid, HoldsHoverAtEquilibriumExactly) {
+  for (const VehicleParams& p : {nominalParams(), perturbedParams()}) {
+    auto ctrl = makePid(p);
+    ctrl->setGoal(Vec3(0.3, -0.2, 1.0));
+    const Flight f = fly(*ctrl, p, test::hoverState(Vec3(0.3, -0.2, 1.0)), 2000,
+                         [](double) { return hoverReference(Vec3(0.3, -0.2, 1.0)); });
+    ASSERT_FALSE(f.cut);
+    for (std::size_t k = 0; k < f.states.size(); ++k) {
+      ASSERT_LT((f.states[k].head<3>() - Vec3(0.3, -0.2, 1.0)).norm(), 1e-12) << "step " << k;
+      ASSERT_LT((f.commands[k] - Input::Constant(p.hoverThrust())).cwiseAbs().maxCoeff(), 1e-15) << "step " << k;
+    }
+  }
+}
+
+// Gains are bandwidths: a vehicle twice as heavy, with twice the inertia and twice the thrust,
+// flies the same path (same accelerations), to round-off, with the same default gains.
+TEST(Pid, GainsScaleWithTheAirframe) {
+  const VehicleParams p = nominalParams();
+  VehicleParams heavy = p;
+  heavy.mass *= 2.0;
+  heavy.inertia_xx *= 2.0;
+  heavy.inertia_yy *= 2.0;
+  heavy.inertia_zz *= 2.0;
+  heavy.min_thrust *= 2.0;
+  heavy.max_thrust *= 2.0;
+  State x0 = test::hoverState(Vec3(0.5, -0.4, 0.8));
+  x0(idx::kRoll) = 0.2;
+  x0(idx::kYaw) = 0.3;
+  auto a = makePid(p), b = makePid(heavy);
+  const auto goal = [](double) { return hoverReference(Vec3(0.0, 0.0, 1.0)); };
+  const Flight fa = fly(*a, p, x0, 3000, goal), fb = fly(*b, heavy, x0, 3000, goal);
+  ASSERT_FALSE(fa.cut);
+  ASSERT_EQ(fa.states.size(), fb.states.size());
+  for (std::size_t k = 0; k < fa.states.size(); ++k) {
+    ASSERT_LT((fa.states[k] - fb.states[k]).cwiseAbs().maxCoeff(), 1e-9) << "step " << k;
+    ASSERT_LT((2.0 * fa.commands[k] - fb.commands[k]).cwiseAbs().maxCoeff(), 1e-9) << "step " << k;
+  }
+  EXPECT_LT((fa.states.back().head<3>() - Vec3(0, 0, 1)).norm(), 0.03);
+}
+
+// The design model is 30 % too light: the velocity integrator supplies the missing thrust.
+TEST(Pid, IntegratorRemovesTheOffsetOfAHeavierPlant) {
+  const VehicleParams design = nominalParams();
+  VehicleParams plant = design;
+  plant.mass *= 1.3;
+  auto ctrl = makePid(design);
+  const Flight f = fly(*ctrl, plant, test::hoverState(Vec3(0, 0, 1)), 10000,
+                       [](double) { return hoverReference(Vec3(0, 0, 1)); });
+  ASSERT_FALSE(f.cut);
+  double sag = 0.0;
+  for (const State& x : f.states) sag = std::max(sag, 1.0 - x(idx::kPz));
+  EXPECT_GT(sag, 0.05);  // the mismatch is felt ...
+  EXPECT_LT(sag, 0.5);
+  EXPECT_LT((f.states.back().head<3>() - Vec3(0, 0, 1)).norm(), 0.005);  // ... and removed
+}
+
+// Tolerances after the first 5 s (start transient of the circle and figure-eight, whose
+// velocity jumps at t = 0): PX4's default gains leave the cascade a lag of about 0.2 s, which
+// on a 1 m circle at 1 m/s (1 m/s² centripetal) costs about 0.1 m; without velocity and
+// acceleration feed-forward the same gains fall behind by about a metre.
+struct TrackingCase {
+  TrajectoryKind kind;
+  double speed;        // [m/s]
+  double rms_limit;    // [m]
+  double max_limit;    // [m]
+};
+
+TEST(Pid, TracksEachTrajectoryKindAndNeedsTheFeedForward) {
+  const VehicleParams p = nominalParams();
+  const TrackingCase cases[] = {{TrajectoryKind::kPointToPoint, 1.0, 0.03, 0.06},
+                                {TrajectoryKind::kCircle, 0.5, 0.04, 0.07},
+                                {TrajectoryKind::kCircle, 1.0, 0.15, 0.2},
+                                {TrajectoryKind::kFigureEight, 1.0, 0.18, 0.3}};
+  for (const TrackingCase& c : cases) {
+    const TrajectorySpec s = spec(c.kind, c.speed);
+    auto ctrl = makePid(p);
+    const Flight with = fly(*ctrl, p, startOf(s), 7500, [&](double t) { return referenceAt(s, t); });
+    const Flight without =
+        fly(*ctrl, p, startOf(s), 7500, [&](double t) { return withoutFeedForward(referenceAt(s, t)); });
+    ASSERT_FALSE(with.cut) << toString(c.kind);
+    const TrackingError e = trackingError(with, 2500), e0 = trackingError(without, 2500);
+    EXPECT_LT(e.rms, c.rms_limit) << toString(c.kind) << " at " << c.speed << " m/s";
+    EXPECT_LT(e.max, c.max_limit) << toString(c.kind) << " at " << c.speed << " m/s";
+    EXPECT_GT(e0.max, 2.0 * c.max_limit) << toString(c.kind) << " without feed-forward";
+    // Facing the velocity: yaw follows the reference.
+    EXPECT_LT(std::abs(wrapAngle(with.states.back()(idx::kYaw) - with.references.back().yaw)), 0.1);
+  }
+}
+
+TEST(Pid, HoverTrajectoryIsSetGoal) {
+  const VehicleParams p = nominalParams();
+  TrajectorySpec s;
+  s.start = Vec3(0.2, 0.1, 1.2);
+  SimulationSettings settings;
+  settings.steps = 600;
+  FlightLog a, b;
+  auto ctrl = makePid(p);
+  ctrl->setGoal(s.start);
+  const State x0 = test::hoverState(Vec3(0, 0, 1));
+  ClosedLoopSimulator(p, settings).run(*ctrl, x0, &a);
+  settings.trajectory = s;
+  ClosedLoopSimulator(p, settings).run(*ctrl, x0, &b);
+  ASSERT_EQ(a.size(), b.size());
+  for (int k = 0; k < a.size(); ++k) ASSERT_EQ(a.states[static_cast<std::size_t>(k)], b.states[static_cast<std::size_t>(k)]);
+}
+
+// Flying the mapped reference from the mapped start with the mapped fault gives the mapped
+// flight and the permuted motor commands, for every element of the exact group.
+TEST(Pid, EquivariantUnderTheExactSymmetryGroup) {
+  const VehicleParams p = perturbedParams();  // Ixx ≠ Iyy: the group is still exact
+  const TrajectorySpec s = spec(TrajectoryKind::kFigureEight, 1.5);
+  State x0 = startOf(s);
+  x0.segment<3>(idx::kVel) = Vec3(0.3, -0.2, 0.1);
+  x0(idx::kRoll) = 0.15;
+  x0(idx::kPitch) = -0.1;
+  x0.segment<3>(idx::kRate) = Vec3(0.5, -0.3, 0.2);
+  for (int motor = 1; motor <= 4; ++motor) {
+    Input theta = Input::Ones();
+    theta(motor - 1) = 0.8;
+    const SymmetryMap g = mapMotorToMotor2(motor, SymmetryMode::kExactGroup);
+    auto a = makePid(p), b = makePid(p);
+    const Flight f = fly(*a, p, x0, 2500, [&](double t) { return referenceAt(s, t); }, theta);
+    const Flight m = fly(*b, p, g.applyToState(x0), 2500, [&](double t) { return mapped(referenceAt(s, t), g); },
+                         g.applyToTheta(theta));
+    ASSERT_FALSE(f.cut) << "motor " << motor << " cut after " << f.states.size();
+    ASSERT_EQ(f.states.size(), m.states.size());
+    double worst_state = 0.0, worst_command = 0.0;
+    for (std::size_t k = 0; k < f.states.size(); ++k) {
+      worst_state = std::max(worst_state, (g.applyToState(f.states[k]) - m.states[k]).cwiseAbs().maxCoeff());
+      worst_command = std::max(worst_command, (g.applyToInput(f.commands[k]) - m.commands[k]).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(worst_state, 1e-9) << "motor " << motor;
+    EXPECT_LT(worst_command, 1e-9) << "motor " << motor;
+  }
+}
+
+TEST(Pid, EachLoopHoldsItsOutputBetweenUpdates) {
+  const VehicleParams p = nominalParams();
+  PidConfig config;  // position every 5th step, attitude every 2nd, rate every step
+  config.rate_divisor = 1;
+  PidController ctrl(p, config, kDt);
+  const TrajectorySpec s = spec(TrajectoryKind::kCircle, 1.0);
+  State x = startOf(s);
+  x(idx::kRoll) = 0.1;
+  const RigidBodyModel model = RigidBodyModel::fromParams(p);
+  PlantState ps;
+  ps.x = x;
+  ps.rotor_thrust = Input::Constant(p.hoverThrust());
+  ControlStep out;
+  Vec3 thrust, rates, torque;
+  int position_changes = 0, attitude_changes = 0;
+  for (int k = 0; k < 60; ++k) {
+    ctrl.setReference(referenceAt(s, k * kDt));
+    ctrl.compute(ps.x, out);
+    if (k > 0) {
+      if (k % 5 != 0) {
+        EXPECT_EQ(ctrl.thrustVector(), thrust) << "step " << k;
+      } else {
+        position_changes += ctrl.thrustVector() != thrust;
+      }
+      if (k % 2 != 0) {
+        EXPECT_EQ(ctrl.rateSetpoint(), rates) << "step " << k;
+      } else {
+        attitude_changes += ctrl.rateSetpoint() != rates;
+      }
+      EXPECT_NE(ctrl.torqueCommand(), torque) << "step " << k;
+    }
+    thrust = ctrl.thrustVector();
+    rates = ctrl.rateSetpoint();
+    torque = ctrl.torqueCommand();
+    stepPlant(model, Integrator::kRk4, kDt, 0.0, out.u_cmd, ps);
+  }
+  EXPECT_EQ(position_changes, 11);
+  EXPECT_EQ(attitude_changes, 29);
+
+  // A slower rate loop holds the motor commands too.
+  config.rate_divisor = 3;
+  PidController slow(p, config, kDt);
+  slow.setReference(referenceAt(s, 0.0));
+  Input previous = Input::Zero();
+  ps.x = x;
+  for (int k = 0; k < 30; ++k) {
+    slow.compute(ps.x, out);
+    if (k % 3 != 0) {
+      EXPECT_EQ(out.u_cmd, previous) << "step " << k;
+    }
+    previous = out.u_cmd;
+    stepPlant(model, Integrator::kRk4, kDt, 0.0, out.u_cmd, ps);
+  }
+}
+
+TEST(Pid, ComputeDoesNotAllocate) {
+  const VehicleParams p = nominalParams();
+  PidController ctrl(p, PidConfig{}, kDt);
+  const TrajectorySpec s = spec(TrajectoryKind::kFigureEight, 2.0);
+  State x = startOf(s);
+  ControlStep out;
+  const long before = g_heap_allocations.load();
+  for (int k = 0; k < 1000; ++k) {
+    ctrl.setReference(referenceAt(s, k * kDt));
+    x(idx::kRoll) = 0.3 * std::sin(0.01 * k);
+    ctrl.compute(x, out);
+  }
+  EXPECT_EQ(g_heap_allocations.load(), before);
+  const long probe_before = g_heap_allocations.load();
+  void* probe = ::operator new(16);  // the counter itself works
+  EXPECT_GT(g_heap_allocations.load(), probe_before);
+  ::operator delete(probe);
+}
+
+TEST(PidAllocator, ExactInsideTheBoundsAndPrioritisedOutside) {
+  const VehicleParams p = nominalParams();
+  const RigidBodyModel model = RigidBodyModel::fromParams(p);
+  const MotorAllocator alloc(model, p.min_thrust, p.max_thrust);
+  Input f, raw;
+  auto wrench = [&](const Input& u) {
+    const Wrench w = mix(model, u);
+    return Eigen::Vector4d(w.thrust, w.torque.x(), w.torque.y(), w.torque.z());
+  };
+  // Inside: the wrench is produced exactly.
+  const Eigen::Vector4d inside(4 * p.hoverThrust(), 1e-4, -2e-4, 1e-5);
+  EXPECT_FALSE(alloc.allocate(inside(0), inside.tail<3>(), f, raw));
+  EXPECT_LT((wrench(f) - inside).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_EQ(f, raw);
+  // Too much yaw at hover: roll, pitch and collective kept, yaw reduced.
+  const Eigen::Vector4d yawy(4 * p.hoverThrust(), 1e-3, 0.0, 1e-2);
+  EXPECT_TRUE(alloc.allocate(yawy(0), yawy.tail<3>(), f, raw));
+  EXPECT_NEAR(wrench(f)(0), yawy(0), 1e-15);
+  EXPECT_NEAR(wrench(f)(1), yawy(1), 1e-15);
+  EXPECT_NEAR(wrench(f)(2), 0.0, 1e-15);
+  EXPECT_GT(wrench(f)(3), 0.0);
+  EXPECT_LT(wrench(f)(3), yawy(3));
+  // Roll at full collective: roll kept, collective lowered.
+  const Eigen::Vector4d high(4 * p.max_thrust, 3e-3, 0.0, 0.0);
+  EXPECT_TRUE(alloc.allocate(high(0), high.tail<3>(), f, raw));
+  EXPECT_NEAR(wrench(f)(1), high(1), 1e-15);
+  EXPECT_LT(wrench(f)(0), high(0));
+  EXPECT_NEAR(f.maxCoeff(), p.max_thrust, 1e-15);
+  // More roll than the motors can make: scaled into the bounds, direction kept.
+  EXPECT_TRUE(alloc.allocate(4 * p.hoverThrust(), Vec3(1.0, 0.5, 0.0), f, raw));
+  EXPECT_TRUE((f.array() >= p.min_thrust).all() && (f.array() <= p.max_thrust).all());
+  EXPECT_NEAR(wrench(f)(1) / wrench(f)(2), 2.0, 1e-9);
+  EXPECT_TRUE(alloc.allocate(4 * p.hoverThrust(), Vec3(1.0, 0.0, 0.0), f, raw));
+  EXPECT_NEAR(wrench(f)(1), alloc.maxTorque().x(), 1e-15);
+  // The desaturation commutes with the symmetry group: the mapped wrench (T, det S·S·τ) gives
+  // the permuted thrusts, saturated or not.
+  const Eigen::Vector4d wrenches[] = {inside, yawy, high, Eigen::Vector4d(0.1, 4e-3, -3e-3, 8e-3),
+                                      Eigen::Vector4d(0.5, -2e-3, 5e-3, -6e-3)};
+  for (int motor = 1; motor <= 4; ++motor) {
+    const SymmetryMap g = mapMotorToMotor2(motor, SymmetryMode::kExactGroup);
+    const Vec3 torque_sign = g.state_map.diagonal().segment<3>(idx::kRate);  // ω and τ map alike
+    for (const Eigen::Vector4d& w : wrenches) {
+      Input fm, rawm;
+      const bool s1 = alloc.allocate(w(0), w.tail<3>(), f, raw);
+      const bool s2 = alloc.allocate(w(0), torque_sign.cwiseProduct(w.tail<3>()), fm, rawm);
+      EXPECT_EQ(s1, s2);
+      EXPECT_LT((g.applyToInput(f) - fm).cwiseAbs().maxCoeff(), 1e-15) << "motor " << motor;
+    }
+  }
+}
+
+TEST(Pid, RefusesBadConfigurations) {
+  PidConfig c;
+  EXPECT_EQ(validate(c), "");
+  c.attitude_divisor = 0;
+  EXPECT_EQ(validate(c), "PID loop divisors must be >= 1");
+  c = PidConfig{};
+  c.yaw_weight = 0.0;
+  EXPECT_EQ(validate(c), "PID yaw_weight must lie in (0, 1]");
+  ControllerConfig cc;
+  cc.kind = ControllerKind::kPid;
+  cc.pid.rate_gain_rp = -1.0;
+  const ControllerBuild build = makeController(nominalParams(), cc, kDt);
+  EXPECT_EQ(build.controller, nullptr);
+  EXPECT_EQ(build.error, "PID gains and limits must be finite and >= 0");
+}
+
+// The LQR tracks a moving reference through x − x_ref (velocity rotated into the body frame).
+TEST(LqrReference, TracksASlowCircle) {
+  const VehicleParams p = nominalParams();
+  auto lqr = test::makeOrDie(p, ControllerKind::kLqr);
+  TrajectorySpec s = spec(TrajectoryKind::kCircle, 0.5);
+  s.yaw_mode = YawMode::kFixed;
+  const Flight with = fly(*lqr, p, startOf(s), 7500, [&](double t) { return referenceAt(s, t); });
+  const Flight without = fly(*lqr, p, startOf(s), 7500, [&](double t) { return withoutFeedForward(referenceAt(s, t)); });
+  ASSERT_FALSE(with.cut);
+  const TrackingError e = trackingError(with, 2500), e0 = trackingError(without, 2500);
+  EXPECT_LT(e.max, 0.1);
+  EXPECT_LT(e.max, 0.5 * e0.max);
+}
+
+}  // namespace
+}  // namespace quadfdi
