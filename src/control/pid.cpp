@@ -51,8 +51,8 @@ MotorAllocator::Matrix mixMatrixOf(const RigidBodyModel& m) {
   MotorAllocator::Matrix mix;
   for (int j = 0; j < kInputDim; ++j) {
     mix(0, j) = 1.0;
-    mix(1, j) = m.lever * kRollSign[j];
-    mix(2, j) = m.lever * kPitchSign[j];
+    mix(1, j) = m.roll_lever * kRollSign[j];
+    mix(2, j) = m.pitch_lever * kPitchSign[j];
     mix(3, j) = m.yaw_coeff * kYawSign[j];
   }
   return mix;

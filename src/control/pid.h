@@ -103,7 +103,7 @@ class MotorAllocator {
 };
 
 // The mix matrix of a model, rows (collective, τx, τy, τz) per motor: the only use of the rotor
-// levers in the PID (RigidBodyModel::lever; roll_lever / pitch_lever when the model has them).
+// levers in the PID (RigidBodyModel::roll_lever, pitch_lever).
 MotorAllocator::Matrix mixMatrixOf(const RigidBodyModel& model);
 
 class PidController final : public Controller {

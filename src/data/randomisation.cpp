@@ -95,7 +95,7 @@ FlightDraw drawFlight(const Randomisation& r, double dt, Rng& rng) {
   p.inertia_zz *= draw(r.parameters.inertia, rng);
   d.thrust_gain = draw(r.parameters.thrust, rng);
   const double yaw = draw(r.parameters.yaw_moment, rng);
-  p.drag_coeff *= yaw;
+  p.yaw_moment_coeff = p.yawCoeff() * yaw;
   const double tau = draw(r.parameters.motor_time_constant, rng);
   if (r.parameters.motor_time_constant.hi > 0.0) p.motor_time_constant = tau;
 
@@ -121,7 +121,6 @@ FlightDraw drawFlight(const Randomisation& r, double dt, Rng& rng) {
   md.speed = draw(m.speed, rng);
   md.size = draw(m.size, rng);
   md.direction = rng.uniform(-M_PI, M_PI);
-  md.clockwise = rng.uniform() < 0.5;
   if (md.kind == ManoeuvreKind::kHover) {
     md.speed = 0.0;
   } else if (md.kind != ManoeuvreKind::kPointToPoint) {

@@ -77,8 +77,7 @@ struct ManoeuvreDraw {
   ManoeuvreKind kind = ManoeuvreKind::kHover;
   double speed = 0.0;      // [m/s]
   double size = 0.0;       // [m]
-  double direction = 0.0;  // [rad] heading of the path's main axis in the world frame
-  bool clockwise = false;  // circles and figure-eights
+  double direction = 0.0;  // [rad] point-to-point: heading of the path in the world frame
 };
 
 // One flight's draw.

@@ -5,7 +5,9 @@
 #include <cstring>
 #include <thread>
 
+#include "control/pid.h"
 #include "data/residual.h"
+#include "simulation/sensor_model.h"
 
 namespace quadfdi {
 namespace {
@@ -23,6 +25,71 @@ void store(const Eigen::Matrix<double, N, 1>& v, float* out) {
   for (int i = 0; i < N; ++i) out[i] = static_cast<float>(v(i));
 }
 
+// Salts of the per-trajectory streams (scenario_index is the stream index): the scenario stream
+// (initial state, goal) stays the paper's; the draw and the sensor noise get their own.
+constexpr std::uint64_t kDrawSalt = 0xD4A3'5EEDull;
+constexpr std::uint64_t kSensorSalt = 0x5E45'0125ull;
+
+// Bryson's per-motor thrust deviation (control/lqr.cpp) as a fraction of hover thrust, so that one
+// rule designs a comparable LQR for a 30 g and a 1.5 kg vehicle: 0.02 N of the Crazyflie's 0.0733 N.
+constexpr double kLqrThrustDeviationOfHover = 0.02 / (0.0299 * 9.8 / 4.0);
+
+// The LQR of a described vehicle at gain scale s: Bryson's weights with the thrust deviation scaled
+// to the vehicle's hover thrust and Q multiplied by s² (state errors cost s² more: a faster loop).
+LqrConfig lqrConfigFor(const VehicleParams& v, double s) {
+  LqrConfig c = LqrConfig::bryson();
+  const double deviation = kLqrThrustDeviationOfHover * v.hoverThrust();
+  c.r_diag = Input::Constant(1.0 / (deviation * deviation));
+  c.q_diag *= s * s;
+  return c;
+}
+
+// The PID with every loop bandwidth multiplied by s (integral gains, which are bandwidth², by s²),
+// keeping the derivative ratios: the same controller tuned s times faster.
+PidConfig scaledPid(PidConfig c, double s) {
+  for (double* g : {&c.position_gain_xy, &c.position_gain_z, &c.velocity_gain_xy, &c.velocity_gain_z, &c.attitude_gain_rp,
+                    &c.attitude_gain_yaw, &c.rate_gain_rp, &c.rate_gain_yaw})
+    *g *= s;
+  for (double* g : {&c.velocity_integral_xy, &c.velocity_integral_z, &c.rate_integral_rp, &c.rate_integral_yaw}) *g *= s * s;
+  return c;
+}
+
+// The manoeuvre a draw describes, anchored at the scenario's goal (the circle and the
+// point-to-point path start there; the figure-eight is centred there).
+TrajectorySpec trajectoryFor(const ManoeuvreDraw& m, const Vec3& anchor) {
+  TrajectorySpec t;
+  t.start = anchor;
+  switch (m.kind) {
+    case ManoeuvreKind::kHover: t.kind = TrajectoryKind::kHover; break;
+    case ManoeuvreKind::kPointToPoint:
+      t.kind = TrajectoryKind::kPointToPoint;
+      t.goal = anchor + m.size * Vec3(std::cos(m.direction), std::sin(m.direction), 0.0);
+      t.speed = m.speed;
+      break;
+    case ManoeuvreKind::kCircle:
+      t.kind = TrajectoryKind::kCircle;
+      t.start = anchor - Vec3(m.size, 0.0, 0.0);  // the circle starts at centre + (radius, 0, 0)
+      t.radius = m.size;
+      t.speed = m.speed;
+      break;
+    case ManoeuvreKind::kFigureEight:
+      t.kind = TrajectoryKind::kFigureEight;
+      t.radius = m.size;
+      t.speed = m.speed;
+      break;
+  }
+  return t;
+}
+
+// Gain levels the LQR designs are made at: `count` log-spaced points spanning the range.
+std::vector<double> gainLevels(const Interval& range, int count) {
+  if (!(range.hi > range.lo)) return {range.lo};
+  std::vector<double> levels;
+  for (int i = 0; i < count; ++i)
+    levels.push_back(std::exp(std::log(range.lo) + (std::log(range.hi) - std::log(range.lo)) * i / (count - 1)));
+  return levels;
+}
+
 }  // namespace
 
 std::string validate(const RolloutConfig& c) {
@@ -32,8 +99,11 @@ std::string validate(const RolloutConfig& c) {
   if (!(c.dt > 0.0) || !std::isfinite(c.dt)) return "dt must be finite and > 0";
   if (c.window < 1 || c.window > 100000) return "window T must be in 1 … 100000";
   if (c.preroll_max_steps < 0) return "pre-roll must be >= 0 steps";
-  if (c.controller.kind == ControllerKind::kPid)
+  if (c.controller.kind == ControllerKind::kPid || c.randomisation.controllers.pid > 0.0)
     if (const std::string problem = validate(c.controller.pid); !problem.empty()) return problem;
+  if (c.post_fault_steps < 0 || c.post_fault_steps > 1000000) return "post-fault steps must be in 0 … 1000000";
+  if (c.randomisation.enabled())
+    if (const std::string problem = validate(c.randomisation); !problem.empty()) return problem;
   return {};
 }
 
@@ -56,6 +126,20 @@ RolloutEngine::RolloutEngine(const RolloutConfig& config)
   if (!error_.empty()) return;
   lqr_ = designLqr(config.controller_model, config.controller.lqr, config.dt);
   if (!lqr_.ok()) error_ = "LQR design failed: " + lqr_.error;
+  const Randomisation& r = config.randomisation;
+  if (!error_.empty() || !r.enabled()) return;
+  // Five levels across the gain range: a draw flies the nearest (Riccati solves stay in setup).
+  lqr_gain_levels_ = gainLevels(r.controllers.gain_scale, 5);
+  for (std::size_t v = 0; v < r.vehicles.size(); ++v) {
+    vehicle_lqr_.emplace_back();
+    for (double s : lqr_gain_levels_) {
+      vehicle_lqr_.back().push_back(designLqr(r.vehicles[v], lqrConfigFor(r.vehicles[v], s), config.dt));
+      if (!vehicle_lqr_.back().back().ok()) {
+        error_ = "LQR design failed for vehicle '" + r.vehicle_names[v] + "': " + vehicle_lqr_.back().back().error;
+        return;
+      }
+    }
+  }
 }
 
 std::unique_ptr<Controller> RolloutEngine::makeWorkerController() const {
@@ -67,6 +151,7 @@ std::unique_ptr<Controller> RolloutEngine::makeWorkerController() const {
 }
 
 void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller, TrajectoryBatch& b, int slot) const {
+  if (config_.randomisation.enabled()) return rolloutRandomised(job, b, slot);
   const auto s = static_cast<std::size_t>(slot);
   const int samples = b.samples, fault_step = config_.faultStep();
   const double dt = config_.dt, lag = config_.plant.motor_time_constant;
@@ -136,6 +221,101 @@ void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller,
     std::fill(b.inputs.begin() + static_cast<std::ptrdiff_t>(from * kInputDim), b.inputs.begin() + static_cast<std::ptrdiff_t>(to * kInputDim), 0.0f);
     std::fill(b.states.begin() + static_cast<std::ptrdiff_t>(from * kStateDim), b.states.begin() + static_cast<std::ptrdiff_t>(to * kStateDim), 0.0f);
     std::fill(b.residuals.begin() + static_cast<std::ptrdiff_t>(from * kOutputDim), b.residuals.begin() + static_cast<std::ptrdiff_t>(to * kOutputDim), 0.0f);
+  }
+  b.length[s] = length;
+  b.end_status[s] = static_cast<std::uint8_t>(status);
+}
+
+void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch& b, int slot) const {
+  const auto s = static_cast<std::size_t>(slot);
+  const int samples = b.samples, fault_step = config_.faultStep();
+  const double dt = config_.dt;
+  const Randomisation& r = config_.randomisation;
+
+  Rng rng(config_.seed, job.scenario_index);
+  const Scenario sc = sampleScenario(config_.ranges, rng);
+  Rng draw_rng(config_.seed ^ kDrawSalt, job.scenario_index);
+  const FlightDraw d = drawFlight(r, dt, draw_rng);
+  const VehicleParams& described = r.vehicles[static_cast<std::size_t>(d.vehicle)];
+  const RigidBodyModel plant_model = RigidBodyModel::fromParams(d.plant);
+  const RigidBodyModel described_model = RigidBodyModel::fromParams(described);
+  const double lag = d.plant.motor_time_constant;
+
+  // The controller, designed on the described vehicle (what its user knows), not on the plant.
+  std::unique_ptr<Controller> controller;
+  if (d.controller == DrawnController::kPid) {
+    controller = std::make_unique<PidController>(described, scaledPid(config_.controller.pid, d.gain_scale), dt);
+  } else {
+    std::size_t level = 0;
+    for (std::size_t i = 1; i < lqr_gain_levels_.size(); ++i)
+      if (std::abs(std::log(lqr_gain_levels_[i] / d.gain_scale)) < std::abs(std::log(lqr_gain_levels_[level] / d.gain_scale)))
+        level = i;
+    const GainMatrix& gain = vehicle_lqr_[static_cast<std::size_t>(d.vehicle)][level].gain;
+    if (d.controller == DrawnController::kLqr) controller = std::make_unique<LqrController>(described, gain);
+    else controller = std::make_unique<CbfQpController>(described, gain, config_.controller.cbf);
+  }
+  const TrajectorySpec trajectory = trajectoryFor(d.manoeuvre, sc.goal);
+  SensorModel sensors(d.sensors, dt);
+  Rng sensor_rng(config_.seed ^ kSensorSalt, job.scenario_index);
+
+  Input theta = Input::Ones();
+  theta(job.faulty_motor - 1) = job.theta;
+  PlantState plant;
+  plant.x = sc.initial_state;
+  plant.rotor_thrust = Input::Constant(d.plant.hoverThrust());
+  sensors.reset(plant.x);
+  ControlStep control;
+  StepStatus status = checkState(plant.x, StateBounds{});
+
+  // Healthy pre-roll along the manoeuvre, then the recorded samples; step k flies t = k·dt.
+  long step = 0;
+  auto advance = [&](const State& estimate, const Input& applied_factor) {
+    controller->setReference(referenceAt(trajectory, static_cast<double>(step) * dt));
+    controller->compute(estimate, control);
+    const Input applied = d.thrust_gain * applied_factor.cwiseProduct(control.u_cmd);
+    stepPlant(plant_model, config_.integrator, dt, lag, applied, plant);
+    ++step;
+    status = checkState(plant.x, StateBounds{});
+  };
+  State estimate = sensors.measure(plant.x, sensor_rng);
+  for (int k = 0; k < d.preroll_steps && status == StepStatus::kOk; ++k) {
+    advance(estimate, Input::Ones());
+    estimate = sensors.measure(plant.x, sensor_rng);
+  }
+
+  for (int i = 0; i < kStateDim; ++i) b.initial_state[s * kStateDim + static_cast<std::size_t>(i)] = plant.x(i);
+  for (int i = 0; i < 3; ++i) b.goal[s * 3 + static_cast<std::size_t>(i)] = sc.goal(i);
+  for (int i = 0; i < kInputDim; ++i) b.theta[s * kInputDim + static_cast<std::size_t>(i)] = static_cast<float>(theta(i));
+  b.fault_step[s] = fault_step;
+  b.scenario_index[s] = job.scenario_index;
+
+  int length = 0;
+  Output residual = Output::Zero();
+  if (status == StepStatus::kOk) {
+    for (int k = 0; k < samples; ++k) {
+      const std::size_t o = b.sampleOffset(slot, k);
+      // The log holds what the flight controller had: the estimate and the command made from it.
+      store<kOutputDim>(outputOf(estimate, config_.output), &b.outputs[o * kOutputDim]);
+      store<kStateDim>(plant.x, &b.states[o * kStateDim]);
+      store<kOutputDim>(residual, &b.residuals[o * kOutputDim]);
+      const State estimate_before = estimate;
+      advance(estimate, k >= fault_step ? theta : Input::Ones());
+      store<kInputDim>(control.u_cmd, &b.inputs[o * kInputDim]);
+      length = k + 1;
+      if (status != StepStatus::kOk || k + 1 == samples) break;
+      estimate = sensors.measure(plant.x, sensor_rng);
+      // ỹ: the described vehicle's one-step prediction from the previous estimate (what a user
+      // with the description could compute), against the new estimate.
+      residual = oneStepResidual(described_model, config_.integrator, dt, estimate_before, control.u_cmd, estimate,
+                                 config_.output);
+    }
+  }
+  if (length < samples) {
+    const std::size_t from = b.sampleOffset(slot, length), to = b.sampleOffset(slot, samples);
+    for (auto* v : {&b.outputs, &b.residuals})
+      std::fill(v->begin() + static_cast<std::ptrdiff_t>(from * kOutputDim), v->begin() + static_cast<std::ptrdiff_t>(to * kOutputDim), 0.0f);
+    std::fill(b.inputs.begin() + static_cast<std::ptrdiff_t>(from * kInputDim), b.inputs.begin() + static_cast<std::ptrdiff_t>(to * kInputDim), 0.0f);
+    std::fill(b.states.begin() + static_cast<std::ptrdiff_t>(from * kStateDim), b.states.begin() + static_cast<std::ptrdiff_t>(to * kStateDim), 0.0f);
   }
   b.length[s] = length;
   b.end_status[s] = static_cast<std::uint8_t>(status);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "control/controller_factory.h"
+#include "data/randomisation.h"
 #include "data/trajectory_batch.h"
 #include "simulation/sampling.h"
 
@@ -32,7 +33,13 @@ struct RolloutConfig {
   int preroll_max_steps = 0;
   std::uint64_t seed = 0;
 
-  int samplesPerTrajectory() const { return 2 * window + 1; }
+  // Randomised flights (data/randomisation.h, docs/data.md#randomisation): when enabled, each
+  // trajectory draws its vehicle, plant errors, estimator, controller and manoeuvre, and
+  // plant / controller_model / residual_model / controller kind / preroll_max_steps above are unused.
+  Randomisation randomisation;
+  // Samples recorded after the fault step; 0 = T (the paper's 2T + 1 samples a trajectory).
+  int post_fault_steps = 0;  // [steps]
+  int samplesPerTrajectory() const { return window + (post_fault_steps > 0 ? post_fault_steps : window) + 1; }
   int faultStep() const { return window; }
 };
 
@@ -69,6 +76,8 @@ class RolloutEngine {
   // One trajectory into slot `slot` of an already sized batch; `controller` is the calling
   // thread's own controller instance (controllers hold per-step state).
   void rolloutOne(const TrajectoryJob& job, Controller& controller, TrajectoryBatch& batch, int slot) const;
+  // A randomised trajectory: its own plant, estimator and controller, built here from the draw.
+  void rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch& batch, int slot) const;
   std::unique_ptr<Controller> makeWorkerController() const;
 
  private:
@@ -77,6 +86,9 @@ class RolloutEngine {
   RigidBodyModel residual_model_;
   bool residual_is_plant_ = false;  // same parameters and no lag: prediction = plant step when healthy
   LqrDesign lqr_;
+  // Randomised flights: LQR designs per (described vehicle, gain level), made in setup.
+  std::vector<std::vector<LqrDesign>> vehicle_lqr_;
+  std::vector<double> lqr_gain_levels_;  // [-] gain scales the designs stand for
   std::string error_;
 };
 

@@ -56,8 +56,9 @@ TEST(Randomisation, DrawsStayInsideTheirRangesAndFollowTheWeights) {
     ASSERT_LE(d.gain_scale, 1.4 + 1e-12);
     ASSERT_GE(d.preroll_steps, 100);
     ASSERT_LE(d.preroll_steps, 1000);
-    if (d.manoeuvre.kind == ManoeuvreKind::kCircle)  // widened until v²/r ≤ the lateral acceleration bound
+    if (d.manoeuvre.kind == ManoeuvreKind::kCircle) {  // widened until v²/r ≤ the lateral acceleration bound
       ASSERT_LE(d.manoeuvre.speed * d.manoeuvre.speed / d.manoeuvre.size, 4.9 + 1e-9);
+    }
     ++counts[static_cast<int>(d.controller)];
     ++manoeuvres[static_cast<int>(d.manoeuvre.kind)];
     ++vehicles[d.vehicle];
