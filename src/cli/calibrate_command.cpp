@@ -30,7 +30,8 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->add("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)").defaultText("");
-  t->add("--output,-o", o.output, "Calibration JSON to write").required();
+  t->add("--output,-o", o.output, "Calibration JSON to write (default: MODEL.calibration.json beside the model, which detect reads)")
+      .defaultText("");
   t->add("--flights", o.flights, "Healthy flights").range(1, 100000);
   t->add("--flight-seconds", o.flight_seconds, "Length of each healthy flight [s]").range(1.0, 36000.0);
   t->add("--goal-period", o.goal_period, "A new goal this often [s]").range(0.1, 36000.0);
@@ -187,7 +188,8 @@ int runCalibrate(const CalibrateOptions& o) {
                 model_path.c_str(), o.flights, o.flight_seconds, o.goal_period, o.faulty_flights, o.seed, o.position_noise,
                 o.attitude_noise);
   c.source = src;
-  writeCalibrationFile(o.output, c);
+  const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
+  writeCalibrationFile(output, c);
   if (!o.quiet) {
     std::fprintf(stderr, "calibrate: %.3f flight hours healthy: Θ̂ mean %.4f, σ %.4f, φ %.4f at %g Hz; model error σ %.4f (%zu estimates)\n",
                  c.flight_hours, c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt, c.noise.model_sigma, est.size());
@@ -196,7 +198,7 @@ int runCalibrate(const CalibrateOptions& o) {
                    "calibrate: level %.2f: h = %.3f (%s; %ld excursions), %ld alarms in the data = %.3g/h (95 %% bound %.3g/h)\n",
                    l->level, l->threshold, l->method.c_str(), l->excursions, l->alarms_at_threshold, l->rate_at_threshold,
                    l->rate_upper_bound);
-    std::fprintf(stderr, "calibrate: wrote %s\n", o.output.c_str());
+    std::fprintf(stderr, "calibrate: wrote %s\n", output.c_str());
   }
   return 0;
 }

@@ -131,6 +131,12 @@ class RecordingSink : public DetectionSink {
 
 }  // namespace
 
+std::string calibrationSidecarPath(const std::string& model_path) {
+  const std::string ext = ".qfdw";
+  const bool has = model_path.size() > ext.size() && model_path.compare(model_path.size() - ext.size(), ext.size(), ext) == 0;
+  return (has ? model_path.substr(0, model_path.size() - ext.size()) : model_path) + ".calibration.json";
+}
+
 SequentialSetup sequentialSetup(const std::string& calibration_file, double degraded_below, double failed_below,
                                 double false_alarms_per_hour, double dt) {
   SequentialSetup s;
@@ -184,7 +190,16 @@ int runDetect(const DetectOptions& o) {
   config.alarm.clear_after = o.clear_after;
   config.rule = sequential ? AlarmRule::kSequential : AlarmRule::kPersistence;
   if (sequential) {
-    config.sequential = sequentialSetup(o.calibration, o.degraded_below, o.failed_below, o.false_alarms_per_hour, m.dt).config;
+    // The model's own calibration (MODEL.calibration.json beside MODEL.qfdw) unless one is named.
+    std::string calibration = o.calibration;
+    if (calibration.empty()) {
+      const std::string sidecar = calibrationSidecarPath(model_path);
+      if (std::ifstream(sidecar).good()) calibration = sidecar;
+      else if (!o.quiet)
+        std::fprintf(stderr, "detect: warning: no calibration for %s (%s): default noise model, Siegmund thresholds; run quadfdi calibrate\n",
+                     model_path.c_str(), sidecar.c_str());
+    }
+    config.sequential = sequentialSetup(calibration, o.degraded_below, o.failed_below, o.false_alarms_per_hour, m.dt).config;
     config.sequential.clear_after = o.clear_after;
   }
   std::unique_ptr<Detector> detector;

@@ -44,6 +44,9 @@ struct SequentialSetup {
 SequentialSetup sequentialSetup(const std::string& calibration_file, double degraded_below, double failed_below,
                                 double false_alarms_per_hour, double dt);
 
+// MODEL.qfdw → MODEL.calibration.json: the calibration detect uses when none is named.
+std::string calibrationSidecarPath(const std::string& model_path);
+
 // The shipped model: $QUADFDI_MODEL if set, else models/lstm-model-free.qfdw of the source tree.
 std::string defaultModelPath();
 

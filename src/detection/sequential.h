@@ -21,12 +21,13 @@ const char* toString(Severity s);  // healthy | degraded | failed
 
 // Θ̂ of one motor on healthy flights as a stationary AR(1) process, plus the systematic error of
 // the network on faulty flights. Defaults: measured on the shipped TCN (models/tcn-model-free.qfdw)
-// with `quadfdi calibrate` on simulated healthy and faulty LQR flights (docs/decisions.md).
+// by `quadfdi calibrate --flights 40 --flight-seconds 90 --faulty-flights 100` (1.0 simulated
+// flight hour, LQR, nominal Crazyflie; models/tcn-model-free.calibration.json, docs/decisions.md).
 struct ThetaNoiseModel {
-  double healthy_mean = 0.97;  // [-] mean Θ̂ on healthy flights
-  double sigma = 0.02;         // [-] per-sample standard deviation of Θ̂ on healthy flights
-  double phi = 0.98;           // [-] lag-1 autocorrelation of Θ̂ at the model rate (500 Hz)
-  double model_sigma = 0.03;   // [-] standard deviation of (mean Θ̂ − Θ) on faulty flights, beyond the noise
+  double healthy_mean = 0.982;  // [-] mean Θ̂ on healthy flights
+  double sigma = 0.039;         // [-] per-sample standard deviation of Θ̂ on healthy flights
+  double phi = 0.84;            // [-] lag-1 autocorrelation of Θ̂ at the model rate (500 Hz)
+  double model_sigma = 0.093;   // [-] standard deviation of (mean Θ̂ − Θ) on faulty flights, beyond the noise
 };
 
 struct SequentialConfig {
