@@ -1,6 +1,8 @@
 #include "cli/detect_command.h"
 
+#include <cmath>
 #include <cstdio>
+#include <utility>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -11,6 +13,8 @@
 #include "cli/detection_plot.h"
 #include "detection/session.h"
 #include "io/atomic_file.h"
+#include "io/calibration_file.h"
+#include "io/key_value.h"
 #include "io/model_file.h"
 #include "io/telemetry_reader.h"
 
@@ -32,8 +36,8 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
       "(SI units, z up, ZYX Euler angles, u = commanded thrust per motor [N], Crazyflie numbering; extra\n"
       "columns ignored; any rate down to 125 Hz, resampled to the model's) or a flight log (PX4 ULog,\n"
       "ArduPilot DataFlash, Crazyflie micro-SD: recognised from its content, airborne phases only), writes\n"
-      "one JSON object per sample from the first full window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"}.\n"
-      "A summary goes to stderr.");
+      "one JSON object per sample from the first full window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"}\n"
+      "and, with the sequential rule (default), \"severity\", \"theta_est\", \"theta_lo\", \"theta_hi\". A summary goes to stderr.");
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->add("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)").defaultText("");
@@ -41,14 +45,26 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
          "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)");
   t->add("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
   t->add("--output,-o", o.output, "JSON Lines output, or - for standard output");
+  t->add("--rule", o.rule,
+         "Alarm rule: sequential (per-motor CUSUM, severity levels, thresholds from --false-alarms-per-hour) or "
+         "persistence (--raise-below for --raise-after evaluations: the earlier rule, output unchanged)")
+      .choices({"sequential", "persistence"});
+  t->add("--degraded-below", o.degraded_below, "Sequential: a motor below this effectiveness is degraded").above(0.0, 1.0);
+  t->add("--failed-below", o.failed_below, "Sequential: a motor below this effectiveness has failed").above(0.0, 1.0);
+  t->add("--false-alarms-per-hour", o.false_alarms_per_hour,
+         "Sequential: target false alarms per flight hour; the CUSUM thresholds are solved for it").above(0.0, 3600.0);
+  t->add("--calibration", o.calibration,
+         "Sequential: noise model and threshold data from `quadfdi calibrate` (default: documented defaults)");
   t->add("--stride", o.stride, "Evaluate every N samples while all Θ̂ are above --watch (extra first-look delay ≤ N−1 samples)")
       .range(1, 1000);
   t->add("--watch", o.watch, "Below this min Θ̂, evaluate every sample").range(0.0, 1.0);
-  t->add("--raise-below", o.raise_below, "Alarm evidence: the weakest motor's Θ̂ below this").range(0.0, 1.0);
-  t->add("--clear-above", o.clear_above, "Healthy evidence: every Θ̂ above this").range(0.0, 1.0);
-  t->add("--raise-after", o.raise_after, "Consecutive evaluations of evidence (same motor) to raise the alarm").range(1, 100000);
+  t->add("--raise-below", o.raise_below, "Persistence: alarm evidence: the weakest motor's Θ̂ below this").range(0.0, 1.0);
+  t->add("--clear-above", o.clear_above, "Persistence: healthy evidence: every Θ̂ above this").range(0.0, 1.0);
+  t->add("--raise-after", o.raise_after, "Persistence: consecutive evaluations of evidence (same motor) to raise the alarm").range(1, 100000);
   t->add("--watch-samples", o.watch_samples, "Full-rate evaluations after Θ̂ first dips below --watch").range(0, 100000);
-  t->add("--clear-after", o.clear_after, "Samples of healthy evidence (every Θ̂ above --clear-above) to clear it").range(1, 100000);
+  t->add("--clear-after", o.clear_after,
+         "Samples of healthy evidence to clear an alarm (persistence: every Θ̂ above --clear-above; sequential: the "
+         "flagged motor at or above its level)").range(1, 100000);
   t->add("--max-input-period", o.max_input_period, "Refuse logs sampled coarser than this [s]").above(0.0);
   t->add("--max-gap", o.max_gap, "A longer hole in the log restarts the detector [s]").above(0.0);
   t->add("--quiet,-q", o.quiet, "No summary or warnings on stderr (errors still go there)");
@@ -68,15 +84,23 @@ std::string fmtMs(double seconds) {
 // JSON Lines on a stream; warnings on stderr.
 class JsonLinesSink : public DetectionSink {
  public:
-  JsonLinesSink(std::ostream& out, bool quiet) : out_(out), quiet_(quiet) {}
+  JsonLinesSink(std::ostream& out, bool quiet, bool severity) : out_(out), quiet_(quiet), severity_(severity) {}
   void output(const DetectorOutput& d) override {
     char buf[256];
     const int n = std::snprintf(buf, sizeof buf, "{\"t\": %.10g, \"theta\": [%.4f, %.4f, %.4f, %.4f], \"alarm\": %s, \"motor\": ", d.t,
                                 static_cast<double>(d.theta[0]), static_cast<double>(d.theta[1]),
                                 static_cast<double>(d.theta[2]), static_cast<double>(d.theta[3]), d.alarm ? "true" : "false");
     out_.write(buf, n);
-    if (d.motor > 0) out_ << d.motor << "}\n";
-    else out_ << "null}\n";
+    if (d.motor > 0) out_ << d.motor;
+    else out_ << "null";
+    if (severity_) {  // added keys (issue 14); the four above keep their meaning
+      char more[160];
+      const int m = d.motor > 0 ? std::snprintf(more, sizeof more, ", \"severity\": \"%s\", \"theta_est\": %.4f, \"theta_lo\": %.4f, \"theta_hi\": %.4f",
+                                                toString(d.severity), d.theta_est, d.theta_lo, d.theta_hi)
+                                : std::snprintf(more, sizeof more, ", \"severity\": \"healthy\", \"theta_est\": null, \"theta_lo\": null, \"theta_hi\": null");
+      out_.write(more, m);
+    }
+    out_ << "}\n";
   }
   void warning(const std::string& text) override {
     if (!quiet_) std::fprintf(stderr, "detect: warning: %s\n", text.c_str());
@@ -86,6 +110,7 @@ class JsonLinesSink : public DetectionSink {
  private:
   std::ostream& out_;
   bool quiet_;
+  bool severity_;  // sequential rule: the severity keys
 };
 
 // Keeps every output for the plot, then passes it on.
@@ -106,9 +131,46 @@ class RecordingSink : public DetectionSink {
 
 }  // namespace
 
+std::string calibrationSidecarPath(const std::string& model_path) {
+  const std::string ext = ".qfdw";
+  const bool has = model_path.size() > ext.size() && model_path.compare(model_path.size() - ext.size(), ext.size(), ext) == 0;
+  return (has ? model_path.substr(0, model_path.size() - ext.size()) : model_path) + ".calibration.json";
+}
+
+SequentialSetup sequentialSetup(const std::string& calibration_file, double degraded_below, double failed_below,
+                                double false_alarms_per_hour, double dt) {
+  SequentialSetup s;
+  DecisionCalibration& c = s.calibration;
+  const double per_level = false_alarms_per_hour / 2.0;  // the vehicle's budget, split over the two levels
+  if (calibration_file.empty()) {
+    c = defaultCalibration(degraded_below, failed_below, false_alarms_per_hour, dt);
+  } else {
+    c = readCalibrationFile(calibration_file);
+    if (std::abs(c.dt - dt) > 1e-12 * dt)
+      throw ConfigError(calibration_file + ": calibrated at dt = " + std::to_string(c.dt) + " s, the model runs at " + std::to_string(dt) + " s");
+    // A level other than the calibrated one has no excursion data: Siegmund on the calibrated noise model.
+    for (auto [level, below] : {std::pair<LevelCalibration*, double>{&c.degraded, degraded_below}, {&c.failed, failed_below}}) {
+      if (std::abs(level->level - below) > 1e-9) *level = calibrateLevel({}, below, 0.0, per_level, c.noise, dt);
+      else retarget(*level, c.flight_hours, per_level, c.noise, dt);
+    }
+    c.target_rate = false_alarms_per_hour;
+  }
+  s.config.degraded_below = degraded_below;
+  s.config.failed_below = failed_below;
+  s.config.degraded_threshold = c.degraded.threshold;
+  s.config.failed_threshold = c.failed.threshold;
+  s.config.noise = c.noise;
+  return s;
+}
+
 int runDetect(const DetectOptions& o) {
-  require(o.clear_above >= o.raise_below, "--clear-above must not be below --raise-below");
-  require(o.watch >= o.raise_below, "--watch must not be below --raise-below (the alarm must be decided at full rate)");
+  const bool sequential = o.rule == "sequential";
+  if (!sequential) {
+    require(o.clear_above >= o.raise_below, "--clear-above must not be below --raise-below");
+    require(o.watch >= o.raise_below, "--watch must not be below --raise-below (the alarm must be decided at full rate)");
+  } else {
+    require(o.failed_below < o.degraded_below, "--failed-below must be below --degraded-below");
+  }
   require(o.max_input_period > 0.0 && o.max_gap >= o.max_input_period, "--max-gap must be at least --max-input-period (> 0)");
   const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
   const TrainedModel model = readModelFile(model_path);
@@ -126,6 +188,20 @@ int runDetect(const DetectOptions& o) {
   config.alarm.clear_above = o.clear_above;
   config.alarm.raise_after = o.raise_after;
   config.alarm.clear_after = o.clear_after;
+  config.rule = sequential ? AlarmRule::kSequential : AlarmRule::kPersistence;
+  if (sequential) {
+    // The model's own calibration (MODEL.calibration.json beside MODEL.qfdw) unless one is named.
+    std::string calibration = o.calibration;
+    if (calibration.empty()) {
+      const std::string sidecar = calibrationSidecarPath(model_path);
+      if (std::ifstream(sidecar).good()) calibration = sidecar;
+      else if (!o.quiet)
+        std::fprintf(stderr, "detect: warning: no calibration for %s (%s): default noise model, Siegmund thresholds; run quadfdi calibrate\n",
+                     model_path.c_str(), sidecar.c_str());
+    }
+    config.sequential = sequentialSetup(calibration, o.degraded_below, o.failed_below, o.false_alarms_per_hour, m.dt).config;
+    config.sequential.clear_after = o.clear_after;
+  }
   std::unique_ptr<Detector> detector;
   try {
     detector = std::make_unique<Detector>(config, model);
@@ -159,7 +235,7 @@ int runDetect(const DetectOptions& o) {
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;
-  JsonLinesSink json(out, o.quiet);
+  JsonLinesSink json(out, o.quiet, sequential);
   std::vector<DetectorOutput> recorded;
   RecordingSink sink(json, o.plot.empty() ? nullptr : &recorded);
   SessionConfig session;
@@ -201,6 +277,12 @@ int runDetect(const DetectOptions& o) {
                    s.input_samples, m.window * m.dt);
     else if (s.alarms_raised == 0)
       std::fprintf(stderr, "detect: no fault: %ld samples, %ld decisions, no alarm\n", s.input_samples, s.outputs);
+    else if (sequential)
+      std::fprintf(stderr,
+                   "detect: FAULT in motor %d at t = %.3f s: %s, Θ̂ = %.2f (%.0f %% interval %.2f … %.2f); %ld alarm%s over %ld samples\n",
+                   s.first_alarm_motor, s.first_alarm_t, toString(s.first_alarm_severity), s.first_alarm_estimate,
+                   100.0 * config.sequential.interval_level, s.first_alarm_lo, s.first_alarm_hi, s.alarms_raised,
+                   s.alarms_raised == 1 ? "" : "s", s.input_samples);
     else
       std::fprintf(stderr,
                    "detect: FAULT in motor %d at t = %.3f s (Θ̂ = %.2f when raised, lowest %.2f while it held); %ld alarm%s "

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cli/log_input.h"
+#include "detection/calibration.h"
 
 namespace quadfdi::cli {
 
@@ -12,6 +13,11 @@ struct DetectOptions {
   std::string model;           // empty: the shipped default model
   std::string input = "-";
   std::string output = "-";
+  std::string rule = "sequential";  // sequential | persistence (docs/decisions.md)
+  double degraded_below = 0.9;      // [-] sequential: severity `degraded` below this effectiveness
+  double failed_below = 0.3;        // [-] sequential: `failed` below this
+  double false_alarms_per_hour = 0.1;  // [1/flight hour] sequential: target rate the thresholds are solved for
+  std::string calibration;          // sequential: calibration JSON from `quadfdi calibrate`; empty: defaults
   int stride = 4;              // [samples]
   double watch = 0.9;
   double raise_below = 0.5;
@@ -28,6 +34,18 @@ struct DetectOptions {
 
 CLI::App* addDetectCommand(CLI::App& app, DetectOptions& options);
 int runDetect(const DetectOptions& options);
+
+// The sequential rule's configuration from the options (levels, target rate, calibration file
+// or the documented defaults); `dt` is the model's. Throws ConfigError / std::runtime_error.
+struct SequentialSetup {
+  SequentialConfig config;
+  DecisionCalibration calibration;  // as used: thresholds re-solved for the options' target rate
+};
+SequentialSetup sequentialSetup(const std::string& calibration_file, double degraded_below, double failed_below,
+                                double false_alarms_per_hour, double dt);
+
+// MODEL.qfdw → MODEL.calibration.json: the calibration detect uses when none is named.
+std::string calibrationSidecarPath(const std::string& model_path);
 
 // The shipped model: $QUADFDI_MODEL if set, else models/lstm-model-free.qfdw of the source tree.
 std::string defaultModelPath();

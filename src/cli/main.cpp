@@ -3,6 +3,7 @@
 #include <exception>
 #include <iostream>
 
+#include "cli/calibrate_command.h"
 #include "cli/detect_command.h"
 #include "cli/evaluate_command.h"
 #include "cli/generate_command.h"
@@ -36,6 +37,8 @@ int main(int argc, char** argv) {
   CLI::App* evaluate_cmd = quadfdi::cli::addEvaluateCommand(app, evaluate);
   quadfdi::cli::DetectOptions detect;
   CLI::App* detect_cmd = quadfdi::cli::addDetectCommand(app, detect);
+  quadfdi::cli::CalibrateOptions calibrate;
+  CLI::App* calibrate_cmd = quadfdi::cli::addCalibrateCommand(app, calibrate);
   quadfdi::cli::ImportCommandOptions import_options;
   CLI::App* import_cmd = quadfdi::cli::addImportCommand(app, import_options);
   try {
@@ -51,6 +54,7 @@ int main(int argc, char** argv) {
     if (simulate_cmd->parsed()) return quadfdi::cli::runSimulate(simulate);
     if (generate_cmd->parsed()) return quadfdi::cli::runGenerate(generate);
     if (detect_cmd->parsed()) return quadfdi::cli::runDetect(detect);
+    if (calibrate_cmd->parsed()) return quadfdi::cli::runCalibrate(calibrate);
     if (import_cmd->parsed()) return quadfdi::cli::runImport(import_options);
     std::string command_line = "quadfdi";
     for (int i = 1; i < argc; ++i) command_line += std::string(" ") + argv[i];

@@ -12,6 +12,15 @@ constexpr int kMaxPoints = 8;         // evaluations per engine pass, at most
 constexpr double kMaxBridged = 1e6;   // model samples one input sample may complete (max_gap / dt)
 }
 
+const char* toString(AlarmRule r) { return r == AlarmRule::kPersistence ? "persistence" : "sequential"; }
+
+bool parseAlarmRule(const std::string& text, AlarmRule& r) {
+  if (text == "sequential") r = AlarmRule::kSequential;
+  else if (text == "persistence") r = AlarmRule::kPersistence;
+  else return false;
+  return true;
+}
+
 Detector::Detector(const DetectorConfig& config, const TrainedModel& model)
     : config_(config), window_(model.metadata.window), resampler_(config.resampler), alarm_(config.alarm) {
   const ModelMetadata& m = model.metadata;
@@ -25,6 +34,7 @@ Detector::Detector(const DetectorConfig& config, const TrainedModel& model)
   if (config.stride < 1) throw std::invalid_argument("detector: stride must be at least 1");
   if (!(config.resampler.dt > 0.0) || !(config.resampler.max_gap / config.resampler.dt <= kMaxBridged))
     throw std::invalid_argument("detector: max_gap / dt must be at most 1e6 model samples (a hole the resampler fills)");
+  if (config.rule == AlarmRule::kSequential) sequential_ = std::make_unique<SequentialRule>(config.sequential);
   capacity_ = window_ + kSpareSamples;
   outputs_.assign(static_cast<std::size_t>(capacity_) * kOutputDim, 0.0f);
   inputs_.assign(static_cast<std::size_t>(capacity_) * kInputDim, 0.0f);
@@ -43,6 +53,8 @@ void Detector::restart() {
   dense_ = false;
   watch_left_ = config_.watch_samples;
   alarm_.reset();
+  if (sequential_) sequential_->reset();
+  last_evaluation_ = -1;
   evaluations_.clear();
 }
 
@@ -123,27 +135,53 @@ void Detector::apply(long index, const MotorTheta& theta) {
   Evaluation e;
   e.index = index;
   e.theta = theta;
-  e.alarm = alarm_.update(e.theta, index);
-  ++summary_.evaluations;
+  bool building = false;  // evidence building: decide at full rate
   const float lowest = *std::min_element(e.theta.begin(), e.theta.end());
-  if (e.alarm.raised) {
+  if (sequential_) {
+    // The estimate stands for the model samples since the previous evaluation (the stride holds it).
+    const long samples = last_evaluation_ < 0 ? 1 : index - last_evaluation_;
+    const SequentialStatus status = sequential_->update(theta, static_cast<int>(std::min<long>(samples, 1L << 30)));
+    const SequentialState& s = sequential_->state();
+    e.active = s.severity != Severity::kHealthy;
+    e.raised = status == SequentialStatus::kRaised;
+    e.motor = s.motor;
+    e.severity = s.severity;
+    e.estimate = s.theta_est;
+    e.lo = s.theta_lo;
+    e.hi = s.theta_hi;
+    building = status == SequentialStatus::kBuilding;
+  } else {
+    const AlarmState a = alarm_.update(e.theta, index);
+    e.active = a.active;
+    e.raised = a.raised;
+    e.motor = a.motor;
+    building = static_cast<double>(lowest) < config_.alarm.raise_below;
+  }
+  last_evaluation_ = index;
+  ++summary_.evaluations;
+  if (e.raised) {
     ++summary_.alarms_raised;
     if (summary_.alarms_raised == 1) {
       summary_.first_alarm_t = times_[static_cast<std::size_t>(index - first_index_)];
-      summary_.first_alarm_motor = e.alarm.motor;
-      summary_.first_alarm_theta = summary_.lowest_theta = e.theta[static_cast<std::size_t>(e.alarm.motor - 1)];
+      summary_.first_alarm_motor = e.motor;
+      summary_.first_alarm_theta = summary_.lowest_theta = e.theta[static_cast<std::size_t>(e.motor - 1)];
       tracking_first_alarm_ = true;
     }
   }
   if (tracking_first_alarm_) {
-    if (e.alarm.active && e.alarm.motor == summary_.first_alarm_motor)
-      summary_.lowest_theta = std::min(summary_.lowest_theta, e.theta[static_cast<std::size_t>(e.alarm.motor - 1)]);
-    else
+    if (e.active && e.motor == summary_.first_alarm_motor) {
+      summary_.lowest_theta = std::min(summary_.lowest_theta, e.theta[static_cast<std::size_t>(e.motor - 1)]);
+      summary_.first_alarm_severity = std::max(summary_.first_alarm_severity, e.severity);
+      summary_.first_alarm_estimate = e.estimate;
+      summary_.first_alarm_lo = e.lo;
+      summary_.first_alarm_hi = e.hi;
+    } else {
       tracking_first_alarm_ = false;
+    }
   }
-  if (e.alarm.active) {
+  if (e.active) {
     dense_ = false;  // decided; tracked at the stride
-  } else if (static_cast<double>(lowest) < config_.alarm.raise_below) {
+  } else if (building) {
     dense_ = true;  // evidence is building: decide at full rate
   } else if (static_cast<double>(lowest) < config_.watch) {
     dense_ = watch_left_ > 0;
@@ -169,8 +207,12 @@ void Detector::resolve() {
     DetectorOutput out;
     out.t = p.t;
     out.theta = e.theta;
-    out.alarm = e.alarm.active;
-    out.motor = e.alarm.active ? e.alarm.motor : 0;
+    out.alarm = e.active;
+    out.motor = e.active ? e.motor : 0;
+    out.severity = e.severity;
+    out.theta_est = e.estimate;
+    out.theta_lo = e.lo;
+    out.theta_hi = e.hi;
     ready_.push_back(out);
     ++summary_.outputs;
     pending_.pop_front();

@@ -19,15 +19,25 @@
 
 #include <array>
 #include <deque>
+#include <string>
 #include <vector>
 
 #include <memory>
 
 #include "detection/alarm.h"
 #include "detection/resampler.h"
+#include "detection/sequential.h"
 #include "estimation/motor_estimator.h"
 
 namespace quadfdi {
+
+// Which rule turns Θ̂ into alarms (docs/decisions.md).
+enum class AlarmRule {
+  kSequential,   // per-motor CUSUMs, severity levels, thresholds from a false-alarm rate (issue 14)
+  kPersistence,  // the AlarmFilter: raise_after evaluations below raise_below (issue 6; the reproduction, goldens)
+};
+const char* toString(AlarmRule r);
+bool parseAlarmRule(const std::string& text, AlarmRule& r);  // sequential | persistence
 
 struct DetectorConfig {
   SymmetryMode symmetry = SymmetryMode::kExactGroup;  // maps for the other motors (normally the model's own)
@@ -36,14 +46,20 @@ struct DetectorConfig {
   double watch = 0.9;      // [-] below this min Θ̂, evaluate every sample …
   int watch_samples = 16;  // [evaluations] … for at most this many, unless Θ̂ < raise_below
   ResamplerConfig resampler;
-  AlarmConfig alarm;
+  AlarmRule rule = AlarmRule::kSequential;
+  AlarmConfig alarm;            // kPersistence
+  SequentialConfig sequential;  // kSequential
 };
 
 struct DetectorOutput {
   double t = 0.0;                        // [s] of the input sample
   MotorTheta theta{1, 1, 1, 1};          // Θ̂ per motor from the latest evaluation at or before t
-  bool alarm = false;
+  bool alarm = false;                    // sequential: severity is degraded or failed; persistence: the filter's alarm
   int motor = 0;                         // 1..4 while alarm, else 0
+  // Sequential rule only (persistence: kHealthy / the raw Θ̂ of the motor, no interval):
+  Severity severity = Severity::kHealthy;
+  double theta_est = 1.0;                // [-] Θ estimate of `motor` while alarm
+  double theta_lo = 1.0, theta_hi = 1.0; // [-] its interval (SequentialConfig::interval_level)
 };
 
 struct DetectorSummary {
@@ -53,6 +69,9 @@ struct DetectorSummary {
   int first_alarm_motor = 0;
   float first_alarm_theta = 1.0f;  // Θ̂ of that motor when raised
   float lowest_theta = 1.0f;       // lowest Θ̂ of that motor while the first alarm was up
+  // Sequential rule: the worst severity the first alarm reached and its latest estimate while it held.
+  Severity first_alarm_severity = Severity::kHealthy;
+  double first_alarm_estimate = 1.0, first_alarm_lo = 1.0, first_alarm_hi = 1.0;  // [-]
 };
 
 class Detector {
@@ -76,7 +95,10 @@ class Detector {
   struct Evaluation {
     long index;  // model sample it was made at
     MotorTheta theta;
-    AlarmState alarm;
+    bool active = false, raised = false;
+    int motor = 0;
+    Severity severity = Severity::kHealthy;
+    double estimate = 1.0, lo = 1.0, hi = 1.0;
   };
   void appendModelSample(const TelemetrySample& s);
   void evaluateDue(bool look_ahead);
@@ -90,6 +112,8 @@ class Detector {
   std::unique_ptr<StreamingMotorEstimator> streaming_;
   Resampler resampler_;
   AlarmFilter alarm_;
+  std::unique_ptr<SequentialRule> sequential_;  // with AlarmRule::kSequential
+  long last_evaluation_ = -1;                   // model sample of the previous evaluation since the restart
   // History of model-rate samples since the last restart, contiguous: [capacity][6] and [capacity][4].
   std::vector<float> outputs_, inputs_;
   std::vector<double> times_;

@@ -52,8 +52,75 @@ TEST(DetectCli, FindsTheFaultyMotorAndWritesOneLinePerSample) {
   const int rows = countLines(readFile(faultyCsv())) - 1;
   EXPECT_EQ(static_cast<int>(json.size()), rows - 99);  // from the first full window on
   EXPECT_EQ(json.front().rfind("{\"t\": 0.198, \"theta\": [", 0), 0u) << json.front();
-  EXPECT_NE(json.front().find("\"alarm\": false, \"motor\": null}"), std::string::npos) << json.front();
-  EXPECT_NE(json.back().find("\"alarm\": true, \"motor\": 3}"), std::string::npos) << json.back();
+  EXPECT_NE(json.front().find("\"alarm\": false, \"motor\": null, \"severity\": \"healthy\", \"theta_est\": null, "
+                              "\"theta_lo\": null, \"theta_hi\": null}"),
+            std::string::npos)
+      << json.front();
+  EXPECT_NE(json.back().find("\"alarm\": true, \"motor\": 3, \"severity\": \"failed\", \"theta_est\": 0."), std::string::npos)
+      << json.back();
+  EXPECT_NE(r.out.find(": failed, Θ̂ = 0."), std::string::npos) << r.out;
+}
+
+// Issue 14: the sequential rule adds keys after the four old ones; the persistence rule writes
+// exactly the old four; bad values of the new options are refused with "--flag: problem", exit 1.
+TEST(DetectCli, SequentialKeysAreAddedAndPersistenceKeepsTheOldOnes) {
+  const CommandResult seq = run("detect -q --input " + faultyCsv(), false);
+  const CommandResult per = run("detect -q --rule persistence --input " + faultyCsv(), false);
+  ASSERT_EQ(seq.exit_code, 0);
+  ASSERT_EQ(per.exit_code, 0);
+  const std::vector<std::string> a = lines(seq.out), b = lines(per.out);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    // The same t and theta, in the same order, before the new keys.
+    const std::size_t cut = b[i].find(", \"alarm\"");
+    ASSERT_NE(cut, std::string::npos);
+    EXPECT_EQ(a[i].substr(0, cut), b[i].substr(0, cut)) << i;
+    EXPECT_EQ(b[i].find("severity"), std::string::npos) << b[i];
+    EXPECT_NE(a[i].find("\"motor\": "), std::string::npos);
+    EXPECT_NE(a[i].find(", \"severity\": \""), std::string::npos) << a[i];
+    EXPECT_NE(a[i].find(", \"theta_hi\": "), std::string::npos) << a[i];
+  }
+  // Every alarm names a severity and an interval around its estimate.
+  for (const std::string& l : a)
+    if (l.find("\"alarm\": true") != std::string::npos) {
+      const double est = std::stod(l.substr(l.find("\"theta_est\": ") + 13));
+      const double lo = std::stod(l.substr(l.find("\"theta_lo\": ") + 12));
+      const double hi = std::stod(l.substr(l.find("\"theta_hi\": ") + 12));
+      EXPECT_LE(lo, est);
+      EXPECT_LE(est, hi);
+    }
+}
+
+TEST(DetectCli, RefusesBadSequentialOptions) {
+  for (const std::string& bad : {std::string("--degraded-below 1.5"), std::string("--failed-below 0"),
+                                 std::string("--false-alarms-per-hour 0"), std::string("--rule bogus"),
+                                 std::string("--false-alarms-per-hour ten")}) {
+    const CommandResult r = run("detect --input " + faultyCsv() + " " + bad);
+    EXPECT_EQ(r.exit_code, 1) << bad << ": " << r.out;
+    EXPECT_NE(r.out.find(bad.substr(0, bad.find(' ')) + ": "), std::string::npos) << r.out;
+  }
+  const CommandResult order = run("detect --input " + faultyCsv() + " --degraded-below 0.3 --failed-below 0.5");
+  EXPECT_EQ(order.exit_code, 1);
+  EXPECT_NE(order.out.find("--failed-below must be below --degraded-below"), std::string::npos) << order.out;
+  const std::string bad_cal = temp("bad-calibration.json");
+  std::ofstream(bad_cal) << "{\"format\": \"something else\"}";
+  const CommandResult cal = run("detect --input " + faultyCsv() + " --calibration " + bad_cal);
+  EXPECT_EQ(cal.exit_code, 1);
+  EXPECT_NE(cal.out.find(bad_cal + ": not a quadfdi decision calibration"), std::string::npos) << cal.out;
+}
+
+// calibrate → detect --calibration: a short run writes a calibration the detector accepts.
+TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
+  const std::string cal = temp("calibration.json");
+  const CommandResult c = run("calibrate --model " + std::string(QUADFDI_SOURCE_DIR) +
+                              "/models/tcn-model-free.qfdw --flights 2 --flight-seconds 4 --faulty-flights 3 --output " + cal);
+  ASSERT_EQ(c.exit_code, 0) << c.out;
+  EXPECT_NE(c.out.find("calibrate: level 0.90: h = "), std::string::npos) << c.out;
+  EXPECT_NE(readFile(cal).find("\"format\": \"quadfdi-decision-calibration-1\""), std::string::npos);
+  const CommandResult r = run("detect --model " + std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw --calibration " + cal +
+                              " --input " + faultyCsv() + " --output " + temp("calibrated.jsonl"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("FAULT in motor 3"), std::string::npos) << r.out;
 }
 
 TEST(DetectCli, APipelineFromSimulateGivesTheFileModeOutput) {

@@ -1,0 +1,206 @@
+// `quadfdi calibrate`: simulated flights → Θ̂ streams → the sequential rule's calibration
+// (detection/calibration.h, docs/decisions.md "Calibration"). The flights come from one function,
+// simulateFlight, so that another vehicle, controller or trajectory generator can replace it.
+#include "cli/calibrate_command.h"
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "cli/cli_util.h"
+#include "cli/detect_command.h"
+#include "cli/options.h"
+#include "control/controller_factory.h"
+#include "detection/calibration.h"
+#include "detection/session.h"
+#include "io/calibration_file.h"
+#include "io/model_file.h"
+#include "simulation/closed_loop.h"
+#include "simulation/rng.h"
+#include "simulation/sampling.h"
+
+namespace quadfdi::cli {
+
+CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
+  CLI::App* cmd = app.add_subcommand(
+      "calibrate",
+      "Calibrate the sequential alarm rule for a model: simulate healthy flights (LQR, nominal Crazyflie, a new goal\n"
+      "every --goal-period), fit the noise model of Θ̂ and solve the CUSUM thresholds for --false-alarms-per-hour;\n"
+      "simulate faulty flights for the model error of the Θ̂ estimate. Writes JSON for `detect --calibration`.");
+  auto t = std::make_shared<OptionTable>();
+  t->addConfigFile(o.config);
+  t->add("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)").defaultText("");
+  t->add("--output,-o", o.output, "Calibration JSON to write (default: MODEL.calibration.json beside the model, which detect reads)")
+      .defaultText("");
+  t->add("--flights", o.flights, "Healthy flights").range(1, 100000);
+  t->add("--flight-seconds", o.flight_seconds, "Length of each healthy flight [s]").range(1.0, 36000.0);
+  t->add("--goal-period", o.goal_period, "A new goal this often [s]").range(0.1, 36000.0);
+  t->add("--faulty-flights", o.faulty_flights, "Faulty flights (random motor, Θ uniform in [0, 0.9]) for the estimate's model error")
+      .range(0, 100000);
+  t->add("--seed", o.seed, "Scenario seed");
+  t->add("--false-alarms-per-hour", o.false_alarms_per_hour, "Target false alarms per flight hour").above(0.0, 3600.0);
+  t->add("--degraded-below", o.degraded_below, "Degraded level").above(0.0, 1.0);
+  t->add("--failed-below", o.failed_below, "Failed level").above(0.0, 1.0);
+  t->add("--position-noise", o.position_noise, "Sensor noise on position [m]").atLeast(0.0);
+  t->add("--attitude-noise", o.attitude_noise, "Sensor noise on Euler angles [rad]").atLeast(0.0);
+  t->add("--quiet,-q", o.quiet, "No report on stderr");
+  attachOptions(*cmd, t);
+  return cmd;
+}
+
+namespace {
+
+// One flight's telemetry: segments of goal_period toward goals drawn from the sampling ranges,
+// each continuing from the previous segment's final state; a fault (motor 1..4, Θ) from
+// `fault_step` on. Returns the telemetry at the simulation's dt.
+std::vector<TelemetrySample> simulateFlight(std::uint64_t seed, std::uint64_t stream, int steps, int goal_steps, int motor,
+                                            double theta, int fault_step, const CalibrateOptions& o) {
+  Rng rng(seed, stream);
+  Scenario scenario = sampleScenario(SamplingRanges{}, rng);
+  ControllerBuild build = makeController(nominalParams(), ControllerConfig{}, 0.002);
+  if (!build.controller) throw std::runtime_error(build.error);
+  std::vector<TelemetrySample> out;
+  out.reserve(static_cast<std::size_t>(steps));
+  State x = scenario.initial_state;
+  FlightLog log;
+  for (int done = 0; done < steps;) {
+    SimulationSettings settings;
+    settings.steps = std::min(goal_steps, steps - done);
+    settings.noise.position_std = o.position_noise;
+    settings.noise.attitude_std = o.attitude_noise;
+    settings.noise.seed = seed ^ (stream << 20) ^ static_cast<std::uint64_t>(done);
+    if (motor > 0 && fault_step < done + settings.steps) {
+      settings.fault.theta(motor - 1) = theta;
+      settings.fault.fault_step = std::max(0, fault_step - done);
+    }
+    build.controller->setGoal(scenario.goal);
+    const FlightSummary summary = ClosedLoopSimulator(nominalParams(), settings).run(*build.controller, x, &log);
+    for (int k = 0; k < log.size(); ++k) {
+      TelemetrySample s;
+      s.t = settings.dt * (done + k);
+      for (int i = 0; i < 6; ++i) s.y[static_cast<std::size_t>(i)] = log.outputs[static_cast<std::size_t>(k)](i);
+      for (int i = 0; i < 4; ++i) s.u[static_cast<std::size_t>(i)] = log.controls[static_cast<std::size_t>(k)].u_cmd(i);
+      out.push_back(s);
+    }
+    if (summary.cut()) break;  // the flight ends where the plant left its bounds
+    done += settings.steps;
+    x = summary.final_state;
+    scenario.goal = sampleScenario(SamplingRanges{}, rng).goal;
+  }
+  return out;
+}
+
+class VectorSource : public SampleSource {
+ public:
+  explicit VectorSource(const std::vector<TelemetrySample>& s) : s_(s) {}
+  Next next(TelemetrySample& sample, std::string&) override {
+    if (at_ == s_.size()) return Next::kEnd;
+    sample = s_[at_++];
+    return Next::kSample;
+  }
+  std::string where() const override { return "sample " + std::to_string(at_); }
+  bool moreReady() const override { return true; }
+
+ private:
+  const std::vector<TelemetrySample>& s_;
+  std::size_t at_ = 0;
+};
+
+class ThetaSink : public DetectionSink {
+ public:
+  void output(const DetectorOutput& d) override { theta.push_back(d.theta); }
+  void warning(const std::string&) override {}
+  std::vector<MotorTheta> theta;
+};
+
+// Θ̂ at every model sample from the first full window on (stride 1: dense).
+std::vector<MotorTheta> thetaStream(const TrainedModel& model, const std::vector<TelemetrySample>& flight) {
+  DetectorConfig config;
+  config.symmetry = model.metadata.symmetry;
+  config.stride = 1;
+  config.rule = AlarmRule::kPersistence;
+  config.resampler.dt = model.metadata.dt;
+  Detector detector(config, model);
+  VectorSource source(flight);
+  ThetaSink sink;
+  runDetection(detector, source, sink, SessionConfig{});
+  return std::move(sink.theta);
+}
+
+}  // namespace
+
+int runCalibrate(const CalibrateOptions& o) {
+  require(o.failed_below < o.degraded_below, "--failed-below must be below --degraded-below");
+  const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
+  const TrainedModel model = readModelFile(model_path);
+  const double dt = model.metadata.dt;
+  require(std::abs(dt - 0.002) < 1e-12, model_path + ": calibrate simulates at 500 Hz; the model runs at dt = " + std::to_string(dt));
+  const int T = model.metadata.window;
+  const int steps = static_cast<int>(std::lround(o.flight_seconds / dt));
+  const int goal_steps = std::max(1, static_cast<int>(std::lround(o.goal_period / dt)));
+  constexpr std::uint64_t kFirstStream = std::uint64_t{1} << 42;  // disjoint from training (0 …), held-out (2⁴⁰), test (2⁴¹)
+
+  std::vector<std::vector<MotorTheta>> healthy;
+  long samples = 0;
+  for (int f = 0; f < o.flights; ++f) {
+    healthy.push_back(thetaStream(model, simulateFlight(o.seed, kFirstStream + static_cast<std::uint64_t>(f), steps, goal_steps, 0, 1.0, 0, o)));
+    samples += static_cast<long>(healthy.back().size());
+  }
+  DecisionCalibration c;
+  c.noise = fitNoiseModel(healthy);
+  c.dt = dt;
+  c.flights = o.flights;
+  c.flight_hours = static_cast<double>(samples) * dt / 3600.0;
+  c.target_rate = o.false_alarms_per_hour;
+
+  // Model error of the estimate: after the fault has been flown through (T + the estimate window),
+  // the mean of the last estimate_window samples of the true motor against Θ.
+  const SequentialConfig defaults;
+  const int w = defaults.estimate_window;
+  std::vector<double> est, truth, noise_var;
+  Rng draw(o.seed, kFirstStream - 1);
+  for (int f = 0; f < o.faulty_flights; ++f) {
+    const int motor = 1 + static_cast<int>(draw.uniform(0.0, 4.0)) % 4;
+    const double theta = draw.uniform(0.0, 0.9);
+    const int fault_step = 500, flight_steps = fault_step + 2 * T + 4 * w;
+    const std::vector<MotorTheta> s = thetaStream(
+        model, simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(f), flight_steps, flight_steps,
+                              motor, theta, fault_step, o));
+    const long fault_index = fault_step - (T - 1);  // stream index of the fault's sample
+    for (long end = fault_index + T + w; end <= static_cast<long>(s.size()); end += w) {
+      double sum = 0.0;
+      for (long k = end - w; k < end; ++k) sum += static_cast<double>(s[static_cast<std::size_t>(k)][static_cast<std::size_t>(motor - 1)]);
+      est.push_back(sum / w);
+      truth.push_back(theta);
+      noise_var.push_back(ar1MeanVariance(c.noise.sigma, c.noise.phi, w));
+    }
+  }
+  c.faulty_flights = o.faulty_flights;
+  if (!est.empty()) c.noise.model_sigma = fitModelSigma(est, truth, noise_var);
+
+  const double per_level = o.false_alarms_per_hour / 2.0;
+  c.degraded = calibrateLevel(excursionMaxima(healthy, o.degraded_below), o.degraded_below, c.flight_hours, per_level, c.noise, dt);
+  c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below), o.failed_below, c.flight_hours, per_level, c.noise, dt);
+  char src[512];
+  std::snprintf(src, sizeof src,
+                "quadfdi calibrate: model %s; %d healthy flights of %g s (goal every %g s), %d faulty flights; LQR, nominal "
+                "Crazyflie; seed %llu; sensor noise %g m, %g rad",
+                model_path.c_str(), o.flights, o.flight_seconds, o.goal_period, o.faulty_flights, o.seed, o.position_noise,
+                o.attitude_noise);
+  c.source = src;
+  const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
+  writeCalibrationFile(output, c);
+  if (!o.quiet) {
+    std::fprintf(stderr, "calibrate: %.3f flight hours healthy: Θ̂ mean %.4f, σ %.4f, φ %.4f at %g Hz; model error σ %.4f (%zu estimates)\n",
+                 c.flight_hours, c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt, c.noise.model_sigma, est.size());
+    for (const LevelCalibration* l : {&c.degraded, &c.failed})
+      std::fprintf(stderr,
+                   "calibrate: level %.2f: h = %.3f (%s; %ld excursions), %ld alarms in the data = %.3g/h (95 %% bound %.3g/h)\n",
+                   l->level, l->threshold, l->method.c_str(), l->excursions, l->alarms_at_threshold, l->rate_at_threshold,
+                   l->rate_upper_bound);
+    std::fprintf(stderr, "calibrate: wrote %s\n", output.c_str());
+  }
+  return 0;
+}
+
+}  // namespace quadfdi::cli

@@ -1,0 +1,33 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace quadfdi::cli {
+
+struct CalibrateOptions {
+  std::string config;               // --config FILE
+  std::string model;                // empty: the shipped default model
+  std::string output;               // calibration JSON (required)
+  int flights = 20;                 // [-] healthy flights
+  double flight_seconds = 60.0;     // [s] each
+  double goal_period = 2.0;         // [s] a new goal from the sampling ranges this often
+  int faulty_flights = 40;          // [-] for the model error of the Θ̂ estimate
+  unsigned long long seed = 1;      // scenario streams 2⁴² + …, disjoint from training and test sets
+  double false_alarms_per_hour = 0.1;  // [1/flight hour]
+  double degraded_below = 0.9;      // [-]
+  double failed_below = 0.3;        // [-]
+  double position_noise = 0.0;      // [m] sensor noise on the logged position
+  double attitude_noise = 0.0;      // [rad] on the logged Euler angles
+  bool quiet = false;
+};
+
+CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& options);
+int runCalibrate(const CalibrateOptions& options);
+
+}  // namespace quadfdi::cli

@@ -1,0 +1,161 @@
+#include "detection/calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace quadfdi {
+namespace {
+constexpr double kSecondsPerHour = 3600.0;
+
+// log P(Poisson(λ) ≤ k), summed in log space.
+double poissonLogCdf(long k, double lambda) {
+  if (lambda <= 0.0) return 0.0;
+  double log_term = -lambda, acc = log_term;  // i = 0
+  for (long i = 1; i <= k; ++i) {
+    log_term += std::log(lambda) - std::log(static_cast<double>(i));
+    const double hi = std::max(acc, log_term), lo = std::min(acc, log_term);
+    acc = hi + std::log1p(std::exp(lo - hi));
+  }
+  return acc;
+}
+
+void fillAchieved(LevelCalibration& c, double flight_hours) {
+  c.alarms_at_threshold = static_cast<long>(std::count_if(c.tail_maxima.begin(), c.tail_maxima.end(),
+                                                          [&](double m) { return m >= c.threshold; }));
+  c.rate_at_threshold = flight_hours > 0.0 ? static_cast<double>(c.alarms_at_threshold) / flight_hours : 0.0;
+  c.rate_upper_bound = flight_hours > 0.0 ? poissonUpperBound(c.alarms_at_threshold) / flight_hours : 0.0;
+}
+}  // namespace
+
+double poissonUpperBound(long count, double confidence) {
+  // λ with P(X ≤ count | λ) = 1 − confidence; the CDF falls as λ grows.
+  const double target = std::log(1.0 - confidence);
+  double lo = 0.0, hi = 10.0 + 3.0 * static_cast<double>(count);
+  while (poissonLogCdf(count, hi) > target) hi *= 2.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-12 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (poissonLogCdf(count, mid) > target) lo = mid;
+    else hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& streams, long skip) {
+  double n = 0.0, sum = 0.0;
+  for (const auto& s : streams)
+    for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i)
+      for (float x : s[i]) sum += static_cast<double>(x), n += 1.0;
+  ThetaNoiseModel m;
+  if (n < 2.0) return m;
+  const double mean = sum / n;
+  double var = 0.0, cov = 0.0, pairs = 0.0;
+  for (const auto& s : streams)
+    for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i)
+      for (int k = 0; k < kMotors; ++k) {
+        const double d = static_cast<double>(s[i][static_cast<std::size_t>(k)]) - mean;
+        var += d * d;
+        if (i > static_cast<std::size_t>(std::max(0L, skip))) {
+          cov += d * (static_cast<double>(s[i - 1][static_cast<std::size_t>(k)]) - mean);
+          pairs += 1.0;
+        }
+      }
+  m.healthy_mean = mean;
+  m.sigma = std::sqrt(var / (n - 1.0));
+  m.phi = (var > 0.0 && pairs > 0.0) ? std::clamp((cov / pairs) / (var / n), 0.0, 0.999) : 0.0;
+  return m;
+}
+
+std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip) {
+  std::vector<double> maxima;
+  for (const auto& s : streams)
+    for (int k = 0; k < kMotors; ++k) {
+      double S = 0.0, peak = 0.0;
+      for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i) {
+        S = std::max(0.0, S + level - static_cast<double>(s[i][static_cast<std::size_t>(k)]));
+        if (S > 0.0) {
+          peak = std::max(peak, S);
+        } else if (peak > 0.0) {
+          maxima.push_back(peak);
+          peak = 0.0;
+        }
+      }
+      if (peak > 0.0) maxima.push_back(peak);  // an excursion cut by the end of the flight
+    }
+  return maxima;
+}
+
+double siegmundThreshold(const ThetaNoiseModel& noise, double level, double rate_per_hour, double dt) {
+  // Standardised by the long-run standard deviation σ_LR = σ √((1+φ)/(1−φ)): increments with
+  // drift −Δ, Δ = (μ₀ − level)/σ_LR; ARL(b) ≈ (e^{2Δ(b+1.166)} − 1 − 2Δ(b+1.166)) / (2Δ²)
+  // (Siegmund 1985, eq. 2.57), in samples; b = h/σ_LR.
+  const double sigma_lr = std::max(1e-9, noise.sigma * std::sqrt((1.0 + noise.phi) / (1.0 - noise.phi)));
+  const double delta = (noise.healthy_mean - level) / sigma_lr;
+  const double arl_needed = static_cast<double>(kMotors) * kSecondsPerHour / (rate_per_hour * dt);  // per motor
+  auto arl = [&](double b) {
+    const double x = 2.0 * delta * (b + 1.166);
+    if (std::abs(delta) < 1e-9) return (b + 1.166) * (b + 1.166);
+    return (std::exp(std::min(x, 700.0)) - 1.0 - x) / (2.0 * delta * delta);
+  };
+  double lo = 0.0, hi = 1.0;
+  while (arl(hi) < arl_needed && hi < 1e12) hi *= 2.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (arl(mid) < arl_needed ? lo : hi) = mid;
+  }
+  return std::max(kMinThreshold, hi * sigma_lr);
+}
+
+void retarget(LevelCalibration& c, double flight_hours, double rate_per_hour, const ThetaNoiseModel& noise, double dt) {
+  const std::size_t k = c.tail_maxima.size();
+  if (k >= static_cast<std::size_t>(kMinTail) && flight_hours > 0.0 && c.tail_scale > 0.0) {
+    c.method = "tail";
+    const double h = c.tail_start + c.tail_scale * std::log(static_cast<double>(k) / (flight_hours * rate_per_hour));
+    c.threshold = std::max({kMinThreshold, c.tail_start, h});  // below u the fit says nothing: stay conservative
+  } else {
+    c.method = "siegmund";
+    c.threshold = siegmundThreshold(noise, c.level, rate_per_hour, dt);
+  }
+  fillAchieved(c, flight_hours);
+}
+
+LevelCalibration calibrateLevel(std::vector<double> maxima, double level, double flight_hours, double rate_per_hour,
+                                const ThetaNoiseModel& noise, double dt) {
+  LevelCalibration c;
+  c.level = level;
+  c.excursions = static_cast<long>(maxima.size());
+  std::sort(maxima.begin(), maxima.end(), std::greater<double>());
+  const std::size_t k = std::clamp<std::size_t>(maxima.size() / 5, std::min<std::size_t>(maxima.size(), kMinTail), kMaxTail);
+  c.tail_maxima.assign(maxima.begin(), maxima.begin() + static_cast<long>(k));
+  if (k >= static_cast<std::size_t>(kMinTail)) {
+    c.tail_start = c.tail_maxima.back();
+    double excess = 0.0;
+    for (double m : c.tail_maxima) excess += m - c.tail_start;
+    c.tail_scale = excess / static_cast<double>(k - 1);
+  }
+  retarget(c, flight_hours, rate_per_hour, noise, dt);
+  return c;
+}
+
+double fitModelSigma(const std::vector<double>& estimates, const std::vector<double>& truths,
+                     const std::vector<double>& noise_variances) {
+  if (estimates.empty()) return ThetaNoiseModel{}.model_sigma;
+  double sq = 0.0, noise = 0.0;
+  for (std::size_t i = 0; i < estimates.size(); ++i) {
+    sq += (estimates[i] - truths[i]) * (estimates[i] - truths[i]);
+    noise += noise_variances[i];
+  }
+  return std::sqrt(std::max(0.0, (sq - noise) / static_cast<double>(estimates.size())));
+}
+
+DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt) {
+  DecisionCalibration c;
+  c.target_rate = target_rate;
+  c.dt = dt;
+  c.source = "defaults (docs/decisions.md): noise model of the shipped TCN, thresholds by Siegmund's approximation";
+  c.degraded = calibrateLevel({}, degraded_below, 0.0, target_rate / 2.0, c.noise, dt);
+  c.failed = calibrateLevel({}, failed_below, 0.0, target_rate / 2.0, c.noise, dt);
+  return c;
+}
+
+}  // namespace quadfdi

@@ -1,0 +1,84 @@
+// Thresholds of the sequential rule from a target false-alarm rate per flight hour (issue 14,
+// docs/decisions.md "Calibration"). Input: Θ̂ streams of healthy flights at the model rate, one
+// MotorTheta per model sample. Output: a plain DecisionCalibration (noise model, thresholds, the
+// tail data they came from, the achieved rate and its Poisson upper bound); io/calibration_file
+// reads and writes it as JSON.
+//
+// Method: peaks over threshold of the CUSUM's excursions. On healthy data each motor's CUSUM is a
+// reflected random walk with negative drift; its excursions above zero are independent (renewal)
+// and their maxima have an exponential tail (Cramér–Lundberg: P(max > h) ∝ exp(−θ*h)), so the
+// rate of excursions whose maximum exceeds h — the false alarms a threshold h gives — is
+// λ(h) = (N_u / T) · exp(−(h − u) / β), fitted on the largest maxima (u: the smallest of them,
+// β: their mean excess, the exponential's maximum-likelihood scale). h solves λ(h) = target.
+// With too few excursions (a level far below healthy Θ̂, such as `failed`) it falls back to
+// Siegmund's approximation of the CUSUM's average run length for the AR(1) noise model, whose
+// long-run variance σ²(1+φ)/(1−φ) accounts for the autocorrelation of Θ̂.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "detection/sequential.h"
+
+namespace quadfdi {
+
+struct LevelCalibration {
+  double level = 0.9;               // [-] the CUSUM's reference (degraded_below or failed_below)
+  double threshold = 3.0;           // [effectiveness·samples] h for the target rate
+  std::string method = "siegmund";  // "tail" (fitted on excursions) | "siegmund" (noise model)
+  long excursions = 0;              // [-] CUSUM excursions above zero in the data, all motors
+  std::vector<double> tail_maxima;  // [effectiveness·samples] the largest excursion maxima, descending
+  double tail_start = 0.0;          // [effectiveness·samples] u: the smallest maximum of the tail
+  double tail_scale = 0.0;          // [effectiveness·samples] β: mean excess over u
+  long alarms_at_threshold = 0;     // [-] excursions reaching h in the data (false alarms it would raise)
+  double rate_at_threshold = 0.0;   // [1/flight hour] that count / flight hours
+  double rate_upper_bound = 0.0;    // [1/flight hour] one-sided 95 % Poisson (Garwood) bound on it
+};
+
+struct DecisionCalibration {
+  ThetaNoiseModel noise;
+  double target_rate = 0.1;  // [false alarms / flight hour] of the whole vehicle, split evenly over the two levels
+  double dt = 0.002;         // [s] model sample period of the data
+  long flights = 0;          // [-] healthy flights
+  double flight_hours = 0.0; // [h] healthy flight time, per vehicle (not per motor)
+  long faulty_flights = 0;   // [-] faulty flights used for noise.model_sigma (0: default kept)
+  LevelCalibration degraded, failed;
+  std::string source;        // provenance: command, model, simulation settings
+};
+
+// The default calibration (no data): the default noise model, thresholds by Siegmund.
+DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt);
+
+// Pooled over motors and flights (each stream's first `skip` samples dropped): mean, standard
+// deviation and lag-1 autocorrelation of Θ̂. model_sigma is left at the default.
+ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& streams, long skip = 0);
+
+// Every excursion maximum of the CUSUM S_k = max(0, S_{k−1} + level − Θ̂_k) of every motor of
+// every stream (unsorted).
+std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip = 0);
+
+// Siegmund's ARL approximation for the AR(1) noise model: the CUSUM threshold h at `level` for
+// `rate_per_hour` false alarms per flight hour over kMotors motors at period dt. At least h_min.
+double siegmundThreshold(const ThetaNoiseModel& noise, double level, double rate_per_hour, double dt);
+
+// Fits a level from its excursion maxima over `flight_hours` (per vehicle) for `rate_per_hour`;
+// falls back to Siegmund with fewer than kMinTail maxima.
+LevelCalibration calibrateLevel(std::vector<double> maxima, double level, double flight_hours, double rate_per_hour,
+                                const ThetaNoiseModel& noise, double dt);
+// Re-solves an existing level's threshold for another target rate from its stored tail.
+void retarget(LevelCalibration& c, double flight_hours, double rate_per_hour, const ThetaNoiseModel& noise, double dt);
+
+// model_sigma from faulty flights: `estimates` and `truths` are pairs (theta_est, Θ) taken once
+// the fault has been flown through, `noise_variances` the noise part of each estimate's variance.
+double fitModelSigma(const std::vector<double>& estimates, const std::vector<double>& truths,
+                     const std::vector<double>& noise_variances);
+
+// One-sided upper confidence bound of a Poisson mean after `count` events (Garwood 1936:
+// ½ χ²_{2(count+1)}(confidence)), by bisection on the Poisson distribution function.
+double poissonUpperBound(long count, double confidence = 0.95);
+
+inline constexpr int kMinTail = 10;        // [-] fewest excursion maxima for a tail fit
+inline constexpr int kMaxTail = 200;       // [-] most maxima kept in the tail
+inline constexpr double kMinThreshold = 1.0;  // [effectiveness·samples] floor on h: at least 10 samples 0.1 below the level
+
+}  // namespace quadfdi

@@ -1,0 +1,163 @@
+#include "detection/sequential.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace quadfdi {
+
+const char* toString(Severity s) {
+  switch (s) {
+    case Severity::kDegraded: return "degraded";
+    case Severity::kFailed: return "failed";
+    case Severity::kHealthy: break;
+  }
+  return "healthy";
+}
+
+double normalQuantile(double p) {
+  // Φ(x) = erfc(−x/√2)/2 is increasing: bisect on [−40, 40].
+  double lo = -40.0, hi = 40.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-13; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (0.5 * std::erfc(-mid / std::sqrt(2.0)) < p) lo = mid;
+    else hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double ar1MeanVariance(double sigma, double phi, long n) {
+  if (n <= 0) return 0.0;
+  const double dn = static_cast<double>(n);
+  if (phi == 0.0) return sigma * sigma / dn;
+  const double sum = dn * (1.0 + phi) / (1.0 - phi) - 2.0 * phi * (1.0 - std::pow(phi, dn)) / ((1.0 - phi) * (1.0 - phi));
+  return sigma * sigma * sum / (dn * dn);
+}
+
+std::string validate(const SequentialConfig& c) {
+  if (!(c.failed_below > 0.0 && c.failed_below < c.degraded_below && c.degraded_below <= 1.0))
+    return "levels must satisfy 0 < failed_below < degraded_below <= 1";
+  if (!(c.degraded_threshold > 0.0) || !(c.failed_threshold > 0.0)) return "CUSUM thresholds must be positive";
+  if (c.clear_after < 1) return "clear_after must be at least 1 sample";
+  if (c.estimate_window < 1 || c.estimate_window > 100000) return "estimate_window must be 1 … 100000 samples";
+  if (!(c.interval_level > 0.0 && c.interval_level < 1.0)) return "interval_level must lie in (0, 1)";
+  const ThetaNoiseModel& n = c.noise;
+  if (!(n.sigma >= 0.0) || !(n.model_sigma >= 0.0) || !std::isfinite(n.sigma) || !std::isfinite(n.model_sigma))
+    return "noise sigmas must be finite and non-negative";
+  if (!(n.phi >= 0.0 && n.phi < 1.0)) return "noise phi must lie in [0, 1)";
+  if (!std::isfinite(n.healthy_mean)) return "noise healthy_mean must be finite";
+  return {};
+}
+
+SequentialRule::SequentialRule(const SequentialConfig& config) : config_(config) {
+  if (std::string p = validate(config); !p.empty()) throw std::invalid_argument("sequential rule: " + p);
+  z_ = normalQuantile(0.5 + 0.5 * config.interval_level);
+  mean_variance_.resize(static_cast<std::size_t>(config.estimate_window) + 1);
+  for (int n = 0; n <= config.estimate_window; ++n)
+    mean_variance_[static_cast<std::size_t>(n)] = ar1MeanVariance(config.noise.sigma, config.noise.phi, n);
+  window_.assign(static_cast<std::size_t>(kMotors) * static_cast<std::size_t>(config.estimate_window), 1.0f);
+  reset();
+}
+
+void SequentialRule::reset() {
+  degraded_.fill(0.0);
+  failed_.fill(0.0);
+  since_change_.fill(0);
+  std::fill(window_.begin(), window_.end(), 1.0f);
+  window_at_ = 0;
+  filled_ = 0;
+  recovery_run_ = 0;
+  state_ = SequentialState{};
+}
+
+SequentialStatus SequentialRule::update(const MotorTheta& theta, int samples) {
+  const long n = std::max(1, samples);
+  const double dn = static_cast<double>(n);
+  const int w = config_.estimate_window;
+  // The held estimate enters the windows once per sample it stands for (at most a full window).
+  const long pushes = std::min<long>(n, w);
+  for (int k = 0; k < kMotors; ++k) {
+    const double x = static_cast<double>(theta[static_cast<std::size_t>(k)]);
+    // Page's CUSUM with the reference at the level: it grows exactly while Θ̂ is below the level.
+    // A held x adds the same increment n times, and max(0, ·) of a constant-sign sum is the
+    // same whether applied once or per sample.
+    const double before = degraded_[static_cast<std::size_t>(k)];
+    degraded_[static_cast<std::size_t>(k)] = std::max(0.0, before + dn * (config_.degraded_below - x));
+    failed_[static_cast<std::size_t>(k)] = std::max(0.0, failed_[static_cast<std::size_t>(k)] + dn * (config_.failed_below - x));
+    long& since = since_change_[static_cast<std::size_t>(k)];
+    if (degraded_[static_cast<std::size_t>(k)] <= 0.0) since = 0;
+    else since = (before <= 0.0) ? n : since + n;
+    float* ring = &window_[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
+    for (long i = 0, at = window_at_; i < pushes; ++i, at = (at + 1 == w) ? 0 : at + 1) ring[at] = theta[static_cast<std::size_t>(k)];
+  }
+  window_at_ = static_cast<int>((window_at_ + pushes) % w);
+  filled_ += n;
+
+  SequentialStatus status = SequentialStatus::kActive;
+  if (state_.severity == Severity::kHealthy) {
+    // Raise on the motor with the largest degraded statistic among those past a threshold (ties:
+    // the lowest motor); failed if its failed statistic is past its own threshold.
+    int best = -1;
+    for (int k = 0; k < kMotors; ++k) {
+      const std::size_t i = static_cast<std::size_t>(k);
+      if (degraded_[i] < config_.degraded_threshold && failed_[i] < config_.failed_threshold) continue;
+      if (best < 0 || degraded_[i] > degraded_[static_cast<std::size_t>(best)]) best = k;
+    }
+    if (best < 0) {
+      bool building = false;
+      for (double s : degraded_) building = building || s > 0.0;
+      return building ? SequentialStatus::kBuilding : SequentialStatus::kHealthy;
+    }
+    state_.motor = best + 1;
+    state_.severity = failed_[static_cast<std::size_t>(best)] >= config_.failed_threshold ? Severity::kFailed : Severity::kDegraded;
+    recovery_run_ = 0;
+    status = SequentialStatus::kRaised;
+  } else {
+    const std::size_t m = static_cast<std::size_t>(state_.motor - 1);
+    const double x = static_cast<double>(theta[m]);
+    if (state_.severity == Severity::kDegraded && failed_[m] >= config_.failed_threshold) {
+      state_.severity = Severity::kFailed;
+      recovery_run_ = 0;
+      status = SequentialStatus::kEscalated;
+    } else {
+      // Hysteresis: the CUSUM raises on an accumulated deficit; recovery needs Θ̂ at or above the
+      // level for clear_after samples without a break.
+      const double level = state_.severity == Severity::kFailed ? config_.failed_below : config_.degraded_below;
+      recovery_run_ = x >= level ? recovery_run_ + n : 0;
+      if (recovery_run_ >= config_.clear_after) {
+        recovery_run_ = 0;
+        if (state_.severity == Severity::kFailed) {
+          state_.severity = Severity::kDegraded;
+          failed_[m] = 0.0;
+          status = SequentialStatus::kRecovered;
+        } else {
+          degraded_[m] = failed_[m] = 0.0;
+          since_change_[m] = 0;
+          state_ = SequentialState{};
+          return SequentialStatus::kCleared;
+        }
+      }
+    }
+  }
+  estimate(state_.motor - 1);
+  return status;
+}
+
+void SequentialRule::estimate(int k) {
+  const int w = config_.estimate_window;
+  // Samples since the change point the CUSUM found, at most the window (and at least one).
+  const long n = std::max<long>(1, std::min<long>({since_change_[static_cast<std::size_t>(k)], w, filled_}));
+  const float* ring = &window_[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
+  double sum = 0.0;
+  int at = window_at_;
+  for (long i = 0; i < n; ++i) {
+    at = (at == 0) ? w - 1 : at - 1;
+    sum += static_cast<double>(ring[at]);
+  }
+  state_.theta_est = sum / static_cast<double>(n);
+  state_.standard_error = std::sqrt(mean_variance_[static_cast<std::size_t>(n)] + config_.noise.model_sigma * config_.noise.model_sigma);
+  state_.theta_lo = std::clamp(state_.theta_est - z_ * state_.standard_error, 0.0, 1.0);
+  state_.theta_hi = std::clamp(state_.theta_est + z_ * state_.standard_error, 0.0, 1.0);
+}
+
+}  // namespace quadfdi

@@ -1,0 +1,109 @@
+// The sequential decision rule (issue 14, docs/decisions.md "Severity and the sequential rule"):
+// per motor, two one-sided CUSUMs (Page 1954) on Θ̂ — the accumulated deficit below the degraded
+// level and below the failed level — raise `degraded` or `failed` naming one motor, with an
+// estimate of that motor's Θ and an interval from a noise model of Θ̂ (per-sample σ, AR(1)
+// autocorrelation φ at the model rate, and a systematic model error). Thresholds come from a
+// target false-alarm rate per flight hour (detection/calibration.h).
+//
+// Pure: no I/O; the constructor allocates, update() does not.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/types.h"
+
+namespace quadfdi {
+
+enum class Severity { kHealthy, kDegraded, kFailed };
+const char* toString(Severity s);  // healthy | degraded | failed
+
+// Θ̂ of one motor on healthy flights as a stationary AR(1) process, plus the systematic error of
+// the network on faulty flights. Defaults: measured on the shipped TCN (models/tcn-model-free.qfdw)
+// by `quadfdi calibrate --flights 40 --flight-seconds 90 --faulty-flights 100` (1.0 simulated
+// flight hour, LQR, nominal Crazyflie; models/tcn-model-free.calibration.json, docs/decisions.md).
+struct ThetaNoiseModel {
+  double healthy_mean = 0.982;  // [-] mean Θ̂ on healthy flights
+  double sigma = 0.039;         // [-] per-sample standard deviation of Θ̂ on healthy flights
+  double phi = 0.84;            // [-] lag-1 autocorrelation of Θ̂ at the model rate (500 Hz)
+  double model_sigma = 0.093;   // [-] standard deviation of (mean Θ̂ − Θ) on faulty flights, beyond the noise
+};
+
+struct SequentialConfig {
+  double degraded_below = 0.9;      // [-] a motor below this effectiveness is `degraded` (issue 14)
+  double failed_below = 0.3;        // [-] … below this, `failed` (issue 14)
+  double degraded_threshold = 3.0;  // [effectiveness·samples] CUSUM threshold h of the degraded level
+  double failed_threshold = 3.0;    // [effectiveness·samples] h of the failed level
+  int clear_after = 100;            // [samples] Θ̂ of the flagged motor at or above the level this long
+                                    //     clears (or de-escalates) it: 200 ms at 500 Hz, as the persistence filter
+  int estimate_window = 50;         // [samples] Θ̂ estimate: mean of the last this many samples since the
+                                    //     change point (100 ms at 500 Hz: long against φ, short against the fault)
+  double interval_level = 0.9;      // [-] two-sided coverage of [theta_lo, theta_hi]
+  ThetaNoiseModel noise;
+};
+
+// Empty when valid, else a one-line description of the first problem.
+std::string validate(const SequentialConfig& config);
+
+enum class SequentialStatus {
+  kHealthy,    // no alarm, every statistic at zero
+  kBuilding,   // no alarm, some motor's degraded statistic above zero (evidence building)
+  kRaised,     // this update raised an alarm
+  kActive,     // an alarm holds, severity unchanged
+  kEscalated,  // degraded → failed on this update
+  kRecovered,  // failed → degraded on this update
+  kCleared,    // this update cleared the alarm
+};
+
+struct SequentialState {
+  Severity severity = Severity::kHealthy;
+  int motor = 0;              // 1..4 while not healthy, else 0
+  double theta_est = 1.0;     // [-] Θ estimate of `motor` (mean Θ̂ since the change point, last estimate_window samples)
+  double standard_error = 0.0;  // [-] of theta_est, noise and model error
+  double theta_lo = 1.0, theta_hi = 1.0;  // [-] interval_level interval, clipped to [0, 1]
+};
+
+class SequentialRule {
+ public:
+  // setup: checks the config (std::invalid_argument with validate()'s text), allocates the
+  // per-motor windows and the table of the windowed mean's variance.
+  explicit SequentialRule(const SequentialConfig& config);
+
+  // One Θ̂ that stands for `samples` ≥ 1 model samples (the detector's stride holds an estimate
+  // until the next evaluation). No allocation.
+  SequentialStatus update(const MotorTheta& theta, int samples);
+  const SequentialState& state() const { return state_; }
+  bool active() const { return state_.severity != Severity::kHealthy; }
+  // Gap or restart: every statistic, window and alarm back to the start.
+  void reset();
+
+  // Inspection (tests, calibration): the statistics of motor `k` (0-based).
+  double degradedStatistic(int k) const { return degraded_[static_cast<std::size_t>(k)]; }
+  double failedStatistic(int k) const { return failed_[static_cast<std::size_t>(k)]; }
+  const SequentialConfig& config() const { return config_; }
+  double z() const { return z_; }  // standard-normal quantile of the interval
+
+ private:
+  void estimate(int k);  // state_.theta_* for motor k
+
+  SequentialConfig config_;
+  double z_ = 1.6449;
+  std::vector<double> mean_variance_;  // [n] noise variance of the mean of n consecutive samples, n = 0 … window
+  std::array<double, kMotors> degraded_{}, failed_{};
+  std::array<long, kMotors> since_change_{};  // samples since the degraded statistic left zero
+  std::vector<float> window_;                 // [motor][estimate_window] ring buffers
+  int window_at_ = 0;                          // next slot (shared: every motor gets every sample)
+  long filled_ = 0;                            // samples pushed since reset
+  long recovery_run_ = 0;                      // flagged motor at/above its level: consecutive samples
+  SequentialState state_;
+};
+
+// Standard-normal quantile Φ⁻¹(p), p in (0, 1) (bisection on erfc; to 1e-12).
+double normalQuantile(double p);
+
+// Variance of the mean of n consecutive samples of a stationary AR(1) with variance σ² and
+// lag-1 correlation φ: σ²/n² [n(1+φ)/(1−φ) − 2φ(1−φⁿ)/(1−φ)²].
+double ar1MeanVariance(double sigma, double phi, long n);
+
+}  // namespace quadfdi

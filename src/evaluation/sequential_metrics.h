@@ -1,0 +1,57 @@
+// Metrics of the sequential rule (issue 14, docs/decisions.md "Evaluating the sequential rule"):
+// per flight a dense Θ̂ stream (one MotorTheta per model sample) and the truth; the rule runs over
+// each stream and the outcomes are summed. No I/O; the caller simulates or reads the flights.
+#pragma once
+
+#include <vector>
+
+#include "detection/sequential.h"
+
+namespace quadfdi {
+
+struct FlightTruth {
+  int motor = 0;            // 1..4, 0 for a healthy flight
+  double theta = 1.0;       // [-] Θ of that motor from the fault on
+  long fault_sample = -1;   // [samples] index in the stream of the first faulty sample; −1 healthy
+};
+
+struct FlightThetaStream {
+  std::vector<MotorTheta> theta;  // Θ̂ per model sample
+  FlightTruth truth;
+};
+
+struct SequentialEvaluationConfig {
+  SequentialConfig rule;
+  double dt = 0.002;             // [s] model sample period
+  long flown_through = 100;      // [samples] after the fault, the network's window holds only faulty samples (T)
+  long isolation_early = 25;     // [samples] first isolation check after the fault (50 ms at 500 Hz)
+  long isolation_late = 150;     // [samples] second check (300 ms: issue 14's bound for mild faults)
+  double confidence = 0.95;      // [-] one-sided, for the false-alarm rate's Poisson upper bound
+};
+
+struct SeverityDetection {
+  int flights = 0;            // faulty flights whose true Θ is below this severity's level
+  int detected = 0;           // … in which this severity (or worse) named the true motor after the fault
+  double delay_median = 0.0;  // [s] fault → first such decision, over the detected
+  double delay_p95 = 0.0;     // [s] nearest rank
+};
+
+struct SequentialEvaluation {
+  SeverityDetection degraded, failed;
+  int isolation_flights = 0;          // faulty flights with Θ below degraded_below
+  double isolated_early = 0.0;        // [-] fraction naming the true motor (any severity) at fault + isolation_early
+  double isolated_late = 0.0;         // [-] … at fault + isolation_late
+  double severity_right_late = 0.0;   // [-] … with the right severity for the true Θ
+  long estimate_samples = 0;          // samples after flown_through with the alarm on the true motor
+  double theta_mae = 0.0;             // [-] mean |theta_est − Θ| over them
+  double theta_max_error = 0.0;       // [-] largest
+  double coverage = 0.0;              // [-] fraction with theta_lo ≤ Θ ≤ theta_hi
+  long false_alarms = 0;              // alarms raised in healthy time (healthy flights, before a fault)
+  double healthy_hours = 0.0;         // [h] healthy flight time
+  double false_alarms_per_hour = 0.0;       // [1/h]
+  double false_alarms_upper_bound = 0.0;    // [1/h] one-sided Poisson (Garwood) bound at `confidence`
+};
+
+SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& flights, const SequentialEvaluationConfig& config);
+
+}  // namespace quadfdi

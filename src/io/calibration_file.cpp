@@ -1,0 +1,113 @@
+#include "io/calibration_file.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "io/atomic_file.h"
+#include "io/key_value.h"
+
+namespace quadfdi {
+namespace {
+
+nlohmann::json levelToJson(const LevelCalibration& c) {
+  return {{"level", c.level},
+          {"threshold", c.threshold},
+          {"method", c.method},
+          {"excursions", c.excursions},
+          {"tail_maxima", c.tail_maxima},
+          {"tail_start", c.tail_start},
+          {"tail_scale", c.tail_scale},
+          {"alarms_at_threshold", c.alarms_at_threshold},
+          {"rate_at_threshold", c.rate_at_threshold},
+          {"rate_upper_bound", c.rate_upper_bound}};
+}
+
+LevelCalibration levelFromJson(const nlohmann::json& j) {
+  LevelCalibration c;
+  c.level = j.at("level").get<double>();
+  c.threshold = j.at("threshold").get<double>();
+  c.method = j.at("method").get<std::string>();
+  c.excursions = j.at("excursions").get<long>();
+  c.tail_maxima = j.at("tail_maxima").get<std::vector<double>>();
+  c.tail_start = j.at("tail_start").get<double>();
+  c.tail_scale = j.at("tail_scale").get<double>();
+  c.alarms_at_threshold = j.at("alarms_at_threshold").get<long>();
+  c.rate_at_threshold = j.at("rate_at_threshold").get<double>();
+  c.rate_upper_bound = j.at("rate_upper_bound").get<double>();
+  return c;
+}
+
+}  // namespace
+
+std::string calibrationToJson(const DecisionCalibration& c) {
+  const nlohmann::json j = {
+      {"format", "quadfdi-decision-calibration-1"},
+      {"noise", {{"healthy_mean", c.noise.healthy_mean}, {"sigma", c.noise.sigma}, {"phi", c.noise.phi}, {"model_sigma", c.noise.model_sigma}}},
+      {"target_rate_per_hour", c.target_rate},
+      {"dt", c.dt},
+      {"flights", c.flights},
+      {"flight_hours", c.flight_hours},
+      {"faulty_flights", c.faulty_flights},
+      {"degraded", levelToJson(c.degraded)},
+      {"failed", levelToJson(c.failed)},
+      {"source", c.source}};
+  return j.dump(2) + "\n";
+}
+
+DecisionCalibration calibrationFromJson(const std::string& text, const std::string& where) {
+  auto fail = [&](const std::string& problem) { return ConfigError(where + ": " + problem); };
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception&) {
+    throw fail("not valid JSON");
+  }
+  DecisionCalibration c;
+  try {
+    if (!j.is_object() || !j.contains("format") || j.at("format") != "quadfdi-decision-calibration-1")
+      throw fail("not a quadfdi decision calibration (format quadfdi-decision-calibration-1)");
+    const auto& n = j.at("noise");
+    c.noise.healthy_mean = n.at("healthy_mean").get<double>();
+    c.noise.sigma = n.at("sigma").get<double>();
+    c.noise.phi = n.at("phi").get<double>();
+    c.noise.model_sigma = n.at("model_sigma").get<double>();
+    c.target_rate = j.at("target_rate_per_hour").get<double>();
+    c.dt = j.at("dt").get<double>();
+    c.flights = j.at("flights").get<long>();
+    c.flight_hours = j.at("flight_hours").get<double>();
+    c.faulty_flights = j.at("faulty_flights").get<long>();
+    c.degraded = levelFromJson(j.at("degraded"));
+    c.failed = levelFromJson(j.at("failed"));
+    c.source = j.at("source").get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    throw fail(std::string("bad calibration: ") + e.what());
+  }
+  SequentialConfig check;
+  check.noise = c.noise;
+  check.degraded_below = c.degraded.level;
+  check.failed_below = c.failed.level;
+  check.degraded_threshold = c.degraded.threshold;
+  check.failed_threshold = c.failed.threshold;
+  if (std::string p = validate(check); !p.empty()) throw fail("bad calibration: " + p);
+  if (!(c.target_rate > 0.0) || !(c.dt > 0.0) || !(c.flight_hours >= 0.0)) throw fail("bad calibration: target_rate, dt or flight_hours out of range");
+  return c;
+}
+
+DecisionCalibration readCalibrationFile(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw ConfigError(path + ": cannot open");
+  std::stringstream s;
+  s << f.rdbuf();
+  return calibrationFromJson(s.str(), path);
+}
+
+void writeCalibrationFile(const std::string& path, const DecisionCalibration& c) {
+  AtomicFileWriter out(path);
+  out.stream() << calibrationToJson(c);
+  out.commit();
+}
+
+}  // namespace quadfdi

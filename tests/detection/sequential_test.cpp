@@ -1,0 +1,263 @@
+// The sequential rule (issue 14) on hand-made Θ̂ sequences: steps, ties, flapping, recovery, gaps,
+// held estimates; its calibration on AR(1) noise with known parameters; the Poisson bound; the
+// calibration file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "detection/calibration.h"
+#include "detection/sequential.h"
+#include "io/calibration_file.h"
+#include "io/key_value.h"
+#include "simulation/rng.h"
+
+namespace quadfdi {
+namespace {
+
+MotorTheta healthy() { return {0.97f, 0.97f, 0.97f, 0.97f}; }
+MotorTheta with(int motor, float theta) {
+  MotorTheta t = healthy();
+  t[static_cast<std::size_t>(motor - 1)] = theta;
+  return t;
+}
+
+SequentialConfig handConfig() {  // thresholds for counting samples by hand: just under 3, so that the
+  SequentialConfig c;               // float round-off of Θ̂ (0.1f > 0.1) cannot move a crossing by one sample
+  c.degraded_threshold = 2.999;
+  c.failed_threshold = 2.999;
+  c.noise.model_sigma = 0.0;
+  return c;
+}
+
+// The number of updates until `status`, or −1.
+int updatesUntil(SequentialRule& rule, const MotorTheta& theta, SequentialStatus status, int limit = 100000) {
+  for (int i = 1; i <= limit; ++i)
+    if (rule.update(theta, 1) == status) return i;
+  return -1;
+}
+
+TEST(SequentialRule, AStepTo07IsDegradedOnTheRightMotorAfterTheExpectedSamples) {
+  SequentialRule rule(handConfig());
+  for (int i = 0; i < 500; ++i) ASSERT_EQ(rule.update(healthy(), 1), SequentialStatus::kHealthy);
+  // Deficit 0.9 − 0.7 = 0.2 per sample: h = 3 is reached on the 15th sample.
+  EXPECT_EQ(updatesUntil(rule, with(3, 0.7f), SequentialStatus::kRaised), 15);
+  EXPECT_EQ(rule.state().severity, Severity::kDegraded);
+  EXPECT_EQ(rule.state().motor, 3);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(rule.update(with(3, 0.7f), 1), SequentialStatus::kActive);
+  EXPECT_NEAR(rule.state().theta_est, 0.7, 1e-6);  // the window holds only the fault
+  EXPECT_LT(rule.state().theta_lo, 0.7);
+  EXPECT_GT(rule.state().theta_hi, 0.7);
+}
+
+TEST(SequentialRule, AStepTo01RaisesDegradedThenFailed) {
+  SequentialRule rule(handConfig());
+  for (int i = 0; i < 100; ++i) rule.update(healthy(), 1);
+  // Degraded deficit 0.8 per sample: 3.2 ≥ 3 on the 4th; failed deficit 0.2: the 15th.
+  EXPECT_EQ(updatesUntil(rule, with(2, 0.1f), SequentialStatus::kRaised), 4);
+  EXPECT_EQ(rule.state().severity, Severity::kDegraded);
+  EXPECT_EQ(updatesUntil(rule, with(2, 0.1f), SequentialStatus::kEscalated), 11);
+  EXPECT_EQ(rule.state().severity, Severity::kFailed);
+  EXPECT_EQ(rule.state().motor, 2);
+  // The estimate comes from the samples since the change point only (14 of them, all 0.1).
+  EXPECT_NEAR(rule.state().theta_est, 0.1, 1e-6);
+}
+
+TEST(SequentialRule, TiesGoToTheLowestMotor) {
+  SequentialRule rule(handConfig());
+  MotorTheta t = healthy();
+  t[1] = t[3] = 0.7f;
+  EXPECT_EQ(updatesUntil(rule, t, SequentialStatus::kRaised), 15);
+  EXPECT_EQ(rule.state().motor, 2);
+  // With more evidence on motor 4 it wins.
+  SequentialRule other(handConfig());
+  t[3] = 0.6f;
+  EXPECT_EQ(updatesUntil(other, t, SequentialStatus::kRaised), 10);
+  EXPECT_EQ(other.state().motor, 4);
+}
+
+TEST(SequentialRule, FlappingAroundTheLevelRaisesNoStorm) {
+  SequentialRule rule(handConfig());
+  // Mean on the level: the statistic stays bounded, no alarm.
+  for (int i = 0; i < 20000; ++i) ASSERT_NE(rule.update(with(1, i % 2 ? 0.85f : 0.95f), 1), SequentialStatus::kRaised) << i;
+  // Mean below the level (0.875), flapping above it every other sample: one alarm, held.
+  int raised = 0, cleared = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const SequentialStatus s = rule.update(with(1, i % 2 ? 0.8f : 0.95f), 1);
+    raised += s == SequentialStatus::kRaised;
+    cleared += s == SequentialStatus::kCleared;
+  }
+  EXPECT_EQ(raised, 1);
+  EXPECT_EQ(cleared, 0);
+  EXPECT_EQ(rule.state().motor, 1);
+}
+
+TEST(SequentialRule, RecoveryClearsAfterTheStatedHold) {
+  SequentialConfig c = handConfig();
+  c.clear_after = 100;
+  SequentialRule rule(c);
+  ASSERT_GT(updatesUntil(rule, with(4, 0.5f), SequentialStatus::kRaised), 0);
+  for (int i = 0; i < 300; ++i) rule.update(with(4, 0.5f), 1);
+  // Back above the level: cleared on the 100th sample; a dip restarts the count.
+  for (int i = 0; i < 60; ++i) ASSERT_EQ(rule.update(healthy(), 1), SequentialStatus::kActive);
+  ASSERT_EQ(rule.update(with(4, 0.85f), 1), SequentialStatus::kActive);
+  EXPECT_EQ(updatesUntil(rule, healthy(), SequentialStatus::kCleared), 100);
+  EXPECT_EQ(rule.state().severity, Severity::kHealthy);
+  EXPECT_EQ(rule.state().motor, 0);
+  EXPECT_EQ(rule.degradedStatistic(3), 0.0);
+  // Failed de-escalates to degraded once Θ̂ stays above the failed level.
+  SequentialRule f(c);
+  ASSERT_GT(updatesUntil(f, with(1, 0.0f), SequentialStatus::kEscalated), 0);
+  EXPECT_EQ(updatesUntil(f, with(1, 0.6f), SequentialStatus::kRecovered), 100);
+  EXPECT_EQ(f.state().severity, Severity::kDegraded);
+}
+
+TEST(SequentialRule, AResetAfterAGapStartsFromNothing) {
+  SequentialRule rule(handConfig());
+  for (int i = 0; i < 14; ++i) ASSERT_EQ(rule.update(with(2, 0.7f), 1), SequentialStatus::kBuilding);
+  rule.reset();  // the detector's restart on a gap
+  for (int k = 0; k < kMotors; ++k) EXPECT_EQ(rule.degradedStatistic(k), 0.0);
+  EXPECT_EQ(updatesUntil(rule, with(2, 0.7f), SequentialStatus::kRaised), 15);  // the full count again
+  rule.reset();
+  EXPECT_EQ(rule.state().severity, Severity::kHealthy);
+}
+
+TEST(SequentialRule, AHeldEstimateCountsAsManySamples) {
+  SequentialRule a(handConfig()), b(handConfig());
+  for (int i = 0; i < 5; ++i) a.update(with(3, 0.8f), 4);
+  for (int i = 0; i < 20; ++i) b.update(with(3, 0.8f), 1);
+  EXPECT_NEAR(a.degradedStatistic(2), b.degradedStatistic(2), 1e-12);
+  EXPECT_EQ(a.state().severity, b.state().severity);
+}
+
+TEST(SequentialRule, RefusesBadConfigs) {
+  SequentialConfig c;
+  c.failed_below = 0.95;
+  EXPECT_THROW(SequentialRule{c}, std::invalid_argument);
+  c = SequentialConfig{};
+  c.noise.phi = 1.0;
+  EXPECT_THROW(SequentialRule{c}, std::invalid_argument);
+}
+
+TEST(Ar1MeanVariance, MatchesTheDirectSumAndTheIidCase) {
+  const double sigma = 0.02, phi = 0.9;
+  for (long n : {1L, 2L, 7L, 50L}) {
+    double direct = 0.0;
+    for (long i = 0; i < n; ++i)
+      for (long j = 0; j < n; ++j) direct += std::pow(phi, static_cast<double>(std::labs(i - j)));
+    EXPECT_NEAR(ar1MeanVariance(sigma, phi, n), sigma * sigma * direct / static_cast<double>(n * n), 1e-15) << n;
+  }
+  EXPECT_NEAR(ar1MeanVariance(0.1, 0.0, 25), 0.0004, 1e-15);
+  EXPECT_NEAR(normalQuantile(0.95), 1.6448536269514722, 1e-9);
+}
+
+TEST(PoissonBound, KnownValues) {
+  EXPECT_NEAR(poissonUpperBound(0, 0.95), 2.995732273553991, 1e-9);  // −ln 0.05
+  EXPECT_NEAR(poissonUpperBound(1, 0.95), 4.743864518, 1e-6);        // ½ χ²₄(0.95) = 9.487729/2
+  EXPECT_NEAR(poissonUpperBound(10, 0.95), 16.96222, 1e-4);          // ½ χ²₂₂(0.95) = 33.92444/2
+  EXPECT_NEAR(poissonUpperBound(0, 0.9), 2.302585093, 1e-9);         // −ln 0.1
+}
+
+double normal(Rng& rng) {  // Box–Muller
+  const double u = 1.0 - rng.uniform(), v = rng.uniform();
+  return std::sqrt(-2.0 * std::log(u)) * std::cos(6.283185307179586 * v);
+}
+
+// AR(1) streams: mean μ, per-sample σ, lag-1 correlation φ, per motor independent.
+std::vector<std::vector<MotorTheta>> ar1Streams(int flights, int samples, double mu, double sigma, double phi, std::uint64_t seed) {
+  std::vector<std::vector<MotorTheta>> out;
+  Rng rng(seed, 0);
+  const double innovation = sigma * std::sqrt(1.0 - phi * phi);
+  for (int f = 0; f < flights; ++f) {
+    std::vector<MotorTheta> s(static_cast<std::size_t>(samples));
+    std::array<double, kMotors> e{};
+    for (double& v : e) v = sigma * normal(rng);
+    for (auto& t : s)
+      for (int k = 0; k < kMotors; ++k) {
+        e[static_cast<std::size_t>(k)] = phi * e[static_cast<std::size_t>(k)] + innovation * normal(rng);
+        t[static_cast<std::size_t>(k)] = static_cast<float>(mu + e[static_cast<std::size_t>(k)]);
+      }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+// Threshold crossings of the CUSUM at `level`, restarting from zero after each (the alarms a
+// detector with that threshold raises, counting a renewal per alarm).
+long crossings(const std::vector<std::vector<MotorTheta>>& streams, double level, double h) {
+  long n = 0;
+  for (const auto& s : streams)
+    for (int k = 0; k < kMotors; ++k) {
+      double S = 0.0;
+      for (const auto& t : s) {
+        S = std::max(0.0, S + level - static_cast<double>(t[static_cast<std::size_t>(k)]));
+        if (S >= h) ++n, S = 0.0;
+      }
+    }
+  return n;
+}
+
+TEST(Calibration, FitsTheNoiseModelOfAnAr1) {
+  const auto streams = ar1Streams(4, 50000, 0.97, 0.02, 0.9, 11);
+  const ThetaNoiseModel m = fitNoiseModel(streams);
+  EXPECT_NEAR(m.healthy_mean, 0.97, 0.002);
+  EXPECT_NEAR(m.sigma, 0.02, 0.001);
+  EXPECT_NEAR(m.phi, 0.9, 0.01);
+}
+
+TEST(Calibration, TheCalibratedThresholdGivesTheTargetRateOnFreshNoise) {
+  // Strongly autocorrelated like Θ̂ at 500 Hz (φ = 0.98), level close to the mean so that alarms
+  // are frequent enough to count.
+  const double dt = 0.002, level = 0.95, phi = 0.98;
+  const auto train = ar1Streams(10, 100000, 0.97, 0.02, phi, 21);  // 0.56 flight hours
+  const auto test = ar1Streams(10, 100000, 0.97, 0.02, phi, 22);
+  const double hours = 10 * 100000 * dt / 3600.0;
+  const ThetaNoiseModel noise = fitNoiseModel(train);
+  for (const double target : {60.0, 15.0}) {  // per flight hour; tail fit below the largest maxima seen
+    const LevelCalibration c = calibrateLevel(excursionMaxima(train, level), level, hours, target, noise, dt);
+    ASSERT_EQ(c.method, "tail");
+    const long n = crossings(test, level, c.threshold);
+    // The expected count target·hours lies within the two-sided 99 % Garwood interval of the count.
+    const double expected = target * hours;
+    EXPECT_LE(expected, poissonUpperBound(n, 0.995)) << target << " h = " << c.threshold << " count " << n;
+    EXPECT_GE(expected, n > 0 ? poissonUpperBound(n - 1, 0.005) : 0.0) << target << " h = " << c.threshold << " count " << n;
+  }
+  // Siegmund on the long-run variance is conservative for an AR(1) at moderate h (the CUSUM sees
+  // less than the long-run variance over short excursions): higher, but within a factor 2.
+  const LevelCalibration fit = calibrateLevel(excursionMaxima(train, level), level, hours, 15.0, noise, dt);
+  const double ratio = siegmundThreshold(noise, level, 15.0, dt) / fit.threshold;
+  EXPECT_GE(ratio, 1.0);
+  EXPECT_LE(ratio, 2.0);
+}
+
+TEST(Calibration, FallsBackToSiegmundWithoutExcursions) {
+  const auto train = ar1Streams(2, 20000, 0.97, 0.02, 0.9, 3);
+  const ThetaNoiseModel noise = fitNoiseModel(train);
+  const LevelCalibration c = calibrateLevel(excursionMaxima(train, 0.3), 0.3, 0.02, 0.05, noise, 0.002);
+  EXPECT_EQ(c.method, "siegmund");
+  EXPECT_EQ(c.excursions, 0);
+  EXPECT_GE(c.threshold, kMinThreshold);
+  // A lower target rate needs a higher threshold.
+  EXPECT_GT(siegmundThreshold(noise, 0.9, 0.01, 0.002), siegmundThreshold(noise, 0.9, 1.0, 0.002));
+}
+
+TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
+  const auto train = ar1Streams(2, 50000, 0.97, 0.02, 0.9, 5);
+  DecisionCalibration c = defaultCalibration(0.9, 0.3, 0.1, 0.002);
+  c.noise = fitNoiseModel(train);
+  c.flight_hours = 100000 * 0.002 / 3600.0;
+  c.degraded = calibrateLevel(excursionMaxima(train, 0.9), 0.9, c.flight_hours, 0.05, c.noise, 0.002);
+  const DecisionCalibration back = calibrationFromJson(calibrationToJson(c), "x.json");
+  EXPECT_EQ(calibrationToJson(back), calibrationToJson(c));
+  EXPECT_EQ(back.degraded.tail_maxima, c.degraded.tail_maxima);
+  try {
+    calibrationFromJson("{\"format\": \"quadfdi-decision-calibration-1\"}", "cal.json");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("cal.json: bad calibration: ", 0), 0u) << e.what();
+  }
+  EXPECT_THROW(calibrationFromJson("{", "cal.json"), ConfigError);
+}
+
+}  // namespace
+}  // namespace quadfdi
