@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 
 #include "cli/cli_util.h"
@@ -12,6 +13,7 @@
 #include "io/key_value.h"
 #include "io/model_file.h"
 #include "io/params_file.h"
+#include "io/randomisation_file.h"
 #include "networks/trainer.h"
 #include "symmetry/symmetry.h"
 
@@ -52,6 +54,12 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
       .defaultText("from --scale");
   t->add("--max-iterations", o.max_iterations, "N_M: outer iterations at most").atLeast(1).defaultText("from --scale");
   t->add("--preroll", o.preroll, "Random healthy pre-roll before each flight, up to this many seconds").atLeast(0);
+  t->add("--randomise", o.randomise,
+         "Randomisation FILE: vehicles, plant errors, estimator noise/lag/delay, controller mix and gains, manoeuvres "
+         "(configs/randomisation-default.toml; docs/data.md)");
+  t->add("--vehicle", o.vehicles,
+         "Vehicle description FILE (repeatable; configs/vehicles/): with --randomise, the vehicles flown; alone, the plant");
+  t->add("--post-fault", o.post_fault, "Seconds recorded after the fault (0: the window T, the paper's)").atLeast(0);
   t->add("--seed", o.seed, "Seed of weights, data and shuffling");
   t->add("--device", o.device, "Where to train").choices({"cpu", "cuda"});
   t->add("--threads,-j", o.threads, "CPU threads for data and LibTorch (0 = all cores)").atLeast(0);
@@ -80,8 +88,23 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   c.data.thetas = o.thetas;
   c.data.motors = {2};
   c.data.threads = o.threads;
-  c.data.rollout.plant = loadVehicleParams(o.params);
+  c.data.rollout.plant = loadVehicleParams(o.vehicles.size() == 1 && o.randomise.empty() ? o.vehicles[0] : o.params);
   c.data.rollout.controller_model = c.data.rollout.plant;
+  require(o.vehicles.size() <= 1 || !o.randomise.empty(), "--vehicle: several vehicles need --randomise FILE");
+  if (!o.randomise.empty()) {
+    Randomisation& r = c.data.rollout.randomisation;
+    r = loadRandomisation(o.randomise);
+    if (!o.vehicles.empty()) {
+      r.vehicles.clear();
+      r.vehicle_names.clear();
+      for (const std::string& v : o.vehicles) {
+        r.vehicles.push_back(loadVehicleParams(v));
+        r.vehicle_names.push_back(std::filesystem::path(v).stem().string());
+      }
+    }
+    c.model.randomisation = randomisationToText(r);
+  }
+  c.data.rollout.post_fault_steps = static_cast<int>(std::lround(o.post_fault / c.data.rollout.dt));
   require(parseControllerKind(o.controller, c.data.rollout.controller.kind), "--controller must be lqr or cbf");
   c.data.rollout.output = o.output_kind == "position-rates" ? OutputKind::kPositionRates : OutputKind::kPositionEuler;
   c.data.rollout.preroll_max_steps = static_cast<int>(std::lround(o.preroll / c.data.rollout.dt));

@@ -26,6 +26,9 @@ struct TrainOptions {
   std::optional<int> min_iterations;            // N_m
   std::optional<int> max_iterations;            // N_M
   double preroll = 0.0;                         // max random pre-roll [s]
+  std::string randomise;                        // randomisation FILE (docs/data.md#randomisation); empty: none
+  std::vector<std::string> vehicles;            // vehicle description FILEs; replace the randomisation's vehicles
+  double post_fault = 0.0;                      // [s] recorded after the fault; 0 = T
   unsigned long long seed = 1;                  // weights, data and shuffling
   std::string device = "cpu";                   // cpu | cuda
   int threads = 0;                              // 0 = all cores

@@ -51,6 +51,7 @@ std::string metadataToJson(const ModelMetadata& m) {
                         {"heldout_loss", m.heldout_loss},
                         {"heldout_accuracy", m.heldout_accuracy},
                         {"generator", m.generator}}}};
+  if (!m.randomisation.empty()) j["randomisation"] = m.randomisation;
   if (m.architecture == Architecture::kTcn)
     j["tcn"] = {{"channels", m.tcn.channels}, {"kernel", m.tcn.kernel}, {"dilations", m.tcn.dilations}};
   return j.dump();
@@ -88,6 +89,7 @@ ModelMetadata metadataFromJson(const std::string& text, const std::string& where
     m.hidden = integer(j.at("hidden"), "hidden");
     m.params = j.at("params").get<std::string>();
     m.controller = j.at("controller").get<std::string>();
+    if (j.contains("randomisation")) m.randomisation = j.at("randomisation").get<std::string>();
     m.feature_mean = j.at("feature_mean").get<std::vector<float>>();
     m.feature_std = j.at("feature_std").get<std::vector<float>>();
     if (m.architecture == Architecture::kTcn) {

@@ -44,6 +44,9 @@ struct ModelMetadata {
   TcnShape tcn;            // used when architecture == kTcn
   std::string params = "nominal";  // plant parameter set of the training data
   std::string controller = "lqr";
+  // The randomisation of the training flights in its file form (io/randomisation_file.h,
+  // docs/data.md#randomisation); empty: the fixed plant and controller above.
+  std::string randomisation;
   // Per-channel normalisation, applied inside the network: (x − mean) / std.
   std::vector<float> feature_mean, feature_std;
   // Provenance.
