@@ -26,8 +26,10 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->recordGivenIn(o.given);
-  t->add("--controller", o.controller, "Controller: lqr, or cbf (LQR filtered by the CBF-QP safety filter)")
-      .choices({"lqr", "cbf"});
+  t->add("--controller", o.controller,
+         "Controller: lqr, cbf (LQR filtered by the CBF-QP safety filter), or pid (cascaded PID "
+         "in the style of PX4 and the Crazyflie, docs/control.md)")
+      .choices({"lqr", "cbf", "pid"});
   t->add("--params", o.params,
          "Plant parameters: nominal, perturbed, perturbed-strong, or a parameter FILE "
          "(see configs/vehicle-example.toml)");
@@ -59,6 +61,15 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
          "Override the sampled initial state: 12 values x y z vx vy vz roll pitch yaw p q r "
          "(body velocity [m/s], angles [rad], body rates [rad/s])")
       .values(12);
+  t->add("--trajectory", o.trajectory,
+         "Reference to fly: hover (at the goal), point-to-point (minimum-jerk from the start to the "
+         "goal), circle or figure-eight (centred on the goal)")
+      .choices({"hover", "point-to-point", "circle", "figure-eight"});
+  t->add("--speed", o.speed, "Trajectory speed [m/s]: point-to-point and figure-eight peak, circle constant")
+      .above(0.0, 20.0);
+  t->add("--radius", o.radius, "Circle radius, figure-eight half-length along x [m]").above(0.0, 100.0);
+  t->add("--yaw-mode", o.yaw_mode, "Trajectory yaw: fixed (0) or velocity (nose along the path)")
+      .choices({"fixed", "velocity"});
   t->add("--position-noise", o.position_noise, "Std. dev. of additive noise on logged position [m]").atLeast(0);
   t->add("--attitude-noise", o.attitude_noise, "Std. dev. of additive noise on logged Euler angles [rad]")
       .atLeast(0);
@@ -126,6 +137,22 @@ int runSimulate(const SimulateOptions& o) {
   if (const StepStatus s = checkState(scenario.initial_state, settings.bounds); s != StepStatus::kOk)
     throw std::runtime_error(std::string("--start is not a valid flight state: ") + toString(s));
 
+  TrajectoryKind trajectory_kind = TrajectoryKind::kHover;
+  parseTrajectoryKind(o.trajectory, trajectory_kind);
+  if (trajectory_kind != TrajectoryKind::kHover) {
+    TrajectorySpec spec;
+    spec.kind = trajectory_kind;
+    const bool line = trajectory_kind == TrajectoryKind::kPointToPoint;
+    spec.start = line ? Vec3(scenario.initial_state.head<3>()) : scenario.goal;
+    spec.goal = scenario.goal;
+    spec.speed = o.speed;
+    spec.radius = o.radius;
+    spec.yaw_mode = o.yaw_mode == "velocity" ? YawMode::kFacingVelocity : YawMode::kFixed;
+    settings.trajectory = spec;
+    if (const std::string problem = validate(settings); !problem.empty())
+      throw std::runtime_error("invalid simulation settings: " + problem);
+  }
+
   ControllerBuild build = makeController(design, cc, settings.dt);
   if (!build.controller) throw std::runtime_error(build.error);
   build.controller->setGoal(scenario.goal);
@@ -155,6 +182,18 @@ int runSimulate(const SimulateOptions& o) {
                  toString(cc.kind), o.params.c_str(), toString(settings.integrator), dt, o.seed);
     std::fprintf(stderr, "  start %s m, goal %s m\n",
                  vec3(scenario.initial_state.head<3>()).c_str(), vec3(scenario.goal).c_str());
+    if (settings.trajectory) {
+      double sum = 0.0, worst = 0.0;
+      for (int k = 0; k < log.size(); ++k) {
+        const Vec3 p = log.states[static_cast<std::size_t>(k)].head<3>();
+        const double e = (p - referenceAt(*settings.trajectory, k * dt).position).norm();
+        sum += e * e;
+        worst = std::max(worst, e);
+      }
+      std::fprintf(stderr, "  trajectory: %s at %.2f m/s (radius %.2f m, yaw %s); tracking error RMS %.4f m, max %.4f m\n",
+                   o.trajectory.c_str(), o.speed, o.radius, o.yaw_mode.c_str(),
+                   log.size() > 0 ? std::sqrt(sum / log.size()) : 0.0, worst);
+    }
     if (o.motor != 0)
       std::fprintf(stderr, "  fault: motor %d at theta %.3f from step %d (t = %.3f s)\n", o.motor, o.theta,
                    o.fault_step, o.fault_step * dt);

@@ -10,7 +10,7 @@ namespace quadfdi::cli {
 // Filled by the option table (simulate_command.cpp), the only place that names the flags.
 struct SimulateOptions {
   std::string config;                   // key = value file; flags given on the command line win
-  std::string controller = "lqr";       // lqr | cbf
+  std::string controller = "lqr";       // lqr | cbf | pid
   std::string params = "nominal";       // plant: a named parameter set or a FILE
   std::string controller_params;        // design model, same forms; empty: same as params
   std::string lqr_weights = "bryson";   // bryson | authors
@@ -27,6 +27,10 @@ struct SimulateOptions {
   std::vector<double> start;            // override, 12 state values (SI); empty: sampled
   double position_noise = 0.0;          // std. dev. [m]
   double attitude_noise = 0.0;          // std. dev. [rad]
+  std::string trajectory = "hover";     // hover | point-to-point | circle | figure-eight
+  double speed = 1.0;                   // [m/s] trajectory (peak) speed
+  double radius = 1.0;                  // [m] circle radius, figure-eight half-length
+  std::string yaw_mode = "fixed";       // fixed | velocity
   double cbf_min_altitude = 0.5;        // [m]
   double cbf_max_tilt = 0.5;            // [rad]
   bool quiet = false;                   // no summary on stderr

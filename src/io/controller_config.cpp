@@ -3,6 +3,47 @@
 #include "io/key_value.h"
 
 namespace quadfdi {
+namespace {
+
+// One [pid] key; every PidConfig field is a key of the same name.
+void setPidKey(const KeyValueDocument& doc, const KeyValueEntry& e, PidConfig& pid) {
+  const std::string name = e.key.substr(4);
+  struct IntKey { const char* name; int PidConfig::*field; };
+  struct NumberKey { const char* name; double PidConfig::*field; };
+  static const IntKey kInts[] = {{"position_divisor", &PidConfig::position_divisor},
+                                 {"attitude_divisor", &PidConfig::attitude_divisor},
+                                 {"rate_divisor", &PidConfig::rate_divisor}};
+  static const NumberKey kNumbers[] = {
+      {"position_gain_xy", &PidConfig::position_gain_xy}, {"position_gain_z", &PidConfig::position_gain_z},
+      {"velocity_gain_xy", &PidConfig::velocity_gain_xy}, {"velocity_integral_xy", &PidConfig::velocity_integral_xy},
+      {"velocity_derivative_xy", &PidConfig::velocity_derivative_xy}, {"velocity_gain_z", &PidConfig::velocity_gain_z},
+      {"velocity_integral_z", &PidConfig::velocity_integral_z}, {"velocity_derivative_z", &PidConfig::velocity_derivative_z},
+      {"velocity_integral_limit", &PidConfig::velocity_integral_limit}, {"max_tilt", &PidConfig::max_tilt},
+      {"min_thrust_fraction", &PidConfig::min_thrust_fraction}, {"attitude_gain_rp", &PidConfig::attitude_gain_rp},
+      {"attitude_gain_yaw", &PidConfig::attitude_gain_yaw}, {"yaw_weight", &PidConfig::yaw_weight},
+      {"max_rate_rp", &PidConfig::max_rate_rp}, {"max_rate_yaw", &PidConfig::max_rate_yaw},
+      {"rate_gain_rp", &PidConfig::rate_gain_rp}, {"rate_integral_rp", &PidConfig::rate_integral_rp},
+      {"rate_derivative_rp", &PidConfig::rate_derivative_rp}, {"rate_gain_yaw", &PidConfig::rate_gain_yaw},
+      {"rate_integral_yaw", &PidConfig::rate_integral_yaw}, {"rate_integral_limit", &PidConfig::rate_integral_limit}};
+  for (const IntKey& k : kInts)
+    if (name == k.name) {
+      const long long v = doc.integer(e);
+      if (v < 1 || v > 1000) doc.fail(e, "'" + e.key + "' must be an integer in 1 … 1000 (steps)");
+      pid.*k.field = static_cast<int>(v);
+      return;
+    }
+  for (const NumberKey& k : kNumbers)
+    if (name == k.name) {
+      PidConfig trial = pid;
+      trial.*k.field = doc.number(e);
+      if (const std::string problem = validate(trial); !problem.empty()) doc.fail(e, problem);
+      pid = trial;
+      return;
+    }
+  doc.fail(e, "unknown key '" + e.key + "'");
+}
+
+}  // namespace
 
 ControllerConfig controllerConfigFromText(const std::string& text, const std::string& source,
                                           const ControllerConfig& base) {
@@ -25,7 +66,8 @@ ControllerConfig controllerConfigFromText(const std::string& text, const std::st
     if (k == "lqr.weights") continue;
     if (k == "controller") {
       const std::string kind = doc.string(e);
-      if (!parseControllerKind(kind, c.kind)) doc.fail(e, "controller must be \"lqr\" or \"cbf\", got '" + kind + "'");
+      if (!parseControllerKind(kind, c.kind))
+        doc.fail(e, "controller must be \"lqr\", \"cbf\" or \"pid\", got '" + kind + "'");
     } else if (k == "lqr.q_diag") {
       const auto q = doc.numberList(e);
       if (q.size() != kStateDim) doc.fail(e, "lqr.q_diag needs 12 values (state.h order), got " + std::to_string(q.size()));
@@ -63,6 +105,8 @@ ControllerConfig controllerConfigFromText(const std::string& text, const std::st
       c.cbf.tilt_alpha1 = positive(e);
     } else if (k == "cbf.tilt_alpha2") {
       c.cbf.tilt_alpha2 = positive(e);
+    } else if (k.rfind("pid.", 0) == 0) {
+      setPidKey(doc, e, c.pid);
     } else {
       doc.fail(e, "unknown key '" + k + "'");
     }

@@ -1,4 +1,4 @@
-// Controller configuration files: LQR weights and CBF-QP safe set (see
+// Controller configuration files: LQR weights, CBF-QP safe set and PID gains (see
 // configs/controller-example.toml). Values not in the file keep those of `base`.
 #pragma once
 

@@ -52,7 +52,7 @@ TEST(SimulateCli, HelpDocumentsEveryOption) {
   for (const char* opt : {"--controller", "--controller-config", "--params", "--controller-params", "--lqr-weights", "--motor", "--theta",
                           "--fault-step", "--steps", "--seed", "--integrator", "--output", "--full-state", "--goal",
                           "--start", "--position-noise", "--attitude-noise", "--cbf-min-altitude", "--cbf-max-tilt",
-                          "--quiet"})
+                          "--quiet", "--trajectory", "--speed", "--radius", "--yaw-mode"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
 }
 
@@ -114,11 +114,26 @@ TEST(SimulateCli, CbfAndFileParamsAndFullState) {
   EXPECT_EQ(header, "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,vx,vy,vz,p,q,r,f1,f2,f3,f4,status");
 }
 
+TEST(SimulateCli, PidFliesACircle) {
+  const CommandResult r = run("simulate --controller pid --trajectory circle --speed 1 --radius 1 --yaw-mode velocity "
+                              "--start 0 0 1 0 0 0 0 0 1.5708 0 0 0 --goal -1 0 1 --steps 5000 --output /dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("pid controller"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("trajectory: circle at 1.00 m/s"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("completed 5000 steps"), std::string::npos) << r.out;
+  const std::string cfg = tempPath("pid.toml");
+  std::ofstream(cfg) << "controller = \"pid\"\n[pid]\nrate_divisor = 0\n";
+  const CommandResult bad = run("simulate --controller-config " + cfg + " -o /dev/null");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find(cfg + ":3: 'pid.rate_divisor' must be an integer"), std::string::npos) << bad.out;
+}
+
 TEST(SimulateCli, BadArgumentsGiveOneLineErrorsAndNonZeroExit) {
   const std::string missing_params = tempPath("missing.toml");
   for (const std::string& args :
        {std::string("simulate --motor 5"), std::string("simulate --theta 1.5 --motor 1"),
-        std::string("simulate --controller pid"), std::string("simulate --steps 0"),
+        std::string("simulate --controller mpc"), std::string("simulate --steps 0"),
+        std::string("simulate --trajectory square"), std::string("simulate --trajectory circle --speed 0"),
         std::string("simulate --steps ten"), std::string("simulate --integrator rk45"),
         std::string("simulate --params ") + missing_params, std::string("simulate --bogus"),
         std::string("simulate --start 0 0 1"), std::string("simulate --start 0 0 1 0 0 0 2 0 0 0 0 0 -o /dev/null"),

@@ -35,6 +35,23 @@ TEST(ControllerConfig, ShippedExampleEqualsTheDefaults) {
   EXPECT_EQ(c.lqr.r_diag, d.lqr.r_diag);
   EXPECT_EQ(c.cbf.tilt_alpha1, d.cbf.tilt_alpha1);
   EXPECT_EQ(c.cbf.min_altitude, d.cbf.min_altitude);
+  EXPECT_EQ(c.pid.position_divisor, d.pid.position_divisor);
+  EXPECT_EQ(c.pid.velocity_gain_xy, d.pid.velocity_gain_xy);
+  EXPECT_EQ(c.pid.rate_gain_rp, d.pid.rate_gain_rp);
+  EXPECT_EQ(c.pid.max_tilt, d.pid.max_tilt);
+  EXPECT_EQ(c.pid.rate_integral_limit, d.pid.rate_integral_limit);
+}
+
+TEST(ControllerConfig, PidKeys) {
+  const ControllerConfig c = controllerConfigFromText(
+      "controller = \"pid\"\n[pid]\nrate_divisor = 2\nattitude_divisor = 4\nrate_gain_rp = 40\nyaw_weight = 0.5\n",
+      "c.toml", ControllerConfig{});
+  EXPECT_EQ(c.kind, ControllerKind::kPid);
+  EXPECT_EQ(c.pid.rate_divisor, 2);
+  EXPECT_EQ(c.pid.attitude_divisor, 4);
+  EXPECT_EQ(c.pid.rate_gain_rp, 40.0);
+  EXPECT_EQ(c.pid.yaw_weight, 0.5);
+  EXPECT_EQ(c.pid.position_gain_xy, PidConfig{}.position_gain_xy);
 }
 
 TEST(ControllerConfig, BadValuesNameFileAndLine) {
@@ -44,6 +61,11 @@ TEST(ControllerConfig, BadValuesNameFileAndLine) {
   EXPECT_EQ(errorOf("[cbf]\ntilt_alpha1 = -1\n"), "c.toml:2: 'cbf.tilt_alpha1' must be > 0");
   EXPECT_EQ(errorOf("\n[lqr]\nweights = \"fast\"\n"), "c.toml:3: lqr.weights must be \"bryson\" or \"authors\", got 'fast'");
   EXPECT_EQ(errorOf("gains = 3\n"), "c.toml:1: unknown key 'gains'");
+  EXPECT_EQ(errorOf("[pid]\n\nrate_divisor = 0\n"), "c.toml:3: 'pid.rate_divisor' must be an integer in 1 … 1000 (steps)");
+  EXPECT_EQ(errorOf("[pid]\nyaw_weight = 2\n"), "c.toml:2: PID yaw_weight must lie in (0, 1]");
+  EXPECT_EQ(errorOf("[pid]\nrate_gain_rp = -3\n"), "c.toml:2: PID gains and limits must be finite and >= 0");
+  EXPECT_EQ(errorOf("[pid]\nrate_gain = 3\n"), "c.toml:2: unknown key 'pid.rate_gain'");
+  EXPECT_EQ(errorOf("controller = \"mpc\"\n"), "c.toml:1: controller must be \"lqr\", \"cbf\" or \"pid\", got 'mpc'");
 }
 
 }  // namespace
