@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "cli/cli_util.h"
@@ -13,8 +14,11 @@
 #include "control/controller_factory.h"
 #include "detection/calibration.h"
 #include "detection/session.h"
+#include "evaluation/flight_streams.h"
 #include "io/calibration_file.h"
 #include "io/model_file.h"
+#include "io/params_file.h"
+#include "io/randomisation_file.h"
 #include "simulation/closed_loop.h"
 #include "simulation/rng.h"
 #include "simulation/sampling.h"
@@ -43,6 +47,10 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
   t->add("--failed-below", o.failed_below, "Failed level").above(0.0, 1.0);
   t->add("--position-noise", o.position_noise, "Sensor noise on position [m]").atLeast(0.0);
   t->add("--attitude-noise", o.attitude_noise, "Sensor noise on Euler angles [rad]").atLeast(0.0);
+  t->add("--randomise", o.randomise,
+         "Randomisation FILE (configs/randomisation-default.toml): fly its vehicles, controllers, manoeuvres and estimator "
+         "noise instead of the nominal Crazyflie under LQR");
+  t->add("--vehicle", o.vehicles, "With --randomise: vehicle description FILEs instead of the file's (repeatable)");
   t->add("--quiet,-q", o.quiet, "No report on stderr");
   attachOptions(*cmd, t);
   return cmd;
@@ -142,9 +150,43 @@ int runCalibrate(const CalibrateOptions& o) {
 
   std::vector<std::vector<MotorTheta>> healthy;
   long samples = 0;
-  for (int f = 0; f < o.flights; ++f) {
-    healthy.push_back(thetaStream(model, simulateFlight(o.seed, kFirstStream + static_cast<std::uint64_t>(f), steps, goal_steps, 0, 1.0, 0, o)));
-    samples += static_cast<long>(healthy.back().size());
+  // Randomised flights (--randomise): every library vehicle, controller, manoeuvre and estimator.
+  std::vector<FlightThetaStream> randomised_faulty;
+  if (!o.randomise.empty()) {
+    RolloutConfig rc;
+    rc.window = T;
+    rc.dt = dt;
+    rc.output = model.metadata.output;
+    rc.randomisation = loadRandomisation(o.randomise);
+    if (!o.vehicles.empty()) {
+      rc.randomisation.vehicles.clear();
+      rc.randomisation.vehicle_names.clear();
+      for (const std::string& v : o.vehicles) {
+        rc.randomisation.vehicles.push_back(loadVehicleParams(v));
+        rc.randomisation.vehicle_names.push_back(std::filesystem::path(v).stem().string());
+      }
+    }
+    rc.seed = o.seed + kFirstStream;
+    rc.post_fault_steps = std::max(1, steps - T);
+    std::vector<TrajectoryJob> jobs;
+    for (int f = 0; f < o.flights; ++f) jobs.push_back({static_cast<std::uint64_t>(f), 2, 1.0});
+    for (FlightThetaStream& s : simulateThetaStreams(model, rc, jobs, 0, 16)) {
+      samples += static_cast<long>(s.theta.size());
+      healthy.push_back(std::move(s.theta));
+    }
+    const int w = SequentialConfig{}.estimate_window;
+    rc.seed = o.seed + kFirstStream + 1;
+    rc.post_fault_steps = 2 * T + 4 * w;
+    jobs.clear();
+    Rng draw(o.seed, kFirstStream - 2);
+    for (int f = 0; f < o.faulty_flights; ++f)
+      jobs.push_back({static_cast<std::uint64_t>(f), 1 + static_cast<int>(draw.next() % 4), draw.uniform(0.0, 0.9)});
+    randomised_faulty = simulateThetaStreams(model, rc, jobs, 0, 16);
+  } else {
+    for (int f = 0; f < o.flights; ++f) {
+      healthy.push_back(thetaStream(model, simulateFlight(o.seed, kFirstStream + static_cast<std::uint64_t>(f), steps, goal_steps, 0, 1.0, 0, o)));
+      samples += static_cast<long>(healthy.back().size());
+    }
   }
   DecisionCalibration c;
   c.noise = fitNoiseModel(healthy);
@@ -158,8 +200,18 @@ int runCalibrate(const CalibrateOptions& o) {
   const SequentialConfig defaults;
   const int w = defaults.estimate_window;
   std::vector<double> est, truth, noise_var;
+  for (const FlightThetaStream& s : randomised_faulty) {
+    const int motor = s.truth.motor;
+    for (long end = s.truth.fault_sample + T + w; end <= static_cast<long>(s.theta.size()); end += w) {
+      double sum = 0.0;
+      for (long k = end - w; k < end; ++k) sum += static_cast<double>(s.theta[static_cast<std::size_t>(k)][static_cast<std::size_t>(motor - 1)]);
+      est.push_back(sum / w);
+      truth.push_back(s.truth.theta);
+      noise_var.push_back(ar1MeanVariance(c.noise.sigma, c.noise.phi, w));
+    }
+  }
   Rng draw(o.seed, kFirstStream - 1);
-  for (int f = 0; f < o.faulty_flights; ++f) {
+  for (int f = 0; o.randomise.empty() && f < o.faulty_flights; ++f) {
     const int motor = 1 + static_cast<int>(draw.uniform(0.0, 4.0)) % 4;
     const double theta = draw.uniform(0.0, 0.9);
     const int fault_step = 500, flight_steps = fault_step + 2 * T + 4 * w;
@@ -183,10 +235,12 @@ int runCalibrate(const CalibrateOptions& o) {
   c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below), o.failed_below, c.flight_hours, per_level, c.noise, dt);
   char src[512];
   std::snprintf(src, sizeof src,
-                "quadfdi calibrate: model %s; %d healthy flights of %g s (goal every %g s), %d faulty flights; LQR, nominal "
-                "Crazyflie; seed %llu; sensor noise %g m, %g rad",
-                model_path.c_str(), o.flights, o.flight_seconds, o.goal_period, o.faulty_flights, o.seed, o.position_noise,
-                o.attitude_noise);
+                "quadfdi calibrate: model %s; %d healthy flights of %g s, %d faulty flights; %s; seed %llu",
+                model_path.c_str(), o.flights, o.flight_seconds, o.faulty_flights,
+                o.randomise.empty() ? ("LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
+                                       std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad").c_str()
+                                    : ("randomisation " + o.randomise).c_str(),
+                o.seed);
   c.source = src;
   const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
   writeCalibrationFile(output, c);

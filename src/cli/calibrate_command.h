@@ -24,6 +24,8 @@ struct CalibrateOptions {
   double failed_below = 0.3;        // [-]
   double position_noise = 0.0;      // [m] sensor noise on the logged position
   double attitude_noise = 0.0;      // [rad] on the logged Euler angles
+  std::string randomise;            // randomisation FILE: fly its vehicles, controllers, manoeuvres and estimator instead
+  std::vector<std::string> vehicles;  // with --randomise: these vehicle description FILEs instead of the file's
   bool quiet = false;
 };
 

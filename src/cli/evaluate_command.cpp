@@ -5,18 +5,23 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 
 #include "cli/cli_util.h"
+#include "cli/detect_command.h"
 #include "cli/interrupt.h"
 #include "cli/options.h"
+#include "cli/sequential_report.h"
 #include "data/scales.h"
 #include "evaluation/experiments.h"
 #include "io/atomic_file.h"
 #include "io/model_file.h"
+#include "io/params_file.h"
+#include "io/randomisation_file.h"
 
 namespace quadfdi::cli {
 
@@ -27,14 +32,20 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
       "(accuracy vs faulty length), a Markdown table and a PNG figure, plus REPORT.md.\n"
       "E1 four motors from one motor-2 network; E2 LSTM vs MLP over theta2; E3 LQR vs CBF-QP test\n"
       "inputs; E4 model-free vs model-based vs residual-only; E5 nominal vs perturbed plants;\n"
-      "E6 paper rotation map vs exact symmetry group.");
+      "E6 paper rotation map vs exact symmetry group; E7 transfer matrix (vehicles x controllers, gains,\n"
+      "manoeuvres, plant errors; streaming models); decisions: severity, delay against theta, false alarms per flight hour.");
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->add("--model-free,--model", o.model_free, "Model-free LSTM model file (E1, E3–E6)");
   t->add("--model-based", o.model_based, "Model-based LSTM model file (E3–E5)");
   t->add("--residual", o.residual, "Residual-only model file (E4, optional)");
   t->add("--mlp", o.mlp, "Model-free MLP model file (E2)");
-  t->add("--experiments,-e", o.experiments, "Experiments to run").choices({"e1", "e2", "e3", "e4", "e5", "e6"});
+  t->add("--experiments,-e", o.experiments, "Experiments to run").choices({"e1", "e2", "e3", "e4", "e5", "e6", "e7", "decisions"});
+  t->add("--vehicle", o.vehicles, "E7, decisions: vehicle description FILEs (repeatable)");
+  t->add("--randomise", o.randomise, "decisions: randomisation FILE of the long healthy flights");
+  t->add("--calibration", o.calibration, "E7, decisions: the sequential rule's calibration (default MODEL.calibration.json)");
+  t->add("--flights-per-class", o.flights_per_class, "E7, decisions: flights per (motor, Θ) (0: from --scale)").atLeast(0);
+  t->add("--flight-hours", o.flight_hours, "decisions: healthy flight time [h] (0: from --scale)").atLeast(0.0);
   t->add("--scale", o.scale, "Test flights per class: tiny (3, tests), quick (25), default (200), paper (2 000)")
       .choices(scaleNames());
   t->add("--seed", o.seed, "Test-set seed");
@@ -165,6 +176,42 @@ bool plot(const std::string& dir, const ExperimentResult& e) {
   return std::system(cmd.c_str()) == 0;
 }
 
+// E7 and `decisions`: both score the sequential rule on simulated Θ̂ streams of every library vehicle.
+std::string runSequentialExperiment(const std::string& id, const TrainedModel& model, const EvaluateOptions& o,
+                                    int scale_flights_per_class) {
+  std::string calibration = o.calibration;
+  if (calibration.empty()) {
+    const std::string sidecar = calibrationSidecarPath(o.model_free);
+    if (std::ifstream(sidecar).good()) calibration = sidecar;
+  }
+  const SequentialSetup rule = sequentialSetup(calibration, 0.9, 0.3, 0.1, model.metadata.dt);
+  SequentialReportInputs in;
+  in.model = &model;
+  in.model_path = o.model_free;
+  in.calibration_path = calibration.empty() ? "none (default noise model, Siegmund thresholds)" : calibration;
+  in.decision.rule = rule.config;
+  in.decision.dt = model.metadata.dt;
+  in.calibration = rule.calibration;
+  for (const std::string& v : o.vehicles) {
+    in.vehicles.push_back(loadVehicleParams(v));
+    in.vehicle_names.push_back(std::filesystem::path(v).stem().string());
+  }
+  // Flights per class: a tenth of the scale's window-protocol count (each flight here is ~5× longer
+  // and is flown for 10 Θ values × 4 motors), at least 2.
+  in.flights_per_class = o.flights_per_class > 0 ? o.flights_per_class : std::max(2, scale_flights_per_class / 10);
+  in.flight_hours = o.flight_hours > 0.0 ? o.flight_hours : (scale_flights_per_class >= 200 ? 10.0 : 0.05);
+  in.randomise_path = o.randomise;
+  in.seed = o.seed;
+  in.threads = o.threads;
+  in.output_dir = o.output;
+  auto progress = [&](const std::string& msg) {
+    if (!o.quiet) std::fprintf(stderr, "evaluate %s: %s\n", id.c_str(), msg.c_str());
+  };
+  if (id == "e7") return transferReport(in, progress);
+  in.randomisation = loadRandomisation(o.randomise);
+  return decisionsReport(in, progress);
+}
+
 }  // namespace
 
 int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
@@ -196,6 +243,15 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
   std::vector<ExperimentResult> done;
   const double dt = 0.002;
   for (const std::string& id : o.experiments) {
+    if (id == "e7" || id == "decisions") {
+      const TrainedModel* model = in.models.count("model-free") ? in.models.at("model-free") : nullptr;
+      if (!model) {
+        body << "### " << id << ": not run — needs the model-free (streaming) model\n\n";
+        continue;
+      }
+      body << runSequentialExperiment(id, *model, o, named->test_flights_per_class) << '\n';
+      continue;
+    }
     if (interruptFlag().load())
       throw Interrupted("evaluation stopped before " + id + "; the experiments' files written so far are complete, REPORT.md was not written");
     ExperimentResult e;

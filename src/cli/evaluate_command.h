@@ -20,6 +20,13 @@ struct EvaluateOptions {
   double theta_tol = 0.2;       // alarm threshold on min_k Θ̂_k [-]
   int threads = 0;              // 0 = all cores
   std::string output = "evaluation";  // folder
+  // E7 (transfer matrix) and `decisions` (severity, delay against Θ, false alarms per flight hour):
+  std::vector<std::string> vehicles{"configs/vehicles/crazyflie2.toml", "configs/vehicles/racer250.toml",
+                                    "configs/vehicles/quad450.toml"};  // description FILEs
+  std::string randomise = "configs/randomisation-default.toml";  // `decisions`: the healthy flights' randomisation
+  std::string calibration;      // sequential rule's calibration JSON; default MODEL.calibration.json, else defaults
+  int flights_per_class = 0;    // [flights] E7 per (motor, Θ); 0: from --scale
+  double flight_hours = 0.0;    // [h] `decisions`: healthy flight time; 0: from --scale
   bool quiet = false;           // no progress
 };
 

@@ -15,6 +15,7 @@
 #include "io/controller_config.h"
 #include "io/hdf5_dataset.h"
 #include "io/params_file.h"
+#include "io/randomisation_file.h"
 
 namespace quadfdi::cli {
 
@@ -43,6 +44,9 @@ CLI::App* addGenerateCommand(CLI::App& app, GenerateOptions& o) {
   t->add("--iterations", o.iterations, "Outer iterations' worth of data in the file").atLeast(1);
   t->add("--window", o.window, "Window length T [samples]; flights have 2T steps").atLeast(1);
   t->add("--preroll", o.preroll, "Random healthy pre-roll before recording, up to this many seconds").atLeast(0);
+  t->add("--randomise", o.randomise,
+         "Randomisation FILE: vehicles, plant errors, estimator, controller mix, manoeuvres (docs/data.md#randomisation)");
+  t->add("--post-fault", o.post_fault, "Seconds recorded after the fault (0: the window T)").atLeast(0);
   t->add("--output-kind", o.output_kind, "y: position-euler (paper text) or position-rates (authors' code)")
       .choices({"position-euler", "position-rates"});
   t->add("--integrator", o.integrator, "Integrator").choices({"rk4", "euler"});
@@ -72,6 +76,8 @@ int runGenerate(const GenerateOptions& o) {
   rc.output = o.output_kind == "position-rates" ? OutputKind::kPositionRates : OutputKind::kPositionEuler;
   rc.preroll_max_steps = static_cast<int>(std::lround(o.preroll / rc.dt));
   rc.seed = o.seed;
+  rc.post_fault_steps = static_cast<int>(std::lround(o.post_fault / rc.dt));
+  if (!o.randomise.empty()) rc.randomisation = loadRandomisation(o.randomise);
   const RolloutEngine engine(rc);
   require(engine.error().empty(), "invalid generation settings: " + engine.error());
 
@@ -95,8 +101,8 @@ int runGenerate(const GenerateOptions& o) {
   meta.dt = rc.dt;
   meta.window = rc.window;
   meta.fault_step = rc.faultStep();
-  meta.controller = toString(rc.controller.kind);
-  meta.params = o.params;
+  meta.controller = rc.randomisation.enabled() ? "randomised" : toString(rc.controller.kind);
+  meta.params = rc.randomisation.enabled() ? "randomised: " + o.randomise : o.params;
   meta.output = o.output_kind;
   meta.integrator = o.integrator;
   meta.seed = o.seed;

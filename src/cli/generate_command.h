@@ -23,6 +23,8 @@ struct GenerateOptions {
   int iterations = 1;                // outer iterations' worth of data
   int window = 100;                  // T [samples]
   double preroll = 0.0;              // max random pre-roll [s]
+  std::string randomise;             // randomisation FILE (docs/data.md#randomisation); empty: none
+  double post_fault = 0.0;           // [s] recorded after the fault; 0 = T
   unsigned long long seed = 1;
   unsigned long long first_scenario = 0;  // index of the first scenario stream
   int threads = 0;                   // 0 = all cores

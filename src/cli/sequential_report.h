@@ -1,0 +1,38 @@
+// The sequential rule's experiments as report sections (edge code: it writes CSV, gnuplot and PNG
+// files beside the Markdown it returns): E7, the transfer matrix (issue 13), and `decisions` —
+// detection against Θ, false alarms per flight hour over long healthy flights, and the trade-off
+// between delay and false-alarm rate (issue 14).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "data/randomisation.h"
+#include "detection/calibration.h"
+#include "evaluation/sequential_metrics.h"
+#include "inference/weights_file.h"
+
+namespace quadfdi::cli {
+
+struct SequentialReportInputs {
+  const TrainedModel* model = nullptr;
+  std::string model_path, calibration_path, randomise_path;
+  SequentialEvaluationConfig decision;  // the rule as detect runs it
+  DecisionCalibration calibration;      // its thresholds' source (for the trade-off curve)
+  std::vector<VehicleParams> vehicles;
+  std::vector<std::string> vehicle_names;
+  Randomisation randomisation;  // decisions: the long healthy and the faulty flights (vehicles replaced by the above)
+  int flights_per_class = 5;    // [flights] per (vehicle, motor, Θ) in E7; per (vehicle, Θ) in decisions
+  double flight_hours = 10.0;   // [h] decisions: healthy flight time
+  std::uint64_t seed = 7;
+  int threads = 0;
+  std::string output_dir;
+};
+
+using ReportProgress = std::function<void(const std::string&)>;
+
+std::string transferReport(const SequentialReportInputs& in, const ReportProgress& progress);   // + e7.csv
+std::string decisionsReport(const SequentialReportInputs& in, const ReportProgress& progress);  // + decisions*.csv, tradeoff.png
+
+}  // namespace quadfdi::cli

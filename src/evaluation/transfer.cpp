@@ -1,0 +1,89 @@
+#include "evaluation/transfer.h"
+
+#include "evaluation/flight_streams.h"
+
+namespace quadfdi {
+namespace {
+
+Randomisation pinned(DrawnController controller, double gain, ManoeuvreKind manoeuvre, const SensorRanges& sensors) {
+  Randomisation r;
+  r.sensors = sensors;
+  r.controllers = {controller == DrawnController::kLqr ? 1.0 : 0.0, controller == DrawnController::kPid ? 1.0 : 0.0,
+                   controller == DrawnController::kCbfQp ? 1.0 : 0.0, {gain, gain}};
+  r.manoeuvres.hover = manoeuvre == ManoeuvreKind::kHover ? 1.0 : 0.0;
+  r.manoeuvres.point_to_point = manoeuvre == ManoeuvreKind::kPointToPoint ? 1.0 : 0.0;
+  r.manoeuvres.circle = manoeuvre == ManoeuvreKind::kCircle ? 1.0 : 0.0;
+  r.manoeuvres.figure_eight = manoeuvre == ManoeuvreKind::kFigureEight ? 1.0 : 0.0;
+  r.manoeuvres.speed = {1.0, 2.0};
+  r.manoeuvres.size = {1.0, 2.0};
+  r.preroll_seconds = {1.0, 2.0};  // into the manoeuvre before recording
+  return r;
+}
+
+}  // namespace
+
+std::vector<TransferCondition> e7Conditions(const SensorRanges& sensors) {
+  std::vector<TransferCondition> c;
+  c.push_back({"LQR, hover (trained on)", false, pinned(DrawnController::kLqr, 1.0, ManoeuvreKind::kHover, sensors)});
+  c.push_back({"CBF-QP, point-to-point (trained on)", false,
+               pinned(DrawnController::kCbfQp, 1.0, ManoeuvreKind::kPointToPoint, sensors)});
+  c.push_back({"PID gains ×2.0, circle", true, pinned(DrawnController::kPid, 2.0, ManoeuvreKind::kCircle, sensors)});
+  c.push_back({"PID gains ×0.5, point-to-point", true, pinned(DrawnController::kPid, 0.5, ManoeuvreKind::kPointToPoint, sensors)});
+  TransferCondition eight{"PID, figure-eight 2–3 m/s", true, pinned(DrawnController::kPid, 1.0, ManoeuvreKind::kFigureEight, sensors)};
+  eight.randomisation.manoeuvres.speed = {2.0, 3.0};
+  c.push_back(eight);
+  TransferCondition error{"LQR, hover; plant +25 % mass, +30 % inertia, −15 % thrust, 50 ms motor lag", true,
+                          pinned(DrawnController::kLqr, 1.0, ManoeuvreKind::kHover, sensors)};
+  error.randomisation.parameters.mass = {1.25, 1.25};
+  error.randomisation.parameters.inertia = {1.3, 1.3};
+  error.randomisation.parameters.thrust = {0.85, 0.85};
+  error.randomisation.parameters.motor_time_constant = {0.05, 0.05};
+  c.push_back(error);
+  return c;
+}
+
+std::vector<TransferCell> runTransfer(const TrainedModel& model, const TransferConfig& config,
+                                      const std::function<void(const std::string&)>& progress) {
+  std::vector<TransferCell> cells;
+  const int window = model.metadata.window;
+  for (std::size_t v = 0; v < config.vehicles.size(); ++v) {
+    for (std::size_t c = 0; c < config.conditions.size(); ++c) {
+      const TransferCondition& condition = config.conditions[c];
+      if (progress) progress(config.vehicle_names[v] + " / " + condition.name);
+      RolloutConfig rollout;
+      rollout.window = window;
+      rollout.dt = model.metadata.dt;
+      rollout.output = model.metadata.output;
+      rollout.post_fault_steps = static_cast<int>(config.post_fault_seconds / rollout.dt + 0.5);
+      rollout.seed = config.seed + 1000 * v + c;
+      rollout.randomisation = condition.randomisation;
+      rollout.randomisation.vehicles = {config.vehicles[v]};
+      rollout.randomisation.vehicle_names = {config.vehicle_names[v]};
+      // Healthy flights (four times a fault class) and every motor at every Θ, each from its own scenario.
+      std::vector<TrajectoryJob> jobs;
+      std::uint64_t scenario = 0;
+      for (int i = 0; i < 4 * config.flights_per_class; ++i) jobs.push_back({scenario++, 2, 1.0});
+      for (double theta : config.thetas)
+        for (int motor = 1; motor <= 4; ++motor)
+          for (int i = 0; i < config.flights_per_class; ++i) jobs.push_back({scenario++, motor, theta});
+      const std::vector<FlightThetaStream> streams = simulateThetaStreams(model, rollout, jobs, config.threads);
+      std::vector<FlightThetaStream> complete, partial;
+      for (const FlightThetaStream& s : streams) {
+        if (s.truth.motor == 0 || s.truth.theta == 0.0) complete.push_back(s);
+        if (s.truth.motor == 0 || (s.truth.theta > 0.0 && s.truth.theta <= 0.8)) partial.push_back(s);
+      }
+      TransferCell cell;
+      cell.vehicle = config.vehicle_names[v];
+      cell.condition = condition.name;
+      cell.held_out = condition.held_out;
+      cell.flights = static_cast<int>(streams.size());
+      cell.complete = evaluateSequential(complete, config.decision);
+      cell.partial = evaluateSequential(partial, config.decision);
+      cell.all = evaluateSequential(streams, config.decision);
+      cells.push_back(cell);
+    }
+  }
+  return cells;
+}
+
+}  // namespace quadfdi

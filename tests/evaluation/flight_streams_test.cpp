@@ -1,0 +1,91 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "evaluation/flight_streams.h"
+#include "evaluation/transfer.h"
+#include "inference/weights_file.h"
+
+namespace quadfdi {
+namespace {
+
+const TrainedModel& shippedTcn() {
+  static const std::vector<std::uint8_t> bytes = [] {
+    std::FILE* f = std::fopen(QUADFDI_SOURCE_DIR "/models/tcn-model-free.qfdw", "rb");
+    std::vector<std::uint8_t> b;
+    for (int c; f && (c = std::fgetc(f)) != EOF;) b.push_back(static_cast<std::uint8_t>(c));
+    if (f) std::fclose(f);
+    return b;
+  }();
+  static const TrainedModel model = decodeWeightsFile(bytes.data(), bytes.size(), "tcn-model-free.qfdw");
+  return model;
+}
+
+Randomisation twoControllers() {
+  Randomisation r;
+  r.vehicles = {nominalParams()};
+  r.vehicle_names = {"nominal"};
+  r.controllers = {1.0, 1.0, 0.0, {0.8, 1.2}};
+  r.manoeuvres = {1.0, 1.0, 0.0, 0.0, {0.5, 1.0}, {0.5, 1.0}, 4.9};
+  r.sensors.position_std = {0.0, 0.001};
+  r.preroll_seconds = {0.2, 0.5};
+  return r;
+}
+
+TEST(FlightStreams, OneEstimatePerSampleFromTheFirstFullWindowAndThreadIndependent) {
+  RolloutConfig c;
+  c.randomisation = twoControllers();
+  c.post_fault_steps = 150;
+  c.seed = 4;
+  const std::vector<TrajectoryJob> jobs{{0, 2, 1.0}, {1, 3, 0.0}, {2, 1, 0.5}};
+  const auto one = simulateThetaStreams(shippedTcn(), c, jobs, 1, 2);
+  const auto two = simulateThetaStreams(shippedTcn(), c, jobs, 2, 64);
+  ASSERT_EQ(one.size(), 3u);
+  const int T = shippedTcn().metadata.window;
+  const int samples = c.samplesPerTrajectory();
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].theta, two[i].theta);
+    EXPECT_EQ(one[i].theta.size(), static_cast<std::size_t>(samples - T + 1));
+  }
+  EXPECT_EQ(one[0].truth.motor, 0);
+  EXPECT_EQ(one[0].truth.fault_sample, -1);
+  EXPECT_EQ(one[1].truth.motor, 3);
+  EXPECT_EQ(one[1].truth.fault_sample, T + 1 - (T - 1));  // flight sample F + 1 = T + 1
+  // The complete fault of motor 3 is visible in the estimates a while after it: Θ̂₃ well below 1.
+  EXPECT_LT(one[1].theta[static_cast<std::size_t>(one[1].truth.fault_sample + 60)][2], 0.5f);
+}
+
+TEST(FlightStreams, RefusesAModelThatCannotStream) {
+  TrainedModel lstm = shippedTcn();
+  lstm.metadata.architecture = Architecture::kLstm;
+  RolloutConfig c;
+  EXPECT_THROW(simulateThetaStreams(lstm, c, {{0, 2, 1.0}}), std::invalid_argument);
+}
+
+TEST(Transfer, ConditionsPinOneControllerAndManoeuvreAndCellsCountTheirFlights) {
+  const std::vector<TransferCondition> conditions = e7Conditions(SensorRanges{});
+  ASSERT_GE(conditions.size(), 5u);
+  int held_out = 0;
+  for (const TransferCondition& c : conditions) {
+    held_out += c.held_out;
+    const ControllerMix& m = c.randomisation.controllers;
+    EXPECT_EQ((m.lqr > 0) + (m.pid > 0) + (m.cbf > 0), 1) << c.name;
+    EXPECT_EQ(m.gain_scale.lo, m.gain_scale.hi) << c.name;
+  }
+  EXPECT_GE(held_out, 4);
+  TransferConfig config;
+  config.vehicles = {nominalParams()};
+  config.vehicle_names = {"nominal"};
+  config.conditions = {conditions.front()};
+  config.thetas = {0.0};
+  config.flights_per_class = 1;
+  config.post_fault_seconds = 0.2;
+  const std::vector<TransferCell> cells = runTransfer(shippedTcn(), config);
+  ASSERT_EQ(cells.size(), 1u);
+  EXPECT_EQ(cells[0].flights, 4 + 4);  // 4 healthy, one complete fault per motor
+  EXPECT_EQ(cells[0].complete.isolation_flights, 4);
+  EXPECT_GT(cells[0].complete.healthy_hours, 0.0);
+}
+
+}  // namespace
+}  // namespace quadfdi
