@@ -36,15 +36,26 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
   t->add("--architecture", o.architecture, "Network: lstm (the paper's), mlp, or tcn (streaming, docs/networks.md)")
       .choices({"lstm", "mlp", "tcn"});
   t->add("--features", o.features,
-         "model-free (y, u), model-free-heading (local increments; needed by tcn), model-based (y, u, residual) or residual")
-      .choices({"model-free", "model-free-heading", "model-based", "residual"});
+         "model-free (y, u), model-free-heading (local increments; needed by tcn), scale-free (model-free-heading with "
+         "the commands as shares of the collective: any vehicle size), model-based (y, u, residual) or residual")
+      .choices({"model-free", "model-free-heading", "scale-free", "model-based", "residual"});
+  t->add("--training", o.training,
+         "windows (the paper's: one label per window) or sequences (causal networks: whole trajectories, a label "
+         "per position; docs/networks.md)")
+      .choices({"windows", "sequences"})
+      .defaultText("sequences for tcn, else windows");
   t->add("--output-kind", o.output_kind, "Measured output y").choices({"position-euler", "position-rates"});
   t->add("--symmetry", o.symmetry, "Symmetry the model will be used with (recorded)").choices({"exact", "paper"});
   t->add("--loss", o.loss, "norm (seed eq. 4) or per-motor (authors' code)").choices({"norm", "per-motor"});
   t->add("--controller", o.controller, "Controller flying the training data").choices({"lqr", "cbf"});
   t->add("--params", o.params, "Plant of the training data: nominal, perturbed, perturbed-strong or FILE");
   t->add("--thetas", o.thetas, "Θ₂ values flown from every initial condition, each in [0, 1]").range(0.0, 1.0);
-  t->add("--batch-size", o.batch_size, "Windows per minibatch").atLeast(1).defaultText("from --scale");
+  t->add("--batch-size", o.batch_size, "Windows per minibatch (windows training)").atLeast(1).defaultText("from --scale");
+  t->add("--batch-trajectories", o.batch_trajectories, "Trajectories per minibatch (sequences training)").atLeast(1);
+  t->add("--learning-rate", o.learning_rate, "Adam step size").range(1e-7, 1.0);
+  t->add("--lr-decay", o.learning_rate_decay,
+         "Learning rate factor per outer iteration: iteration j runs at learning-rate * decay^j (1 = constant)")
+      .range(1e-3, 1.0);
   t->add("--passes", o.passes, "Passes over the buffer per outer iteration").atLeast(1).defaultText("from --scale");
   t->add("--max-minibatches", o.max_minibatches, "Cap on minibatches per outer iteration, 0 = none")
       .atLeast(0)
@@ -111,9 +122,15 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   c.data.rollout.seed = o.seed;
   require(parseArchitecture(o.architecture, c.model.architecture), "--architecture must be lstm, mlp or tcn");
   require(parseFeatureSet(o.features, c.model.features),
-          "--features must be model-free, model-free-heading, model-based or residual");
-  require(c.model.features != FeatureSet::kModelFreeHeading || c.data.rollout.output == OutputKind::kPositionEuler,
-          "--features model-free-heading needs --output-kind position-euler (it reads the yaw angle)");
+          "--features must be model-free, model-free-heading, scale-free, model-based or residual");
+  require(!isStreamingFeatureSet(c.model.features) || c.data.rollout.output == OutputKind::kPositionEuler,
+          "--features " + o.features + " needs --output-kind position-euler (it reads the yaw angle)");
+  if (o.training.empty())
+    c.mode = c.model.architecture == Architecture::kTcn ? TrainingMode::kSequences : TrainingMode::kWindows;
+  else
+    require(parseTrainingMode(o.training, c.mode), "--training must be windows or sequences");
+  require(c.mode == TrainingMode::kWindows || c.model.architecture == Architecture::kTcn,
+          "--training sequences needs --architecture tcn (an LSTM's or MLP's output depends on where the window starts)");
   require(c.model.architecture != Architecture::kTcn || c.model.tcn.receptiveField() <= c.data.rollout.window - 1,
           "--architecture tcn: the receptive field (" + std::to_string(c.model.tcn.receptiveField()) +
               " samples) must fit in the window minus one (" + std::to_string(c.data.rollout.window - 1) + ")");
@@ -126,6 +143,9 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   c.model.controller = o.controller;
   c.model.command = command_line;
   c.batch_size = o.batch_size.value_or(s.batch_size);
+  c.batch_trajectories = o.batch_trajectories;
+  c.learning_rate = o.learning_rate;
+  c.learning_rate_decay = o.learning_rate_decay;
   c.passes = o.passes.value_or(s.passes);
   c.max_minibatches = o.max_minibatches.value_or(s.max_minibatches);
   c.max_iterations = o.max_iterations.value_or(s.max_iterations);
@@ -157,9 +177,9 @@ int trainAndSave(const TrainOptions& o, const std::string& command_line) {
         if (!o.quiet) {
           bar.finish();
           std::fprintf(stderr, "train: iteration %d/%d loss %.5f held-out loss %.5f accuracy %.3f (%zu windows, %.0f "
-                               "windows/s, %.1f s)\n",
+                               "windows/s, %.1f s: data %.1f, train %.1f, held-out %.1f)\n",
                        it.iteration, c.max_iterations, it.loss, it.heldout_loss, it.heldout_accuracy, it.buffer_windows,
-                       it.windows_per_second, it.seconds);
+                       it.windows_per_second, it.seconds, it.data_seconds, it.train_seconds, it.heldout_seconds);
         }
       },
       [&](int done, int total) { bar.update(done, total, last); });

@@ -12,15 +12,19 @@ namespace quadfdi::cli {
 struct TrainOptions {
   std::string config;                           // key = value file; flags given on the command line win
   std::string scale = "default";                // named scale: data per iteration, buffer, schedule
-  std::string architecture = "lstm";            // lstm | mlp
-  std::string features = "model-free";          // model-free | model-based | residual
+  std::string architecture = "lstm";            // lstm | mlp | tcn
+  std::string features = "model-free";          // model-free | model-based | residual | model-free-heading | scale-free
+  std::string training;                         // windows | sequences; empty: sequences for tcn, else windows
   std::string output_kind = "position-euler";   // position-euler | position-rates
   std::string symmetry = "exact";               // exact | paper
   std::string loss = "norm";                    // norm | per-motor
   std::string controller = "lqr";               // lqr | cbf
   std::string params = "nominal";               // plant: a named parameter set or a FILE
   std::vector<double> thetas{0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};  // Θ₂ values [-]
-  std::optional<int> batch_size;                // [windows]
+  std::optional<int> batch_size;                // [windows] (windows training)
+  int batch_trajectories = 32;                  // [trajectories] per minibatch (sequences training)
+  double learning_rate = 5e-4;                  // Adam step size (authors' code)
+  double learning_rate_decay = 1.0;             // per outer iteration; 1 = constant
   std::optional<int> passes;                    // over the buffer per outer iteration
   std::optional<int> max_minibatches;           // per outer iteration; 0 = no cap
   std::optional<int> min_iterations;            // N_m

@@ -10,6 +10,7 @@ const char* toString(FeatureSet f) {
     case FeatureSet::kModelBased: return "model-based";
     case FeatureSet::kResidualOnly: return "residual";
     case FeatureSet::kModelFreeHeading: return "model-free-heading";
+    case FeatureSet::kScaleFree: return "scale-free";
   }
   return "?";
 }
@@ -19,6 +20,7 @@ bool parseFeatureSet(const std::string& text, FeatureSet& f) {
   if (text == "model-based") { f = FeatureSet::kModelBased; return true; }
   if (text == "residual" || text == "residual-only") { f = FeatureSet::kResidualOnly; return true; }
   if (text == "model-free-heading") { f = FeatureSet::kModelFreeHeading; return true; }
+  if (text == "scale-free") { f = FeatureSet::kScaleFree; return true; }
   return false;
 }
 
@@ -28,6 +30,7 @@ int featureChannels(FeatureSet f) {
     case FeatureSet::kModelBased: return 2 * kOutputDim + kInputDim;
     case FeatureSet::kResidualOnly: return kOutputDim;
     case FeatureSet::kModelFreeHeading: return kOutputDim + kInputDim;
+    case FeatureSet::kScaleFree: return kOutputDim + kInputDim + 1;
   }
   return 0;
 }
@@ -53,10 +56,33 @@ void headingFeatureRow(const Output& previous, const Output& current, const Inpu
   for (int i = 0; i < kInputDim; ++i) out[6 + i] = static_cast<float>(u(i));
 }
 
+bool isStreamingFeatureSet(FeatureSet f) {
+  return f == FeatureSet::kModelFreeHeading || f == FeatureSet::kScaleFree;
+}
+
+void streamingFeatureRow(FeatureSet f, const Output& previous_y, const Input& previous_u, const Output& y,
+                         const Input& u, float* out) {
+  if (f != FeatureSet::kScaleFree) {
+    headingFeatureRow(previous_y, y, u, out);
+    return;
+  }
+  const Input no_commands = Input::Zero();
+  headingFeatureRow(previous_y, y, no_commands, out);  // Δp, roll, pitch, Δψ; the commands follow
+  const double collective = u.sum() / kInputDim, previous_collective = previous_u.sum() / kInputDim;
+  // No thrust at all (motors idle, a log gap filled with zeros): no shares to speak of, so the
+  // row says "evenly shared, unchanged" rather than dividing by zero. !(x > 0) also catches NaN.
+  const bool defined = collective > 0.0 && std::isfinite(collective);
+  for (int i = 0; i < kInputDim; ++i) out[6 + i] = static_cast<float>(defined ? u(i) / collective : 1.0);
+  const bool change_defined = defined && previous_collective > 0.0 && std::isfinite(previous_collective);
+  out[6 + kInputDim] = static_cast<float>(change_defined ? std::log(collective / previous_collective) : 0.0);
+}
+
 void gatherFeatures(const float* outputs, const float* inputs, const float* residuals, int length, FeatureSet features,
                     OutputKind output, const SymmetryMap* map, float* out) {
-  if (features == FeatureSet::kModelFreeHeading) {
-    Output previous = Output::Zero();
+  if (isStreamingFeatureSet(features)) {
+    Output previous_y = Output::Zero();
+    Input previous_u = Input::Zero();
+    const int channels = featureChannels(features);
     for (int k = 0; k < length; ++k) {
       Output y;
       Input u;
@@ -66,9 +92,12 @@ void gatherFeatures(const float* outputs, const float* inputs, const float* resi
         y = map->applyToOutput(y, output);
         u = map->applyToInput(u);
       }
-      headingFeatureRow(k == 0 ? y : previous, y, u, out);  // the first row has no predecessor: zero increments
-      previous = y;
-      out += kOutputDim + kInputDim;
+      // The first row has no predecessor: zero increments.
+      if (k == 0) streamingFeatureRow(features, y, u, y, u, out);
+      else streamingFeatureRow(features, previous_y, previous_u, y, u, out);
+      previous_y = y;
+      previous_u = u;
+      out += channels;
     }
     return;
   }

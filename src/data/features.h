@@ -19,9 +19,15 @@ enum class FeatureSet {
                       // (docs/networks.md): velocity increment Δp in the heading frame Rz(−ψ)
                       // (3), roll, pitch (2), yaw increment Δψ wrapped to (−π, π] (1), u (4).
                       // Independent of position offset and of heading. Needs Euler-angle outputs.
+  kScaleFree,  // model-free-heading with the commands made dimensionless, for vehicles of any
+               // size: 11 channels — Δp, roll, pitch, Δψ as above (6), each motor's share of the
+               // collective u_i / ū with ū = Σu/4 (4; ≈ 1 in hover for any vehicle), and
+               // Δ ln ū, the collective's relative change since the previous sample (1). Also a
+               // function of this sample and the one before only. Invariant to scaling every
+               // command by one constant. ū ≤ 0 (no thrust): shares 1, Δ ln ū = 0.
 };
 const char* toString(FeatureSet f);
-bool parseFeatureSet(const std::string& text, FeatureSet& f);  // model-free | model-based | residual
+bool parseFeatureSet(const std::string& text, FeatureSet& f);  // model-free | model-based | residual | model-free-heading | scale-free
 int featureChannels(FeatureSet f);
 
 // Writes the window's features, [T][channels] row-major, into `out` (T·channels floats).
@@ -36,6 +42,13 @@ void gatherWindowFeatures(const TrajectoryBatch& batch, const WindowRef& window,
 // for model-free features).
 // One kModelFreeHeading row from a (mapped) sample and its (mapped) predecessor.
 void headingFeatureRow(const Output& previous, const Output& current, const Input& u, float* out);
+// Feature sets whose row at a sample depends only on that sample and its predecessor: a causal
+// network on them can run on a stream (kModelFreeHeading, kScaleFree).
+bool isStreamingFeatureSet(FeatureSet f);
+// One row of such a set from a (mapped) sample (y, u) and its (mapped) predecessor; the first
+// sample of a stream or window passes itself as its predecessor (zero increments).
+void streamingFeatureRow(FeatureSet f, const Output& previous_y, const Input& previous_u, const Output& y,
+                         const Input& u, float* out);
 
 void gatherFeatures(const float* outputs, const float* inputs, const float* residuals, int length, FeatureSet features,
                     OutputKind output, const SymmetryMap* map, float* out);

@@ -40,6 +40,15 @@ Input windowLabel(const TrajectoryBatch& batch, const WindowRef& w) {
   return Input(t[0], t[1], t[2], t[3]);
 }
 
+void positionLabels(const TrajectoryBatch& batch, int trajectory, int first, float* labels, float* mask) {
+  const auto s = static_cast<std::size_t>(trajectory);
+  for (int k = first; k < batch.samples; ++k) {
+    const Input label = windowLabel(batch, {trajectory, k});
+    for (int j = 0; j < kInputDim; ++j) *labels++ = static_cast<float>(label(j));
+    *mask++ = k < batch.length[s] ? 1.0f : 0.0f;
+  }
+}
+
 void enumerateWindows(const TrajectoryBatch& batch, int window, std::vector<WindowRef>& out) {
   for (int i = 0; i < batch.count; ++i) {
     const auto s = static_cast<std::size_t>(i);

@@ -49,6 +49,12 @@ struct WindowRef {
 Input windowLabel(const TrajectoryBatch& batch, const WindowRef& w);
 int faultyLength(const TrajectoryBatch& batch, const WindowRef& w);  // max(0, k − F)
 
+// Dense (per-position) labels of trajectory `trajectory`, for causal networks trained on whole
+// trajectories (docs/networks.md, "Dense training"): for every position k = first … samples − 1,
+// labels[k − first] is the label of the window ending at k (Θ once k > F, else ones) and
+// mask[k − first] is 1 where sample k is valid (k < length), else 0. labels: (samples − first) × 4.
+void positionLabels(const TrajectoryBatch& batch, int trajectory, int first, float* labels, float* mask);
+
 // All windows of length `window` of every trajectory whose samples are valid and that end at
 // or after the fault step: k ∈ [max(T, F), length − 1] (docs/data.md: k ∈ [T, 2T]). Appends to `out`.
 void enumerateWindows(const TrajectoryBatch& batch, int window, std::vector<WindowRef>& out);

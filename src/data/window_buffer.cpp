@@ -35,6 +35,14 @@ WindowBuffer::Entry WindowBuffer::at(std::size_t i) const {
   throw std::out_of_range("WindowBuffer::at");
 }
 
+void WindowBuffer::trajectories(std::vector<Trajectory>& out) const {
+  out.clear();
+  for (const Chunk& c : chunks_)  // a chunk's windows are grouped by trajectory, in order
+    for (std::size_t i = c.first; i < c.windows.size(); ++i)
+      if (i == c.first || c.windows[i].trajectory != c.windows[i - 1].trajectory)
+        out.push_back({c.batch.get(), c.windows[i].trajectory});
+}
+
 std::size_t WindowBuffer::trajectoryBytes() const {
   std::size_t bytes = 0;
   for (const Chunk& c : chunks_) bytes += c.batch->bytes();

@@ -29,6 +29,13 @@ class WindowBuffer {
     WindowRef ref;
   };
   Entry at(std::size_t i) const;
+  // Every trajectory with at least one window in the buffer, oldest first, each once (dense
+  // training of causal networks reads whole trajectories, docs/networks.md).
+  struct Trajectory {
+    const TrajectoryBatch* batch;
+    std::int32_t index;
+  };
+  void trajectories(std::vector<Trajectory>& out) const;
   std::size_t batchCount() const { return chunks_.size(); }
   std::size_t trajectoryBytes() const;  // memory held by the trajectories behind the windows
 

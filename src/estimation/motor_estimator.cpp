@@ -51,14 +51,15 @@ void MotorEstimator::estimate(const float* features, int count, MotorTheta* thet
 }
 
 bool StreamingMotorEstimator::canStream(const ModelMetadata& m) {
-  return m.architecture == Architecture::kTcn && m.features == FeatureSet::kModelFreeHeading &&
+  return m.architecture == Architecture::kTcn && isStreamingFeatureSet(m.features) &&
          m.output == OutputKind::kPositionEuler;
 }
 
 StreamingMotorEstimator::StreamingMotorEstimator(const TrainedModel& model, SymmetryMode mode)
     : metadata_(model.metadata), maps_(mapsToTrainedMotor(model.metadata, mode)) {
   if (!canStream(metadata_))
-    throw std::invalid_argument("only TCN networks on model-free-heading features with Euler-angle outputs can stream");
+    throw std::invalid_argument(
+        "only TCN networks on model-free-heading or scale-free features with Euler-angle outputs can stream");
   streamer_ = std::make_unique<TcnStreamer>(model.weights, kMotors);
   if (streamer_->receptiveField() > metadata_.window - 1)
     throw std::invalid_argument("the TCN's receptive field exceeds the window");
@@ -71,13 +72,15 @@ void StreamingMotorEstimator::reset() {
 }
 
 bool StreamingMotorEstimator::push(const Output& y, const Input& u, MotorTheta& theta) {
-  constexpr std::size_t kRow = kOutputDim + kInputDim;
+  const auto row = static_cast<std::size_t>(metadata_.channels());
   for (std::size_t k = 0; k < maps_.size(); ++k) {
     const Output my = maps_[k].applyToOutput(y, OutputKind::kPositionEuler);
     const Input mu = maps_[k].applyToInput(u);
     // The first sample has no predecessor: zero increments, as in a window's first row.
-    headingFeatureRow(samples_ == 0 ? my : previous_[k], my, mu, rows_.data() + k * kRow);
+    if (samples_ == 0) streamingFeatureRow(metadata_.features, my, mu, my, mu, rows_.data() + k * row);
+    else streamingFeatureRow(metadata_.features, previous_[k], previous_u_[k], my, mu, rows_.data() + k * row);
     previous_[k] = my;
+    previous_u_[k] = mu;
   }
   streamer_->step(rows_.data(), out_.data());
   ++samples_;

@@ -45,7 +45,7 @@ class MotorEstimator {
   std::vector<float> out_;  // [windows × 4 maps][4]
 };
 
-// Streaming estimation (exact streaming networks: a TCN on model-free-heading features): one
+// Streaming estimation (exact streaming networks: a TCN on model-free-heading or scale-free features): one
 // sample in, Θ̂ out, at a cost independent of T. After T samples since reset() the estimate is
 // the windowed MotorEstimator's on the last T samples, bit for bit.
 class StreamingMotorEstimator {
@@ -66,8 +66,9 @@ class StreamingMotorEstimator {
   std::array<SymmetryMap, kMotors> maps_{};
   std::unique_ptr<TcnStreamer> streamer_;
   std::array<Output, kMotors> previous_{};
+  std::array<Input, kMotors> previous_u_{};
   long samples_ = 0;
-  std::array<float, kMotors * (kOutputDim + kInputDim)> rows_{};
+  std::array<float, kMotors * (kOutputDim + kInputDim + 1)> rows_{};  // the widest streaming row (scale-free)
   std::array<float, kMotors * 4> out_{};
 };
 

@@ -49,17 +49,28 @@ torch::Tensor FaultNetImpl::forward(torch::Tensor x) {
     return torch::sigmoid(head2->forward(torch::relu(head1->forward(last))));
   }
   if (architecture == Architecture::kTcn) {
-    // Valid (unpadded) causal convolutions over the window; the last position sees exactly the
-    // last receptive-field samples, as the streaming form does (inference/engine.h).
-    torch::Tensor h = x.transpose(1, 2);  // [B, n, T]
-    for (std::size_t i = 0; i < convs.size(); ++i) {
-      const torch::Tensor y = torch::relu(convs[i]->forward(h));
-      h = i == 0 ? y : y + h.narrow(2, h.size(2) - y.size(2), y.size(2));  // residual, aligned on the end
-    }
-    const torch::Tensor last = h.select(2, h.size(2) - 1);
+    // The last position sees exactly the last receptive-field samples, as the streaming form does
+    // (inference/engine.h).
+    const torch::Tensor last = tcnColumns(x).select(2, -1);
     return torch::sigmoid(head2->forward(torch::relu(head1->forward(last))));
   }
   return torch::sigmoid(mlp->forward(x.flatten(1)));
+}
+
+torch::Tensor FaultNetImpl::tcnColumns(const torch::Tensor& normalised) {
+  // Valid (unpadded) causal convolutions: output column j depends on input samples j … j + R − 1.
+  torch::Tensor h = normalised.transpose(1, 2);  // [B, n, L]
+  for (std::size_t i = 0; i < convs.size(); ++i) {
+    const torch::Tensor y = torch::relu(convs[i]->forward(h));
+    h = i == 0 ? y : y + h.narrow(2, h.size(2) - y.size(2), y.size(2));  // residual, aligned on the end
+  }
+  return h;  // [B, C, L − R + 1]
+}
+
+torch::Tensor FaultNetImpl::forwardSequence(torch::Tensor x) {
+  if (architecture != Architecture::kTcn) throw std::logic_error("forwardSequence: only a TCN is causal per position");
+  const torch::Tensor columns = tcnColumns((x - mean) / scale).transpose(1, 2);  // [B, L − R + 1, C]
+  return torch::sigmoid(head2->forward(torch::relu(head1->forward(columns))));
 }
 
 void loadNormalisation(FaultIdentifier::Impl& impl) {
@@ -97,6 +108,15 @@ void FaultIdentifier::predict(const float* windows, int count, float* theta) con
     const torch::Tensor y = impl_->net->forward(x).contiguous();
     std::memcpy(theta + static_cast<std::ptrdiff_t>(first) * 4, y.data_ptr<float>(), sizeof(float) * 4 * static_cast<std::size_t>(n));
   }
+}
+
+void FaultIdentifier::predictSequences(const float* sequences, int count, int length, float* theta) const {
+  torch::NoGradGuard no_grad;
+  impl_->net->eval();
+  const ModelMetadata& m = impl_->metadata;
+  const torch::Tensor x = torch::from_blob(const_cast<float*>(sequences), {count, length, m.channels()}, torch::kFloat32);
+  const torch::Tensor y = impl_->net->forwardSequence(x).contiguous();
+  std::memcpy(theta, y.data_ptr<float>(), sizeof(float) * static_cast<std::size_t>(y.numel()));
 }
 
 namespace {

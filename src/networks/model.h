@@ -32,6 +32,10 @@ class FaultIdentifier {
   // windows: count × T × channels raw features (gatherWindowFeatures) → theta: count × 4.
   // Runs without gradients, in chunks, on the CPU.
   void predict(const float* windows, int count, float* theta) const;
+  // TCN only (dense training, docs/networks.md): sequences: count × length × channels raw
+  // features → theta: count × (length − R + 1) × 4, the output at every position k ≥ R − 1 (R the
+  // receptive field), which is the windowed output of any window ending at k. No gradients, CPU.
+  void predictSequences(const float* sequences, int count, int length, float* theta) const;
 
   struct Impl;
   std::shared_ptr<Impl> impl() const { return impl_; }

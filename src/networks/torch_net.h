@@ -13,6 +13,12 @@ namespace quadfdi {
 struct FaultNetImpl : torch::nn::Module {
   explicit FaultNetImpl(const ModelMetadata& m);
   torch::Tensor forward(torch::Tensor windows);  // [B, T, n_in] raw features → [B, 4]
+  // TCN only (dense training, docs/networks.md): [B, L, n_in] raw features of whole sequences →
+  // [B, L − R + 1, 4], the output at every position k ≥ R − 1 (R the receptive field); position
+  // k's is the windowed forward's on any window ending at k that holds its R samples.
+  torch::Tensor forwardSequence(torch::Tensor sequences);
+
+  torch::Tensor tcnColumns(const torch::Tensor& normalised);  // [B, L, n_in] → [B, C, L − R + 1]
 
   Architecture architecture;
   torch::Tensor mean, scale;  // buffers: normalisation (x − mean) / scale

@@ -18,6 +18,7 @@ constexpr std::uint64_t kHeldoutFirstScenario = 1ull << 40;  // disjoint from tr
 struct Minibatch {
   std::vector<float> features;
   std::vector<float> labels;
+  std::vector<float> mask;  // kSequences: 1 where the position is labelled, else 0
 };
 
 // Features and labels of `n` windows, window i given by at(i) as (batch, ref).
@@ -34,9 +35,37 @@ void gather(std::size_t n, const At& at, const ModelMetadata& m, Minibatch& out)
   }
 }
 
+// Dense training (docs/networks.md): features of `n` whole trajectories, trajectory i given by
+// at(i), and the labels and mask of their positions k = R − 1 … samples − 1 (positionLabels).
+template <typename At>
+void gatherSequences(std::size_t n, const At& at, const ModelMetadata& m, Minibatch& out) {
+  const int first = m.tcn.receptiveField() - 1;
+  const auto* probe = at(0).batch;
+  const int samples = probe->samples, positions = samples - first;
+  const std::size_t per = static_cast<std::size_t>(samples) * static_cast<std::size_t>(m.channels());
+  out.features.resize(n * per);
+  out.labels.resize(n * static_cast<std::size_t>(positions) * 4);
+  out.mask.resize(n * static_cast<std::size_t>(positions));
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto [batch, index] = at(i);
+    gatherWindowFeatures(*batch, {index, samples - 1}, samples, m.features, m.output, nullptr, &out.features[i * per]);
+    const std::size_t row = i * static_cast<std::size_t>(positions);
+    positionLabels(*batch, index, first, &out.labels[row * 4], &out.mask[row]);
+  }
+}
+
 torch::Tensor hingeLoss(const torch::Tensor& pred, const torch::Tensor& target, LossKind kind, double eps) {
   if (kind == LossKind::kNorm) return torch::relu((pred - target).norm(2, 1) - eps).mean();
   return torch::relu((pred - target).abs() - eps).mean();
+}
+
+// The same per labelled position: pred, target [B, P, 4], mask [B, P]; the mean over the
+// positions the mask keeps.
+torch::Tensor maskedHingeLoss(const torch::Tensor& pred, const torch::Tensor& target, const torch::Tensor& mask,
+                              LossKind kind, double eps) {
+  const torch::Tensor per_position = kind == LossKind::kNorm ? torch::relu((pred - target).norm(2, 2) - eps)
+                                                             : torch::relu((pred - target).abs() - eps).mean(2);
+  return (per_position * mask).sum() / mask.sum().clamp_min(1.0);
 }
 
 // Per-channel mean and standard deviation over (up to 20 000) buffer windows.
@@ -89,18 +118,29 @@ void writeCheckpoint(const std::string& path, FaultIdentifier& model, torch::opt
 
 }  // namespace
 
+const char* toString(TrainingMode m) { return m == TrainingMode::kSequences ? "sequences" : "windows"; }
+
+bool parseTrainingMode(const std::string& text, TrainingMode& m) {
+  if (text == "windows") { m = TrainingMode::kWindows; return true; }
+  if (text == "sequences") { m = TrainingMode::kSequences; return true; }
+  return false;
+}
+
 std::string validate(const TrainConfig& c) {
   if (const std::string e = validate(c.data.rollout); !e.empty()) return e;
   if (c.data.scale.initial_conditions < 1 || c.data.scale.buffer_windows < 1) return "scale needs N1 >= 1 and N_buf >= 1";
   if (c.data.thetas.empty() || c.data.motors.empty()) return "need at least one theta and one motor";
-  if (c.batch_size < 1) return "batch size must be >= 1";
+  if (c.batch_size < 1 || c.batch_trajectories < 1) return "batch size must be >= 1";
+  if (c.mode == TrainingMode::kSequences && c.model.architecture != Architecture::kTcn)
+    return "sequence training needs a causal network (tcn): an LSTM or MLP output depends on the window's start";
   if (c.passes < 1) return "passes must be >= 1";
   if (c.max_minibatches < 0) return "max minibatches must be >= 0";
   if (c.min_iterations < 0 || c.max_iterations < 1 || c.min_iterations > c.max_iterations)
     return "need 0 <= min iterations <= max iterations, max >= 1";
   if (!(c.learning_rate > 0.0) || !std::isfinite(c.learning_rate) || !(c.weight_decay >= 0.0) ||
-      !std::isfinite(c.weight_decay) || !(c.epsilon >= 0.0) || !std::isfinite(c.epsilon))
-    return "bad optimiser settings (learning rate > 0, weight decay and epsilon >= 0, all finite)";
+      !std::isfinite(c.weight_decay) || !(c.epsilon >= 0.0) || !std::isfinite(c.epsilon) ||
+      !(c.learning_rate_decay > 0.0 && c.learning_rate_decay <= 1.0))
+    return "bad optimiser settings (learning rate > 0, weight decay and epsilon >= 0, all finite; decay in (0, 1])";
   if (c.device != "cpu" && c.device != "cuda") return "device must be cpu or cuda";
   if (c.model.window != c.data.rollout.window) return "model window must equal the data window";
   return {};
@@ -159,7 +199,7 @@ bool restoreOptimizer(const std::string& checkpoint_path, int iteration, torch::
 // Fresh scenarios from a stream range disjoint from training's, generated once per run.
 struct HeldoutSet {
   TrajectoryBatch batch;
-  std::vector<WindowRef> windows;
+  std::vector<WindowRef> windows;  // grouped by trajectory, in order (enumerateWindows)
 };
 
 HeldoutSet makeHeldoutSet(const TrainConfig& config) {
@@ -222,6 +262,17 @@ std::pair<torch::Tensor, torch::Tensor> toTensors(Minibatch& mb, std::size_t cou
           torch::from_blob(mb.labels.data(), {b, 4}, torch::kFloat32).to(device)};
 }
 
+// One minibatch's backward pass and Adam step on its loss; returns the loss value.
+double optimiserStep(const torch::Tensor& loss, torch::optim::Adam& optimizer, int completed) {
+  const double value = loss.item<double>();
+  if (!std::isfinite(value))
+    throw std::runtime_error("training diverged: non-finite loss at outer iteration " + std::to_string(completed + 1) +
+                             " (lower the learning rate?)");
+  loss.backward();
+  optimizer.step();
+  return value;
+}
+
 struct PassesOutcome {
   double loss_sum = 0.0;          // over the minibatches
   int minibatches = 0;
@@ -256,15 +307,47 @@ PassesOutcome trainOnBuffer(const TrainConfig& config, const WindowBuffer& buffe
       }, meta, mb);
       const auto [x, y] = toTensors(mb, count, meta, device);
       optimizer.zero_grad();
-      const torch::Tensor loss = hingeLoss(impl.net->forward(x), y, config.loss, config.epsilon);
-      const double value = loss.item<double>();
-      if (!std::isfinite(value))
-        throw std::runtime_error("training diverged: non-finite loss at outer iteration " +
-                                 std::to_string(completed + 1) + " (lower the learning rate?)");
-      loss.backward();
-      optimizer.step();
-      out.loss_sum += value;
+      out.loss_sum += optimiserStep(hingeLoss(impl.net->forward(x), y, config.loss, config.epsilon), optimizer, completed);
       out.windows += static_cast<std::int64_t>(count);
+      ++out.minibatches;
+      if (on_minibatch) on_minibatch(out.minibatches, total);
+    }
+  }
+  return out;
+}
+
+// kSequences: as trainOnBuffer, but over the buffer's trajectories, config.batch_trajectories a
+// minibatch, every labelled position of each (docs/networks.md, "Dense training").
+PassesOutcome trainOnSequences(const TrainConfig& config, const WindowBuffer& buffer, int completed,
+                               FaultIdentifier::Impl& impl, torch::optim::Adam& optimizer, const torch::Device& device,
+                               Minibatch& mb, const std::function<void(int, int)>& on_minibatch) {
+  const ModelMetadata& meta = impl.metadata;
+  impl.net->train();
+  std::vector<WindowBuffer::Trajectory> order;
+  buffer.trajectories(order);
+  const std::size_t n = order.size();
+  Rng shuffle_rng(config.seed, 0x5000000ull + static_cast<std::uint64_t>(completed));
+  const std::size_t bs = static_cast<std::size_t>(config.batch_trajectories);
+  const int per_pass = static_cast<int>((n + bs - 1) / bs);
+  int total = per_pass * config.passes;
+  if (config.max_minibatches > 0) total = std::min(total, config.max_minibatches);
+  PassesOutcome out;
+  for (int pass = 0; pass < config.passes && out.minibatches < total; ++pass) {
+    for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[shuffle_rng.next() % i]);  // Fisher–Yates
+    for (std::size_t first = 0; first < n && out.minibatches < total; first += bs) {
+      throwIfStopRequested(config, completed);
+      const std::size_t count = std::min(bs, n - first);
+      gatherSequences(count, [&](std::size_t i) { return order[first + i]; }, meta, mb);
+      const auto b = static_cast<std::int64_t>(count);
+      const std::int64_t samples = static_cast<std::int64_t>(mb.features.size()) / (b * meta.channels());
+      const std::int64_t positions = static_cast<std::int64_t>(mb.mask.size()) / b;
+      const torch::Tensor x = torch::from_blob(mb.features.data(), {b, samples, meta.channels()}).to(device);
+      const torch::Tensor y = torch::from_blob(mb.labels.data(), {b, positions, 4}).to(device);
+      const torch::Tensor mask = torch::from_blob(mb.mask.data(), {b, positions}).to(device);
+      optimizer.zero_grad();
+      out.loss_sum += optimiserStep(maskedHingeLoss(impl.net->forwardSequence(x), y, mask, config.loss, config.epsilon),
+                                    optimizer, completed);
+      for (float v : mb.mask) out.windows += v > 0.0f ? 1 : 0;
       ++out.minibatches;
       if (on_minibatch) on_minibatch(out.minibatches, total);
     }
@@ -293,6 +376,51 @@ HeldoutScore evaluateHeldout(const TrainConfig& config, const HeldoutSet& heldou
       const torch::Tensor pred = impl.net->forward(x);
       loss_sum += hingeLoss(pred, y, config.loss, config.epsilon).item<double>() * static_cast<double>(count);
       correct += ((pred - y).abs().amax(1) <= kIdentificationTolerance).sum().item<int>();
+    }
+  }
+  HeldoutScore score;
+  if (heldout.windows.empty()) return score;
+  const auto n = static_cast<double>(heldout.windows.size());
+  score.loss = loss_sum / n;
+  score.accuracy = static_cast<double>(correct) / n;
+  return score;
+}
+
+// kSequences: the same windows and the same numbers (to float round-off), from one forward pass
+// per held-out trajectory: the output at position k is the window ending at k's (k ≥ T − 1 ≥ R − 1).
+HeldoutScore evaluateHeldoutDense(const TrainConfig& config, const HeldoutSet& heldout, FaultIdentifier::Impl& impl,
+                                  const torch::Device& device, Minibatch& mb) {
+  const ModelMetadata& meta = impl.metadata;
+  const int first_position = meta.tcn.receptiveField() - 1;
+  impl.net->eval();
+  torch::NoGradGuard no_grad;
+  double loss_sum = 0.0;
+  int correct = 0;
+  constexpr int kChunk = 64;  // trajectories per forward pass
+  std::size_t w = 0;          // next held-out window (grouped by trajectory, in order)
+  for (int first = 0; first < heldout.batch.count; first += kChunk) {
+    const int count = std::min(kChunk, heldout.batch.count - first);
+    gatherSequences(static_cast<std::size_t>(count),
+                    [&](std::size_t i) { return WindowBuffer::Trajectory{&heldout.batch, first + static_cast<int>(i)}; },
+                    meta, mb);
+    const torch::Tensor x =
+        torch::from_blob(mb.features.data(), {count, heldout.batch.samples, meta.channels()}).to(device);
+    const torch::Tensor pred = impl.net->forwardSequence(x).to(torch::kCPU).contiguous();  // [count, P, 4]
+    const std::int64_t positions = pred.size(1);
+    const float* p = pred.data_ptr<float>();
+    for (; w < heldout.windows.size() && heldout.windows[w].trajectory < first + count; ++w) {
+      const WindowRef& ref = heldout.windows[w];
+      const float* o = p + ((ref.trajectory - first) * positions + (ref.end_sample - first_position)) * 4;
+      const Input label = windowLabel(heldout.batch, ref);
+      double norm2 = 0.0, per_motor = 0.0, worst = 0.0;
+      for (int j = 0; j < 4; ++j) {
+        const double e = std::abs(static_cast<double>(o[j]) - static_cast<double>(static_cast<float>(label(j))));
+        norm2 += e * e;
+        per_motor += std::max(0.0, e - config.epsilon) / 4.0;
+        worst = std::max(worst, e);
+      }
+      loss_sum += config.loss == LossKind::kNorm ? std::max(0.0, std::sqrt(norm2) - config.epsilon) : per_motor;
+      correct += worst <= kIdentificationTolerance ? 1 : 0;
     }
   }
   HeldoutScore score;
@@ -353,19 +481,33 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
   int iteration = start_iteration;
   while (iteration < config.max_iterations) {
     // This outer iteration's fresh data; the first one also fixes the feature normalisation.
+    IterationReport report;
+    auto phase = std::chrono::steady_clock::now();
     data.nextIteration();
     if (iteration == 0) {
       computeNormalisation(data.buffer(), impl.metadata);
       loadNormalisation(impl);
     }
+    report.data_seconds = secondsSince(phase);
+    // A function of the iteration alone, so a resumed run continues the same schedule.
+    for (auto& group : optimizer.param_groups())
+      static_cast<torch::optim::AdamOptions&>(group.options())
+          .lr(config.learning_rate * std::pow(config.learning_rate_decay, iteration));
+    phase = std::chrono::steady_clock::now();
     const PassesOutcome passes =
-        trainOnBuffer(config, data.buffer(), iteration, impl, optimizer, device, mb, on_minibatch);
+        config.mode == TrainingMode::kSequences
+            ? trainOnSequences(config, data.buffer(), iteration, impl, optimizer, device, mb, on_minibatch)
+            : trainOnBuffer(config, data.buffer(), iteration, impl, optimizer, device, mb, on_minibatch);
     windows_trained += passes.windows;
     ++iteration;
+    report.train_seconds = secondsSince(phase);
 
-    const HeldoutScore heldout_score = evaluateHeldout(config, heldout, impl, device, mb);
+    phase = std::chrono::steady_clock::now();
+    const HeldoutScore heldout_score = config.mode == TrainingMode::kSequences
+                                           ? evaluateHeldoutDense(config, heldout, impl, device, mb)
+                                           : evaluateHeldout(config, heldout, impl, device, mb);
+    report.heldout_seconds = secondsSince(phase);
     const double seconds = secondsSince(t0);
-    IterationReport report;
     report.iteration = iteration;
     report.loss = passes.minibatches > 0 ? passes.loss_sum / passes.minibatches : 0.0;
     report.heldout_loss = heldout_score.loss;

@@ -14,14 +14,27 @@ namespace quadfdi {
 
 enum class LossKind { kNorm, kPerMotor };
 
+// How minibatches are formed (docs/networks.md, "Dense training").
+enum class TrainingMode {
+  kWindows,    // the paper's: minibatches of windows, one label each (the output at the last sample)
+  kSequences,  // causal networks (TCN) only: minibatches of whole trajectories, one label per
+               // position k ≥ R − 1 (R the receptive field) — ≈ T + 1 labels for one forward pass
+};
+const char* toString(TrainingMode m);
+bool parseTrainingMode(const std::string& text, TrainingMode& m);  // windows | sequences
+
 struct TrainConfig {
   Algorithm1DataConfig data;     // rollout settings, scale (N₁, N_buf), Θ values, motors
   ModelMetadata model;           // architecture, features, output, symmetry, …
   LossKind loss = LossKind::kNorm;
   double epsilon = 0.01;         // hinge margin ε (seed eq. 4)
   double learning_rate = 5e-4;   // Adam (authors' code)
+  double learning_rate_decay = 1.0;  // [-] per outer iteration: iteration j (0-based) runs at
+                                     // learning_rate · decay^j; 1 = constant (the authors')
   double weight_decay = 1e-5;
-  int batch_size = 1024;         // windows per minibatch (paper: 50 000)
+  TrainingMode mode = TrainingMode::kWindows;
+  int batch_size = 1024;         // windows per minibatch (paper: 50 000); kWindows
+  int batch_trajectories = 32;   // trajectories per minibatch [trajectories]; kSequences
   int passes = 1;                // passes over the buffer per outer iteration (authors: 400)
   int max_minibatches = 0;       // cap per outer iteration (0 = no cap): keeps CPU scales bounded
   int min_iterations = 2;        // N_m: no stop before this many outer iterations
@@ -51,7 +64,10 @@ struct IterationReport {
   double heldout_accuracy = 0.0;  // max_i |Θ̂_i − Θ_i| ≤ 0.05
   std::size_t buffer_windows = 0;
   double seconds = 0.0;     // since the start of this run
-  double windows_per_second = 0.0;
+  double windows_per_second = 0.0;  // labelled outputs trained on per second (kSequences: positions)
+  // Where this iteration's time went [s]: fresh data (and the normalisation, first iteration),
+  // the minibatches (gathering, forward, backward, Adam), the held-out evaluation.
+  double data_seconds = 0.0, train_seconds = 0.0, heldout_seconds = 0.0;
 };
 
 struct TrainResult {

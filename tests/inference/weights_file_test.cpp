@@ -16,14 +16,14 @@
 namespace quadfdi {
 namespace {
 
-TrainedModel makeModel(Architecture arch, std::uint64_t seed) {
+TrainedModel makeModel(Architecture arch, std::uint64_t seed, FeatureSet tcn_features = FeatureSet::kModelFreeHeading) {
   ModelMetadata m;
   m.architecture = arch;
   m.window = 100;
   m.hidden = 16;
-  if (arch == Architecture::kTcn) m.features = FeatureSet::kModelFreeHeading;
-  m.feature_mean.assign(10, 0.1f);
-  m.feature_std.assign(10, 2.0f);
+  if (arch == Architecture::kTcn) m.features = tcn_features;
+  m.feature_mean.assign(static_cast<std::size_t>(m.channels()), 0.1f);
+  m.feature_std.assign(static_cast<std::size_t>(m.channels()), 2.0f);
   m.command = "test";
   const FaultIdentifier net = FaultIdentifier::create(m, seed);
   return {net.metadata(), exportWeights(net)};
@@ -91,8 +91,23 @@ TEST(WeightsFile, RefusesNonFiniteAndMismatchedWeights) {
 
 // The TCN on a stream gives, at every sample from T on, exactly the windowed network's estimate
 // on the last T samples — through the estimation core, with the four symmetry maps.
-TEST(StreamingEstimator, EqualsTheWindowedEstimateBitForBit) {
-  const TrainedModel model = makeModel(Architecture::kTcn, 5);
+TEST(WeightsFile, RecordsTheScaleFreeFeatureSet) {
+  const TrainedModel a = makeModel(Architecture::kTcn, 4, FeatureSet::kScaleFree);
+  const std::string bytes = encode(a);
+  const TrainedModel b = decodeWeightsFile(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), "x");
+  EXPECT_EQ(b.metadata.features, FeatureSet::kScaleFree);
+  EXPECT_EQ(b.metadata.channels(), 11);
+  EXPECT_EQ(b.weights.channels, 11);
+  EXPECT_EQ(b.weights.convs.front().in, 11);
+  EXPECT_NE(bytes.find("\"scale-free\""), std::string::npos);
+  EXPECT_EQ(encode(b), bytes);
+  EXPECT_TRUE(StreamingMotorEstimator::canStream(b.metadata));
+}
+
+class StreamingEstimator : public ::testing::TestWithParam<FeatureSet> {};
+
+TEST_P(StreamingEstimator, EqualsTheWindowedEstimateBitForBit) {
+  const TrainedModel model = makeModel(Architecture::kTcn, 5, GetParam());
   StreamingMotorEstimator stream(model, SymmetryMode::kExactGroup);
   MotorEstimator windows(model, SymmetryMode::kExactGroup);
   const int t_len = model.metadata.window, n = 260;
@@ -125,6 +140,13 @@ TEST(StreamingEstimator, EqualsTheWindowedEstimateBitForBit) {
   }
   EXPECT_EQ(compared, n - t_len + 1);
 }
+
+INSTANTIATE_TEST_SUITE_P(StreamingFeatureSets, StreamingEstimator,
+                         ::testing::Values(FeatureSet::kModelFreeHeading, FeatureSet::kScaleFree),
+                         [](const ::testing::TestParamInfo<FeatureSet>& param) {
+                           return param.param == FeatureSet::kScaleFree ? std::string("ScaleFree")
+                                                                       : std::string("ModelFreeHeading");
+                         });
 
 }  // namespace
 }  // namespace quadfdi
