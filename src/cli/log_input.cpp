@@ -4,6 +4,7 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "io/vehicle_file.h"
 #include "logs/ardupilot_signals.h"
 #include "logs/crazyflie_signals.h"
 #include "logs/crazyflie_usd.h"
@@ -17,6 +18,11 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
   t.add("--format", o.format,
         "Input format: auto (from the content: ULog, DataFlash or Crazyflie magic, else CSV), csv, ulog, dataflash, crazyflie")
       .choices({"auto", "csv", "ulog", "dataflash", "crazyflie"});
+  t.add("--vehicle", o.vehicle,
+        "Logs with thrust-fraction commands: a vehicle description FILE (docs/vehicles.md); its max thrust and mass "
+        "stand in for --max-thrust and --mass where those are not given, and its thrust curve for THR_MDL_FAC / "
+        "MOT_THST_EXPO where the log has none")
+      .defaultText("");
   t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
       .atLeast(0.0)
       .defaultText("");
@@ -100,6 +106,13 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
   for (const std::string& w : log.warnings) opened.warnings.push_back(path + ": " + w);
 
   quadfdi::ImportOptions io = o.import;
+  double thrust_model_factor = -1.0;  // [-] the vehicle description's, < 0 without one
+  if (!o.vehicle.empty()) {
+    const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
+    if (!(io.max_thrust > 0.0)) io.max_thrust = vehicle.params.max_thrust;
+    if (!(io.mass > 0.0)) io.mass = vehicle.params.mass;
+    thrust_model_factor = vehicle.params.thrust_model_factor;
+  }
   io.dt = dt;
   io.use_events = !o.phases_by_rule;
   io.max_hole = max_gap;
@@ -107,10 +120,13 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
 
   FlightSignals signals;
   if (format == "ulog") {
-    issue = extractPx4Signals(log, Px4SignalOptions{}, signals);
+    Px4SignalOptions p;
+    if (thrust_model_factor >= 0.0) p.default_thrust_model_factor = thrust_model_factor;
+    issue = extractPx4Signals(log, p, signals);
   } else if (format == "dataflash") {
     ArdupilotSignalOptions a;
     a.ekf_core = o.ekf_core;
+    if (thrust_model_factor >= 0.0) a.thrust_expo = thrust_model_factor;
     issue = extractArdupilotSignals(log, a, signals);
   } else {
     CrazyflieSignalOptions c;

@@ -22,9 +22,10 @@ struct LogInputOptions {
   bool phases_by_rule = false;       // ignore the log's armed/landed events (import.use_events = false)
   int ekf_core = 0;                  // ArduPilot
   std::string crazyflie_thrust = "auto";  // auto|duty|battery
+  std::string vehicle;               // a vehicle description (docs/vehicles.md): max thrust, mass, thrust curve
 };
 
-// Declares --format, --max-thrust, --mass, --hover-calibrate, --min-rate-*, --settle-*,
+// Declares --format, --vehicle, --max-thrust, --mass, --hover-calibrate, --min-rate-*, --settle-*,
 // --phases-by-rule, --ekf-core, --cf-thrust-map in a command's option table (cli/options.h).
 void addLogInputOptions(OptionTable& table, LogInputOptions& o);
 

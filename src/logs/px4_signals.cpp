@@ -179,7 +179,7 @@ LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options,
     std::vector<const std::vector<double>*> c;
     if (LogIssue e = columnsOf(*outputs, names, c); !e.ok()) return e;
     bool has_factor = false;
-    const double f = std::clamp(parameter(log, "THR_MDL_FAC", 0.0, has_factor), 0.0, 1.0);
+    const double f = std::clamp(parameter(log, "THR_MDL_FAC", options.default_thrust_model_factor, has_factor), 0.0, 1.0);
     std::array<double, kMotors> lo{}, hi{};
     std::string limits;
     for (std::size_t k = 0; k < kMotors; ++k) {
@@ -208,7 +208,8 @@ LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options,
     out.conventions.push_back("commands: actuator_outputs[" + std::to_string(options.outputs_instance) +
                               "] PWM normalised with per-motor ranges " + limits + ", clamped to [0, 1]");
     out.conventions.push_back("thrust model: thrust fraction = (1 − f)·x + f·x², f = THR_MDL_FAC = " + std::to_string(f) +
-                              (has_factor ? "" : " (not in the log: assumed 0, linear)"));
+                              (has_factor ? "" : options.default_thrust_model_factor == 0.0 ? " (not in the log: assumed 0, linear)"
+                                                                              : " (not in the log: the vehicle description's)"));
   }
   out.conventions.push_back("motors: PX4 quad-X order mapped to quadfdi's: " + motorTable(options));
   noteSkipped(out, out.command.source.topic, skipped);

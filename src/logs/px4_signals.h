@@ -14,6 +14,8 @@ struct Px4SignalOptions {
   int outputs_instance = 0;            // [-] actuator_outputs multi_id whose output[0..3] drive motors 1..4
   double default_pwm_min = 1000.0;     // [µs] PWM at zero thrust when the log has no PWM_MAIN_MIN / PWM_MIN
   double default_pwm_max = 2000.0;     // [µs] PWM at full thrust when the log has no PWM_MAIN_MAX / PWM_MAX
+  double default_thrust_model_factor = 0.0;  // [-] THR_MDL_FAC when the log has none (PX4's default 0, linear;
+                                             //     a vehicle description's thrust curve, `--vehicle`)
   // PX4 motor (0-based) that drives quadfdi motor k + 1; the default is PX4's quad-X (see the .cpp).
   std::array<int, kMotors> px4_motor_for_quadfdi = {0, 3, 1, 2};  // [-] indices into control[] / output[]
 };

@@ -89,6 +89,23 @@ TEST(LogCli, ImportWritesCsvThatDetectsTheSameAndPrintsTheReport) {
   EXPECT_EQ(fault(d.out), fault(l.out));
 }
 
+TEST(LogCli, VehicleDescriptionScalesTheThrustAndExplicitFlagsWin) {
+  const std::string vehicle = std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/crazyflie2.toml";
+  CommandResult r = run("import " + faultyUlog() + " --vehicle " + vehicle + " -o " + temp("vehicle.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "the motor's maximum thrust 0.159166 N")) << r.out;
+  r = run("import " + faultyUlog() + " --vehicle " + vehicle + " --max-thrust 0.15 -o " + temp("vehicle.csv"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "the motor's maximum thrust 0.15 N")) << r.out;
+  // A broken description is one line naming file and line.
+  const std::string bad = temp("bad-vehicle.toml");
+  writeBytes(bad, std::vector<std::uint8_t>{'[', 'm', 'o', 't', 'o', 'r', '.', '1', ']', '\n', 'x', ' ', '=', ' ', '1', '\n'});
+  r = run("import " + faultyUlog() + " --vehicle " + bad + " -o " + temp("vehicle.csv"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, bad + ":2: missing 'name'")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+}
+
 TEST(LogCli, PlotDrawsAPng) {
   if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) GTEST_SKIP() << "no gnuplot";
   const std::string png = temp("detections.png");
