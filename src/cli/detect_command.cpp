@@ -165,12 +165,10 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, double degr
 
 int runDetect(const DetectOptions& o) {
   const bool sequential = o.rule == "sequential";
-  if (!sequential) {
-    require(o.clear_above >= o.raise_below, "--clear-above must not be below --raise-below");
-    require(o.watch >= o.raise_below, "--watch must not be below --raise-below (the alarm must be decided at full rate)");
-  } else {
-    require(o.failed_below < o.degraded_below, "--failed-below must be below --degraded-below");
-  }
+  // Checked whichever rule runs: a config file stays valid for both.
+  require(o.clear_above >= o.raise_below, "--clear-above must not be below --raise-below");
+  require(o.watch >= o.raise_below, "--watch must not be below --raise-below (the alarm must be decided at full rate)");
+  require(o.failed_below < o.degraded_below, "--failed-below must be below --degraded-below");
   require(o.max_input_period > 0.0 && o.max_gap >= o.max_input_period, "--max-gap must be at least --max-input-period (> 0)");
   const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
   const TrainedModel model = readModelFile(model_path);

@@ -33,8 +33,9 @@ struct ThetaNoiseModel {
 struct SequentialConfig {
   double degraded_below = 0.9;      // [-] a motor below this effectiveness is `degraded` (issue 14)
   double failed_below = 0.3;        // [-] … below this, `failed` (issue 14)
-  double degraded_threshold = 3.0;  // [effectiveness·samples] CUSUM threshold h of the degraded level
-  double failed_threshold = 3.0;    // [effectiveness·samples] h of the failed level
+  double degraded_threshold = 14.0; // [effectiveness·samples] CUSUM threshold h of the degraded level (shipped
+                                    //     TCN calibration at 0.1 false alarms per flight hour, docs/decisions.md)
+  double failed_threshold = 3.9;    // [effectiveness·samples] h of the failed level (same source)
   int clear_after = 100;            // [samples] Θ̂ of the flagged motor at or above the level this long
                                     //     clears (or de-escalates) it: 200 ms at 500 Hz, as the persistence filter
   int estimate_window = 50;         // [samples] Θ̂ estimate: mean of the last this many samples since the

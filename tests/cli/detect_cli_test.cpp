@@ -71,8 +71,8 @@ TEST(DetectCli, SequentialKeysAreAddedAndPersistenceKeepsTheOldOnes) {
   const std::vector<std::string> a = lines(seq.out), b = lines(per.out);
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) {
-    // The same t and theta, in the same order, before the new keys.
-    const std::size_t cut = b[i].find(", \"alarm\"");
+    // The same t in the same order (theta may differ where the rules schedule evaluations differently).
+    const std::size_t cut = b[i].find(", \"theta\"");
     ASSERT_NE(cut, std::string::npos);
     EXPECT_EQ(a[i].substr(0, cut), b[i].substr(0, cut)) << i;
     EXPECT_EQ(b[i].find("severity"), std::string::npos) << b[i];
