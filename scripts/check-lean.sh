@@ -12,7 +12,7 @@ ldd "$Q" > /dev/null || fail "ldd failed on $Q"
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/quadfdi-lean.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 "$Q" simulate --motor 3 --theta 0 --fault-step 500 --steps 900 --seed 4 --output "$tmp/flight.csv" 2> /dev/null
-for model in models/lstm-model-free.qfdw models/tcn-model-free.qfdw; do
+for model in models/tcn-randomised.qfdw models/lstm-model-free.qfdw models/tcn-model-free.qfdw; do
   "$Q" detect --model "$model" --input "$tmp/flight.csv" --output "$tmp/out.jsonl" 2> "$tmp/err" || fail "detect failed: $(cat "$tmp/err")"
   grep -q "FAULT in motor 3" "$tmp/err" || fail "$model: no fault found in motor 3: $(cat "$tmp/err")"
 done

@@ -20,7 +20,7 @@ struct CalibrateOptions {
   int faulty_flights = 40;          // [-] for the model error of the Θ̂ estimate
   unsigned long long seed = 1;      // scenario streams 2⁴² + …, disjoint from training and test sets
   double false_alarms_per_hour = 0.1;  // [1/flight hour]
-  double degraded_below = 0.9;      // [-]
+  double degraded_below = 0.8;      // [-] as detect's default (docs/decisions.md)
   double failed_below = 0.3;        // [-]
   double position_noise = 0.0;      // [m] sensor noise on the logged position
   double attitude_noise = 0.0;      // [rad] on the logged Euler angles

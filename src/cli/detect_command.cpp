@@ -19,7 +19,7 @@
 #include "io/telemetry_reader.h"
 
 #ifndef QUADFDI_DEFAULT_MODEL
-#define QUADFDI_DEFAULT_MODEL "models/lstm-model-free.qfdw"
+#define QUADFDI_DEFAULT_MODEL "models/tcn-randomised.qfdw"
 #endif
 
 namespace quadfdi::cli {

@@ -14,7 +14,7 @@ struct DetectOptions {
   std::string input = "-";
   std::string output = "-";
   std::string rule = "sequential";  // sequential | persistence (docs/decisions.md)
-  double degraded_below = 0.9;      // [-] sequential: severity `degraded` below this effectiveness
+  double degraded_below = 0.8;      // [-] sequential: severity `degraded` below this effectiveness (docs/decisions.md: why 0.8)
   double failed_below = 0.3;        // [-] sequential: `failed` below this
   double false_alarms_per_hour = 0.1;  // [1/flight hour] sequential: target rate the thresholds are solved for
   std::string calibration;          // sequential: calibration JSON from `quadfdi calibrate`; empty: defaults
@@ -47,7 +47,7 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, double degr
 // MODEL.qfdw → MODEL.calibration.json: the calibration detect uses when none is named.
 std::string calibrationSidecarPath(const std::string& model_path);
 
-// The shipped model: $QUADFDI_MODEL if set, else models/lstm-model-free.qfdw of the source tree.
+// The shipped model: $QUADFDI_MODEL if set, else models/tcn-randomised.qfdw of the source tree.
 std::string defaultModelPath();
 
 }  // namespace quadfdi::cli

@@ -19,6 +19,7 @@
 #include "data/scales.h"
 #include "evaluation/experiments.h"
 #include "io/atomic_file.h"
+#include "io/calibration_file.h"
 #include "io/model_file.h"
 #include "io/params_file.h"
 #include "io/randomisation_file.h"
@@ -184,7 +185,14 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
     const std::string sidecar = calibrationSidecarPath(o.model_free);
     if (std::ifstream(sidecar).good()) calibration = sidecar;
   }
-  const SequentialSetup rule = sequentialSetup(calibration, 0.9, 0.3, 0.1, model.metadata.dt);
+  // The calibration's own levels (their thresholds come from data); defaults without one.
+  double degraded_below = SequentialConfig{}.degraded_below, failed_below = SequentialConfig{}.failed_below;
+  if (!calibration.empty()) {
+    const DecisionCalibration c = readCalibrationFile(calibration);
+    degraded_below = c.degraded.level;
+    failed_below = c.failed.level;
+  }
+  const SequentialSetup rule = sequentialSetup(calibration, degraded_below, failed_below, 0.1, model.metadata.dt);
   SequentialReportInputs in;
   in.model = &model;
   in.model_path = o.model_free;

@@ -63,7 +63,8 @@ std::string validate(const Randomisation& r) {
     if (!validInterval(*f) || !(f->lo >= 0.1 && f->hi <= 10.0)) return "randomisation: parameter factors must be 0.1 <= lo <= hi <= 10";
   if (!validInterval(p.motor_time_constant)) return "randomisation: motor time constant range must be 0 <= lo <= hi";
   const SensorRanges& s = r.sensors;
-  for (const Interval* i : {&s.position_std, &s.velocity_std, &s.attitude_std, &s.rate_std, &s.attitude_filter_tau, &s.rate_filter_tau})
+  for (const Interval* i : {&s.position_std, &s.velocity_std, &s.attitude_std, &s.rate_std, &s.attitude_filter_tau, &s.rate_filter_tau,
+                            &s.estimate_error_tau})
     if (!validInterval(*i)) return "randomisation: sensor ranges must be 0 <= lo <= hi";
   if (s.delay_steps_max < 0 || s.delay_steps_max > 1000) return "randomisation: sensor delay must be in 0 … 1000 steps";
   const ManoeuvreMix& m = r.manoeuvres;
@@ -107,6 +108,7 @@ FlightDraw drawFlight(const Randomisation& r, double dt, Rng& rng) {
   d.sensors.attitude_filter_tau = draw(s.attitude_filter_tau, rng);
   d.sensors.rate_filter_tau = draw(s.rate_filter_tau, rng);
   d.sensors.delay_steps = static_cast<int>(rng.next() % static_cast<std::uint64_t>(s.delay_steps_max + 1));
+  d.sensors.estimate_error_tau = draw(s.estimate_error_tau, rng);
 
   const ControllerMix& c = r.controllers;
   const double controller_weights[3] = {c.lqr, c.pid, c.cbf};

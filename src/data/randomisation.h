@@ -34,6 +34,7 @@ struct SensorRanges {
   Interval attitude_filter_tau{0.0, 0.0};  // [s]
   Interval rate_filter_tau{0.0, 0.0};      // [s]
   int delay_steps_max = 0;                 // [steps] delay drawn from U{0 … max}
+  Interval estimate_error_tau{0.0, 0.0};   // [s] correlation time of the estimate errors (0: white)
 };
 
 enum class ManoeuvreKind { kHover, kPointToPoint, kCircle, kFigureEight };

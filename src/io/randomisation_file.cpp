@@ -22,6 +22,7 @@ std::vector<std::pair<std::string, Interval*>> intervalFields(Randomisation& r) 
           {"sensors.rate_std", &r.sensors.rate_std},
           {"sensors.attitude_filter_tau", &r.sensors.attitude_filter_tau},
           {"sensors.rate_filter_tau", &r.sensors.rate_filter_tau},
+          {"sensors.estimate_error_tau", &r.sensors.estimate_error_tau},
           {"manoeuvres.speed", &r.manoeuvres.speed},
           {"manoeuvres.size", &r.manoeuvres.size},
           {"controllers.gain_scale", &r.controllers.gain_scale},

@@ -22,10 +22,14 @@ struct SensorModelConfig {
   double attitude_filter_tau = 0.0;  // [s] first-order low-pass of the attitude estimate; 0 = none
   double rate_filter_tau = 0.0;      // [s] gyro low-pass, 1/(2π f_c); 0 = none
   int delay_steps = 0;               // [steps] transport delay of the whole estimate
+  // Correlation time of the position, velocity and attitude errors: a navigation filter's error
+  // is a first-order Gauss–Markov process (Farrell, Aided Navigation, 2008, §4.9), not white
+  // noise at the control rate; the stds above stay the errors' stationary stds. 0 = white.
+  double estimate_error_tau = 0.0;   // [s]
 
   bool active() const {
     return position_std > 0.0 || velocity_std > 0.0 || attitude_std > 0.0 || rate_std > 0.0 ||
-           attitude_filter_tau > 0.0 || rate_filter_tau > 0.0 || delay_steps > 0;
+           attitude_filter_tau > 0.0 || rate_filter_tau > 0.0 || delay_steps > 0 || estimate_error_tau > 0.0;
   }
 };
 
@@ -48,6 +52,8 @@ class SensorModel {
  private:
   SensorModelConfig config_;
   double attitude_alpha_ = 1.0, rate_alpha_ = 1.0;  // [-] exact discretisation 1 − e^{−dt/τ}
+  double error_phi_ = 0.0, error_gain_ = 1.0;       // [-] AR(1) of the estimate errors: e^{−dt/τ}, √(1 − φ²)
+  Eigen::Matrix<double, 9, 1> error_ = Eigen::Matrix<double, 9, 1>::Zero();  // position, velocity, attitude errors
   State filtered_ = State::Zero();
   std::vector<State> delay_line_;  // ring of delay_steps + 1 filtered states
   int head_ = 0;

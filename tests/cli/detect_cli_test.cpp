@@ -115,7 +115,7 @@ TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
   const CommandResult c = run("calibrate --model " + std::string(QUADFDI_SOURCE_DIR) +
                               "/models/tcn-model-free.qfdw --flights 2 --flight-seconds 4 --faulty-flights 3 --output " + cal);
   ASSERT_EQ(c.exit_code, 0) << c.out;
-  EXPECT_NE(c.out.find("calibrate: level 0.90: h = "), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("calibrate: level 0.80: h = "), std::string::npos) << c.out;
   EXPECT_NE(readFile(cal).find("\"format\": \"quadfdi-decision-calibration-1\""), std::string::npos);
   const CommandResult r = run("detect --model " + std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw --calibration " + cal +
                               " --input " + faultyCsv() + " --output " + temp("calibrated.jsonl"));

@@ -51,7 +51,7 @@ TEST(EvaluateCli, TinyReportWithTablesFiguresAndSkippedExperiments) {
   // Bad input: one line, non-zero.
   const std::string bad = run("evaluate --model " + model + " -e e9 --scale tiny -o " + dir, &code);
   EXPECT_NE(code, 0);
-  EXPECT_EQ(bad, "quadfdi: error: --experiments: 'e9' is not one of: e1, e2, e3, e4, e5, e6\n");
+  EXPECT_EQ(bad, "quadfdi: error: --experiments: 'e9' is not one of: e1, e2, e3, e4, e5, e6, e7, decisions\n");
   run("evaluate --model /nonexistent.qfdi -o " + dir, &code);
   EXPECT_NE(code, 0);
 }

@@ -123,11 +123,12 @@ TEST(Golden, TinyDatasetContent) {
 
 // The shipped model through the detector on the golden flight, with the portable generic kernel
 // (no FMA, so the same bits on every x86-64 machine). The persistence rule (the default until
-// issue 14) keeps this output byte for byte; the sequential rule is checked in detect_cli_test.
+// issue 14) and the paper-setting LSTM (the default model until issue 13) keep this output byte
+// for byte; the sequential rule and the randomised TCN are checked in detect_cli_test.
 TEST(Golden, ShippedModelDetections) {
   const CommandResult r = quadfdi::test::runQuadfdi(
       "simulate --motor 3 --theta 0 --fault-step 150 --steps 260 --seed 5 --output - 2>/dev/null | QUADFDI_KERNEL=generic " +
-          std::string(QUADFDI_EXE) + " detect --rule persistence --input - -q",
+          std::string(QUADFDI_EXE) + " detect --model " QUADFDI_SOURCE_DIR "/models/lstm-model-free.qfdw --rule persistence --input - -q",
       false);
   ASSERT_EQ(r.exit_code, 0);
   expectSameText(r.out, golden("detect-motor3-seed5.jsonl"));

@@ -24,6 +24,7 @@ MotorTheta with(int motor, float theta) {
 
 SequentialConfig handConfig() {  // thresholds for counting samples by hand: just under 3, so that the
   SequentialConfig c;               // float round-off of Θ̂ (0.1f > 0.1) cannot move a crossing by one sample
+  c.degraded_below = 0.9;           // the hand counts below use issue 14's example level
   c.degraded_threshold = 2.999;
   c.failed_threshold = 2.999;
   c.noise.model_sigma = 0.0;

@@ -92,6 +92,26 @@ TEST(SensorModel, NoiseHasTheStatedStandardDeviationAndIsSeeded) {
   EXPECT_NEAR(std::sqrt(sum2_rate / n), 0.05, 0.05 * 0.02);
 }
 
+TEST(SensorModel, CorrelatedErrorsKeepTheirStdAndHaveTheLag1CorrelationOfTheirTimeConstant) {
+  SensorModelConfig c;
+  c.position_std = 0.004;
+  c.estimate_error_tau = 0.05;
+  const double dt = 0.002;
+  SensorModel sensors(c, dt);
+  Rng rng(2, 5);
+  sensors.reset(State::Zero());
+  double sum2 = 0.0, lag1 = 0.0, previous = 0.0;
+  const int n = 400000;
+  for (int k = 0; k < n; ++k) {
+    const double e = sensors.measure(State::Zero(), rng)(idx::kPy);
+    sum2 += e * e;
+    lag1 += e * previous;
+    previous = e;
+  }
+  EXPECT_NEAR(std::sqrt(sum2 / n), 0.004, 0.004 * 0.05);
+  EXPECT_NEAR(lag1 / sum2, std::exp(-dt / 0.05), 0.005);
+}
+
 TEST(SensorModel, ValidateRefusesNegativeAndNonFiniteValues) {
   SensorModelConfig c;
   EXPECT_EQ(validate(c), "");
