@@ -279,7 +279,7 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
     body << md << '\n';
     done.push_back(std::move(e));
   }
-  body << aimVerdict(done, dt);
+  if (!done.empty()) body << aimVerdict(done, dt);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report << "- command: `" << command_line << "`\n- scale: " << scale.name << " (" << scale.flights_per_class
          << " test flights per class; the paper's protocol uses 2 000)\n- test-set seed: " << o.seed
@@ -290,9 +290,17 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
     report << "  - " << role << ": `" << path << "` (" << toString(m.architecture) << ", " << toString(m.features)
            << ", trained at scale " << m.scale << " with seed " << m.seed << ", " << m.iterations
            << " outer iterations, held-out accuracy " << fmt(m.heldout_accuracy) << ")\n";
+    if (!m.randomisation.empty()) {
+      // The training randomisation, as the model file records it (docs/data.md#randomisation).
+      report << "    trained on randomised flights:\n\n    ```\n";
+      std::istringstream lines(m.randomisation);
+      for (std::string line; std::getline(lines, line);) report << "    " << line << "\n";
+      report << "    ```\n";
+    }
   }
-  report << "\nEvery flight: 200 steps at 500 Hz, fault at step 100, windows of T = 100 ending at k = 100 … 200.\n\n"
-         << body.str();
+  if (!done.empty())
+    report << "\nE1–E6: every flight 200 steps at 500 Hz, fault at step 100, windows of T = 100 ending at k = 100 … 200.\n";
+  report << "\n" << body.str();
   writeFile(o.output + "/REPORT.md", report.str());
   if (!o.quiet) std::fprintf(stderr, "quadfdi evaluate: wrote %s/REPORT.md (%.1f s)\n", o.output.c_str(), seconds);
   return 0;
