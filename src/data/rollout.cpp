@@ -90,6 +90,34 @@ std::vector<double> gainLevels(const Interval& range, int count) {
   return levels;
 }
 
+// The per-trajectory fields of slot `slot`, written once its recorded part begins.
+void recordStart(TrajectoryBatch& b, int slot, const State& x0, const Vec3& goal, const Input& theta, int fault_step,
+                 std::uint64_t scenario_index) {
+  const auto s = static_cast<std::size_t>(slot);
+  for (int i = 0; i < kStateDim; ++i) b.initial_state[s * kStateDim + static_cast<std::size_t>(i)] = x0(i);
+  for (int i = 0; i < 3; ++i) b.goal[s * 3 + static_cast<std::size_t>(i)] = goal(i);
+  for (int i = 0; i < kInputDim; ++i) b.theta[s * kInputDim + static_cast<std::size_t>(i)] = static_cast<float>(theta(i));
+  b.fault_step[s] = fault_step;
+  b.scenario_index[s] = scenario_index;
+}
+
+// Samples after a crash hold zeros, so the batch's bytes depend only on the job.
+void recordEnd(TrajectoryBatch& b, int slot, int length, StepStatus status) {
+  const auto s = static_cast<std::size_t>(slot);
+  if (length < b.samples) {
+    const std::size_t from = b.sampleOffset(slot, length), to = b.sampleOffset(slot, b.samples);
+    auto zero = [&](std::vector<float>& v, int channels) {
+      std::fill(v.begin() + static_cast<std::ptrdiff_t>(from * channels), v.begin() + static_cast<std::ptrdiff_t>(to * channels), 0.0f);
+    };
+    zero(b.outputs, kOutputDim);
+    zero(b.inputs, kInputDim);
+    zero(b.states, kStateDim);
+    zero(b.residuals, kOutputDim);
+  }
+  b.length[s] = length;
+  b.end_status[s] = static_cast<std::uint8_t>(status);
+}
+
 }  // namespace
 
 std::string validate(const RolloutConfig& c) {
@@ -152,7 +180,6 @@ std::unique_ptr<Controller> RolloutEngine::makeWorkerController() const {
 
 void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller, TrajectoryBatch& b, int slot) const {
   if (config_.randomisation.enabled()) return rolloutRandomised(job, b, slot);
-  const auto s = static_cast<std::size_t>(slot);
   const int samples = b.samples, fault_step = config_.faultStep();
   const double dt = config_.dt, lag = config_.plant.motor_time_constant;
 
@@ -179,11 +206,7 @@ void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller,
     status = checkState(plant.x, StateBounds{});
   }
 
-  for (int i = 0; i < kStateDim; ++i) b.initial_state[s * kStateDim + static_cast<std::size_t>(i)] = plant.x(i);
-  for (int i = 0; i < 3; ++i) b.goal[s * 3 + static_cast<std::size_t>(i)] = sc.goal(i);
-  for (int i = 0; i < kInputDim; ++i) b.theta[s * kInputDim + static_cast<std::size_t>(i)] = static_cast<float>(theta(i));
-  b.fault_step[s] = fault_step;
-  b.scenario_index[s] = job.scenario_index;
+  recordStart(b, slot, plant.x, sc.goal, theta, fault_step, job.scenario_index);
 
   int length = 0;
   Output residual = Output::Zero();
@@ -214,20 +237,10 @@ void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller,
                                                             control.u_cmd, plant.x, config_.output);
     }
   }
-  // Samples after a crash hold zeros, so the batch's bytes depend only on the job.
-  if (length < samples) {
-    const std::size_t from = b.sampleOffset(slot, length), to = b.sampleOffset(slot, samples);
-    std::fill(b.outputs.begin() + static_cast<std::ptrdiff_t>(from * kOutputDim), b.outputs.begin() + static_cast<std::ptrdiff_t>(to * kOutputDim), 0.0f);
-    std::fill(b.inputs.begin() + static_cast<std::ptrdiff_t>(from * kInputDim), b.inputs.begin() + static_cast<std::ptrdiff_t>(to * kInputDim), 0.0f);
-    std::fill(b.states.begin() + static_cast<std::ptrdiff_t>(from * kStateDim), b.states.begin() + static_cast<std::ptrdiff_t>(to * kStateDim), 0.0f);
-    std::fill(b.residuals.begin() + static_cast<std::ptrdiff_t>(from * kOutputDim), b.residuals.begin() + static_cast<std::ptrdiff_t>(to * kOutputDim), 0.0f);
-  }
-  b.length[s] = length;
-  b.end_status[s] = static_cast<std::uint8_t>(status);
+  recordEnd(b, slot, length, status);
 }
 
 void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch& b, int slot) const {
-  const auto s = static_cast<std::size_t>(slot);
   const int samples = b.samples, fault_step = config_.faultStep();
   const double dt = config_.dt;
   const Randomisation& r = config_.randomisation;
@@ -283,11 +296,7 @@ void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch&
     estimate = sensors.measure(plant.x, sensor_rng);
   }
 
-  for (int i = 0; i < kStateDim; ++i) b.initial_state[s * kStateDim + static_cast<std::size_t>(i)] = plant.x(i);
-  for (int i = 0; i < 3; ++i) b.goal[s * 3 + static_cast<std::size_t>(i)] = sc.goal(i);
-  for (int i = 0; i < kInputDim; ++i) b.theta[s * kInputDim + static_cast<std::size_t>(i)] = static_cast<float>(theta(i));
-  b.fault_step[s] = fault_step;
-  b.scenario_index[s] = job.scenario_index;
+  recordStart(b, slot, plant.x, sc.goal, theta, fault_step, job.scenario_index);
 
   int length = 0;
   Output residual = Output::Zero();
@@ -310,15 +319,7 @@ void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch&
                                  config_.output);
     }
   }
-  if (length < samples) {
-    const std::size_t from = b.sampleOffset(slot, length), to = b.sampleOffset(slot, samples);
-    for (auto* v : {&b.outputs, &b.residuals})
-      std::fill(v->begin() + static_cast<std::ptrdiff_t>(from * kOutputDim), v->begin() + static_cast<std::ptrdiff_t>(to * kOutputDim), 0.0f);
-    std::fill(b.inputs.begin() + static_cast<std::ptrdiff_t>(from * kInputDim), b.inputs.begin() + static_cast<std::ptrdiff_t>(to * kInputDim), 0.0f);
-    std::fill(b.states.begin() + static_cast<std::ptrdiff_t>(from * kStateDim), b.states.begin() + static_cast<std::ptrdiff_t>(to * kStateDim), 0.0f);
-  }
-  b.length[s] = length;
-  b.end_status[s] = static_cast<std::uint8_t>(status);
+  recordEnd(b, slot, length, status);
 }
 
 bool RolloutEngine::run(const std::vector<TrajectoryJob>& jobs, int threads, TrajectoryBatch& batch,
