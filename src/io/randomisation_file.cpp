@@ -98,6 +98,9 @@ Randomisation randomisationFromText(const std::string& text, const std::string& 
     }
     if (!known) doc.fail(e, "unknown key '" + e.key + "'");
   }
+  // Without vehicles a randomisation is off (Randomisation::enabled): refuse it rather than
+  // train silently on the fixed plant.
+  if (r.vehicles.empty()) throw ConfigError(source + ": no 'vehicles = [\"FILE\", …]': a randomisation needs at least one vehicle");
   if (const std::string problem = validate(r); !problem.empty()) throw ConfigError(source + ": " + problem);
   return r;
 }
