@@ -279,6 +279,33 @@ struct PassesOutcome {
   std::int64_t windows = 0;       // windows trained on
 };
 
+// The shuffled schedule both training modes share: config.passes passes over `order` (reshuffled
+// by Fisher–Yates each pass, from a stream fixed by the iteration), in minibatches of `batch`
+// items, stopping at config.max_minibatches when it is set. `step(first, count)` trains one
+// minibatch on order[first … first + count) and returns its loss and trained windows.
+template <typename Item, typename Step>
+PassesOutcome shuffledPasses(const TrainConfig& config, int completed, std::vector<Item>& order, std::size_t batch,
+                             const std::function<void(int, int)>& on_minibatch, Step&& step) {
+  const std::size_t n = order.size();
+  Rng shuffle_rng(config.seed, 0x5000000ull + static_cast<std::uint64_t>(completed));
+  const int per_pass = static_cast<int>((n + batch - 1) / batch);
+  int total = per_pass * config.passes;
+  if (config.max_minibatches > 0) total = std::min(total, config.max_minibatches);
+  PassesOutcome out;
+  for (int pass = 0; pass < config.passes && out.minibatches < total; ++pass) {
+    for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[shuffle_rng.next() % i]);  // Fisher–Yates
+    for (std::size_t first = 0; first < n && out.minibatches < total; first += batch) {
+      throwIfStopRequested(config, completed);
+      const auto [loss, windows] = step(first, std::min(batch, n - first));
+      out.loss_sum += loss;
+      out.windows += windows;
+      ++out.minibatches;
+      if (on_minibatch) on_minibatch(out.minibatches, total);
+    }
+  }
+  return out;
+}
+
 // One outer iteration's optimisation: config.passes shuffled passes over the buffer in
 // minibatches (at most config.max_minibatches), one Adam step each. `completed` outer
 // iterations precede this one; it seeds the shuffle.
@@ -287,33 +314,20 @@ PassesOutcome trainOnBuffer(const TrainConfig& config, const WindowBuffer& buffe
                             Minibatch& mb, const std::function<void(int, int)>& on_minibatch) {
   const ModelMetadata& meta = impl.metadata;
   impl.net->train();
-  const std::size_t n = buffer.size();
-  std::vector<std::size_t> order(n);
-  for (std::size_t i = 0; i < n; ++i) order[i] = i;
-  Rng shuffle_rng(config.seed, 0x5000000ull + static_cast<std::uint64_t>(completed));
-  const std::size_t bs = static_cast<std::size_t>(config.batch_size);
-  const int per_pass = static_cast<int>((n + bs - 1) / bs);
-  int total = per_pass * config.passes;
-  if (config.max_minibatches > 0) total = std::min(total, config.max_minibatches);
-  PassesOutcome out;
-  for (int pass = 0; pass < config.passes && out.minibatches < total; ++pass) {
-    for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[shuffle_rng.next() % i]);  // Fisher–Yates
-    for (std::size_t first = 0; first < n && out.minibatches < total; first += bs) {
-      throwIfStopRequested(config, completed);
-      const std::size_t count = std::min(bs, n - first);
-      gather(count, [&](std::size_t i) {
-        const auto e = buffer.at(order[first + i]);
-        return std::make_pair(e.batch, e.ref);
-      }, meta, mb);
-      const auto [x, y] = toTensors(mb, count, meta, device);
-      optimizer.zero_grad();
-      out.loss_sum += optimiserStep(hingeLoss(impl.net->forward(x), y, config.loss, config.epsilon), optimizer, completed);
-      out.windows += static_cast<std::int64_t>(count);
-      ++out.minibatches;
-      if (on_minibatch) on_minibatch(out.minibatches, total);
-    }
-  }
-  return out;
+  std::vector<std::size_t> order(buffer.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  return shuffledPasses(config, completed, order, static_cast<std::size_t>(config.batch_size), on_minibatch,
+                        [&](std::size_t first, std::size_t count) {
+                          gather(count, [&](std::size_t i) {
+                            const auto e = buffer.at(order[first + i]);
+                            return std::make_pair(e.batch, e.ref);
+                          }, meta, mb);
+                          const auto [x, y] = toTensors(mb, count, meta, device);
+                          optimizer.zero_grad();
+                          const double loss =
+                              optimiserStep(hingeLoss(impl.net->forward(x), y, config.loss, config.epsilon), optimizer, completed);
+                          return std::make_pair(loss, static_cast<std::int64_t>(count));
+                        });
 }
 
 // kSequences: as trainOnBuffer, but over the buffer's trajectories, config.batch_trajectories a
@@ -325,34 +339,22 @@ PassesOutcome trainOnSequences(const TrainConfig& config, const WindowBuffer& bu
   impl.net->train();
   std::vector<WindowBuffer::Trajectory> order;
   buffer.trajectories(order);
-  const std::size_t n = order.size();
-  Rng shuffle_rng(config.seed, 0x5000000ull + static_cast<std::uint64_t>(completed));
-  const std::size_t bs = static_cast<std::size_t>(config.batch_trajectories);
-  const int per_pass = static_cast<int>((n + bs - 1) / bs);
-  int total = per_pass * config.passes;
-  if (config.max_minibatches > 0) total = std::min(total, config.max_minibatches);
-  PassesOutcome out;
-  for (int pass = 0; pass < config.passes && out.minibatches < total; ++pass) {
-    for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[shuffle_rng.next() % i]);  // Fisher–Yates
-    for (std::size_t first = 0; first < n && out.minibatches < total; first += bs) {
-      throwIfStopRequested(config, completed);
-      const std::size_t count = std::min(bs, n - first);
-      gatherSequences(count, [&](std::size_t i) { return order[first + i]; }, meta, mb);
-      const auto b = static_cast<std::int64_t>(count);
-      const std::int64_t samples = static_cast<std::int64_t>(mb.features.size()) / (b * meta.channels());
-      const std::int64_t positions = static_cast<std::int64_t>(mb.mask.size()) / b;
-      const torch::Tensor x = torch::from_blob(mb.features.data(), {b, samples, meta.channels()}).to(device);
-      const torch::Tensor y = torch::from_blob(mb.labels.data(), {b, positions, 4}).to(device);
-      const torch::Tensor mask = torch::from_blob(mb.mask.data(), {b, positions}).to(device);
-      optimizer.zero_grad();
-      out.loss_sum += optimiserStep(maskedHingeLoss(impl.net->forwardSequence(x), y, mask, config.loss, config.epsilon),
-                                    optimizer, completed);
-      for (float v : mb.mask) out.windows += v > 0.0f ? 1 : 0;
-      ++out.minibatches;
-      if (on_minibatch) on_minibatch(out.minibatches, total);
-    }
-  }
-  return out;
+  return shuffledPasses(config, completed, order, static_cast<std::size_t>(config.batch_trajectories), on_minibatch,
+                        [&](std::size_t first, std::size_t count) {
+                          gatherSequences(count, [&](std::size_t i) { return order[first + i]; }, meta, mb);
+                          const auto b = static_cast<std::int64_t>(count);
+                          const std::int64_t samples = static_cast<std::int64_t>(mb.features.size()) / (b * meta.channels());
+                          const std::int64_t positions = static_cast<std::int64_t>(mb.mask.size()) / b;
+                          const torch::Tensor x = torch::from_blob(mb.features.data(), {b, samples, meta.channels()}).to(device);
+                          const torch::Tensor y = torch::from_blob(mb.labels.data(), {b, positions, 4}).to(device);
+                          const torch::Tensor mask = torch::from_blob(mb.mask.data(), {b, positions}).to(device);
+                          optimizer.zero_grad();
+                          const double loss = optimiserStep(
+                              maskedHingeLoss(impl.net->forwardSequence(x), y, mask, config.loss, config.epsilon), optimizer, completed);
+                          std::int64_t windows = 0;
+                          for (float v : mb.mask) windows += v > 0.0f ? 1 : 0;
+                          return std::make_pair(loss, windows);
+                        });
 }
 
 struct HeldoutScore {
