@@ -81,9 +81,12 @@ Randomisation randomisationFromText(const std::string& text, const std::string& 
         const std::size_t close = list.find('"', open + 1);
         if (close == std::string::npos) doc.fail(e, "unterminated string in vehicles");
         std::string spec = list.substr(open + 1, close - open - 1);
-        if (!isNamedParamSet(spec) && !std::filesystem::exists(spec)) {
+        // The error_code overloads: a name the file system rejects (too long, …) is "not found"
+        // here and gets its one-line message from the loader below, never an exception.
+        std::error_code ignored;
+        if (!isNamedParamSet(spec) && !std::filesystem::exists(spec, ignored)) {
           const std::filesystem::path near = std::filesystem::path(source).parent_path() / spec;
-          if (std::filesystem::exists(near)) spec = near.string();
+          if (std::filesystem::exists(near, ignored)) spec = near.string();
         }
         try {
           r.vehicles.push_back(loadVehicleParams(spec));
