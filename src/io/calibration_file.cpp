@@ -1,7 +1,9 @@
 #include "io/calibration_file.h"
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -25,16 +27,25 @@ nlohmann::json levelToJson(const LevelCalibration& c) {
           {"rate_upper_bound", c.rate_upper_bound}};
 }
 
+// A count: get<long> would convert a float or an out-of-range number (undefined behaviour for
+// 6.7e60, found by the fuzz target), so only JSON integers ≥ 0 are accepted.
+long count(const nlohmann::json& v, const char* key) {
+  const bool ok = v.is_number_unsigned() ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::numeric_limits<long>::max())
+                                         : v.is_number_integer() && v.get<std::int64_t>() >= 0;
+  if (!ok) throw nlohmann::json::type_error::create(302, std::string("'") + key + "' must be a whole number >= 0", &v);
+  return static_cast<long>(v.get<std::int64_t>());
+}
+
 LevelCalibration levelFromJson(const nlohmann::json& j) {
   LevelCalibration c;
   c.level = j.at("level").get<double>();
   c.threshold = j.at("threshold").get<double>();
   c.method = j.at("method").get<std::string>();
-  c.excursions = j.at("excursions").get<long>();
+  c.excursions = count(j.at("excursions"), "excursions");
   c.tail_maxima = j.at("tail_maxima").get<std::vector<double>>();
   c.tail_start = j.at("tail_start").get<double>();
   c.tail_scale = j.at("tail_scale").get<double>();
-  c.alarms_at_threshold = j.at("alarms_at_threshold").get<long>();
+  c.alarms_at_threshold = count(j.at("alarms_at_threshold"), "alarms_at_threshold");
   c.rate_at_threshold = j.at("rate_at_threshold").get<double>();
   c.rate_upper_bound = j.at("rate_upper_bound").get<double>();
   return c;
@@ -76,9 +87,9 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.noise.model_sigma = n.at("model_sigma").get<double>();
     c.target_rate = j.at("target_rate_per_hour").get<double>();
     c.dt = j.at("dt").get<double>();
-    c.flights = j.at("flights").get<long>();
+    c.flights = count(j.at("flights"), "flights");
     c.flight_hours = j.at("flight_hours").get<double>();
-    c.faulty_flights = j.at("faulty_flights").get<long>();
+    c.faulty_flights = count(j.at("faulty_flights"), "faulty_flights");
     c.degraded = levelFromJson(j.at("degraded"));
     c.failed = levelFromJson(j.at("failed"));
     c.source = j.at("source").get<std::string>();

@@ -258,6 +258,19 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
     EXPECT_EQ(std::string(e.what()).rfind("cal.json: bad calibration: ", 0), 0u) << e.what();
   }
   EXPECT_THROW(calibrationFromJson("{", "cal.json"), ConfigError);
+  // A count that is not a whole number (6.7e60 was undefined behaviour in get<long>; fuzz finding).
+  for (const char* bad : {"6.66667e+60", "-3", "2.5"}) {
+    std::string json = calibrationToJson(c);
+    const std::size_t at = json.find("\"flights\": ") + 11;
+    json.replace(at, json.find(',', at) - at, bad);
+    try {
+      calibrationFromJson(json, "cal.json");
+      ADD_FAILURE() << bad;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("cal.json: bad calibration: "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("'flights' must be a whole number >= 0"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
