@@ -16,21 +16,8 @@
 #include "model/integrator.h"
 #include "simulation/closed_loop.h"
 #include "symmetry/symmetry.h"
+#include "heap_counter.h"  // include once per test executable: compute() must not allocate
 #include "test_support.h"
-
-// Counts every global operator new in this test binary, so a test can assert that compute()
-// does not touch the heap (the pattern of tests/control/qp_solver_test.cpp).
-namespace {
-std::atomic<long> g_heap_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  g_heap_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* ptr = std::malloc(size == 0 ? 1 : size)) return ptr;
-  throw std::bad_alloc();
-}
-[[gnu::noinline]] void operator delete(void* ptr) noexcept { std::free(ptr); }
-[[gnu::noinline]] void operator delete(void* ptr, std::size_t) noexcept { std::free(ptr); }
 
 namespace quadfdi {
 namespace {
@@ -333,16 +320,16 @@ TEST(Pid, ComputeDoesNotAllocate) {
   const TrajectorySpec s = spec(TrajectoryKind::kFigureEight, 2.0);
   State x = startOf(s);
   ControlStep out;
-  const long before = g_heap_allocations.load();
+  const long before = quadfdi::test::heap_allocations.load();
   for (int k = 0; k < 1000; ++k) {
     ctrl.setReference(referenceAt(s, k * kDt));
     x(idx::kRoll) = 0.3 * std::sin(0.01 * k);
     ctrl.compute(x, out);
   }
-  EXPECT_EQ(g_heap_allocations.load(), before);
-  const long probe_before = g_heap_allocations.load();
+  EXPECT_EQ(quadfdi::test::heap_allocations.load(), before);
+  const long probe_before = quadfdi::test::heap_allocations.load();
   void* probe = ::operator new(16);  // the counter itself works
-  EXPECT_GT(g_heap_allocations.load(), probe_before);
+  EXPECT_GT(quadfdi::test::heap_allocations.load(), probe_before);
   ::operator delete(probe);
 }
 

@@ -31,21 +31,7 @@
 
 // Counts every global operator new in this test binary, so a test can assert
 // that solve() does not touch the heap (a std::vector creeping in, say).
-// Eigen allocates dynamic-size matrices with malloc, which this does not see;
-// the solver uses fixed-size Eigen types only, which live on the stack.
-namespace {
-std::atomic<long> g_heap_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  g_heap_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* ptr = std::malloc(size == 0 ? 1 : size)) return ptr;
-  throw std::bad_alloc();
-}
-// Not inlined: GCC's -Wmismatched-new-delete would otherwise see free() on a
-// pointer from operator new at the call site.
-[[gnu::noinline]] void operator delete(void* ptr) noexcept { std::free(ptr); }
-[[gnu::noinline]] void operator delete(void* ptr, std::size_t) noexcept { std::free(ptr); }
+#include "heap_counter.h"  // include once per test executable
 
 namespace quadfdi {
 namespace {
@@ -1113,19 +1099,19 @@ TEST(QpSolver, SolveDoesNotAllocate) {
   for (int k = 0; k < 200; ++k) {
     const QpProblem<4, 4> feasible = randomFeasible<4, 4>(rng, opt);
     const auto infeasible = randomWithCertificate<4, 4>(rng, 0.1);
-    const long before = g_heap_allocations.load();
+    const long before = quadfdi::test::heap_allocations.load();
     const QpStatus a = solver.solve(feasible, s);
     const QpStatus b = solver.solve(infeasible.problem, s);
-    const long after = g_heap_allocations.load();
+    const long after = quadfdi::test::heap_allocations.load();
     ASSERT_EQ(a, QpStatus::kSolved);
     ASSERT_EQ(b, QpStatus::kInfeasible);
     ASSERT_EQ(after, before);
   }
   // The counter itself works. A direct call, because a new-expression whose
   // result is unused may be elided.
-  const long before = g_heap_allocations.load();
+  const long before = quadfdi::test::heap_allocations.load();
   void* probe = ::operator new(16);
-  EXPECT_GT(g_heap_allocations.load(), before);
+  EXPECT_GT(quadfdi::test::heap_allocations.load(), before);
   ::operator delete(probe);
 }
 
