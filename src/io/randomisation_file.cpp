@@ -55,6 +55,7 @@ Randomisation randomisationFromText(const std::string& text, const std::string& 
       if (e.key == key) {
         const std::vector<double> v = doc.numberList(e);
         if (v.size() != 2) doc.fail(e, "'" + key + "' needs [lo, hi]");
+        if (!(v[0] >= 0.0 && v[1] >= v[0])) doc.fail(e, "'" + key + "' needs 0 <= lo <= hi");
         *field = {v[0], v[1]};
         known = true;
       }

@@ -35,6 +35,7 @@ TEST(RandomisationFile, RefusesBadInputWithFileAndLine) {
   };
   EXPECT_EQ(message("vehicles = [\"nominal\"]\nspeed = 3\n"), "r.toml:2: unknown key 'speed'");
   EXPECT_EQ(message("vehicles = [\"nominal\"]\n[parameters]\nmass = [1.1]\n"), "r.toml:3: 'parameters.mass' needs [lo, hi]");
+  EXPECT_EQ(message("vehicles = [\"nominal\"]\n[sensors]\nrate_std = [0.1, 0.01]\n"), "r.toml:3: 'sensors.rate_std' needs 0 <= lo <= hi");
   EXPECT_NE(message("vehicles = [\"no-such-file.toml\"]\n").find("r.toml:1: vehicle:"), std::string::npos);
   EXPECT_NE(message("vehicles = [\"nominal\"]\n[controllers]\nlqr = 0\n").find("controller weight"), std::string::npos);
   // A name the file system refuses (longer than NAME_MAX) is a one-line error, not an exception
