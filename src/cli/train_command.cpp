@@ -44,6 +44,7 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
          "per position; docs/networks.md)")
       .choices({"windows", "sequences"})
       .defaultText("sequences for tcn, else windows");
+  t->add("--tcn-channels", o.tcn_channels, "Hidden channels of a tcn (cost grows with their square)").range(4, 256);
   t->add("--output-kind", o.output_kind, "Measured output y").choices({"position-euler", "position-rates"});
   t->add("--symmetry", o.symmetry, "Symmetry the model will be used with (recorded)").choices({"exact", "paper"});
   t->add("--loss", o.loss, "norm (seed eq. 4) or per-motor (authors' code)").choices({"norm", "per-motor"});
@@ -131,6 +132,7 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
     require(parseTrainingMode(o.training, c.mode), "--training must be windows or sequences");
   require(c.mode == TrainingMode::kWindows || c.model.architecture == Architecture::kTcn,
           "--training sequences needs --architecture tcn (an LSTM's or MLP's output depends on where the window starts)");
+  c.model.tcn.channels = o.tcn_channels;
   require(c.model.architecture != Architecture::kTcn || c.model.tcn.receptiveField() <= c.data.rollout.window - 1,
           "--architecture tcn: the receptive field (" + std::to_string(c.model.tcn.receptiveField()) +
               " samples) must fit in the window minus one (" + std::to_string(c.data.rollout.window - 1) + ")");

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "inference/model_metadata.h"
+
 namespace quadfdi::cli {
 
 // Filled by the option table (train_command.cpp), the only place that names the flags; reproduce
@@ -15,6 +17,7 @@ struct TrainOptions {
   std::string architecture = "lstm";            // lstm | mlp | tcn
   std::string features = "model-free";          // model-free | model-based | residual | model-free-heading | scale-free
   std::string training;                         // windows | sequences; empty: sequences for tcn, else windows
+  int tcn_channels = quadfdi::TcnShape{}.channels;      // [-] hidden channels of a tcn (inference/model_metadata.h)
   std::string output_kind = "position-euler";   // position-euler | position-rates
   std::string symmetry = "exact";               // exact | paper
   std::string loss = "norm";                    // norm | per-motor

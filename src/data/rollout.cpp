@@ -1,6 +1,7 @@
 #include "data/rollout.h"
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <cstring>
 #include <thread>
@@ -29,6 +30,20 @@ void store(const Eigen::Matrix<double, N, 1>& v, float* out) {
 // (initial state, goal) stays the paper's; the draw and the sensor noise get their own.
 constexpr std::uint64_t kDrawSalt = 0xD4A3'5EEDull;
 constexpr std::uint64_t kSensorSalt = 0x5E45'0125ull;
+constexpr std::uint64_t kRedrawSalt = 0x9E37'79B9'7F4A'7C15ull;  // the golden-ratio constant: attempt n's draw stream
+constexpr std::uint64_t kProbeSalt = 0x0B5E'4F1Aull;             // the probe's own sensor noise
+
+// Flyability (docs/data.md#flyability): a randomised draw is flown healthy for kFlyabilityProbe
+// along its manoeuvre before it is used; if the vehicle leaves the state bounds, or the controller
+// holds a motor at a thrust limit for more than kMaxSaturatedFraction of the probe's second half
+// (a saturating limit cycle: a high-gain design meeting a slow motor it was not designed for), the
+// draw is redrawn. Nobody flies such a pairing, so it is neither healthy training data nor a
+// healthy flight whose alarms count. The first half is left out: recovering from the scenario's
+// initial state may saturate on purpose.
+constexpr double kFlyabilityProbe = 1.0;        // [s]
+constexpr double kMaxSaturatedFraction = 0.05;  // [-] of the judged steps
+constexpr double kAtLimit = 1e-3;               // [-] of max thrust: a command this close to a limit is at it
+constexpr int kFlyableAttempts = 8;             // draws tried before the last one is flown anyway
 
 // Bryson's per-motor thrust deviation (control/lqr.cpp) as a fraction of hover thrust, so that one
 // rule designs a comparable LQR for a 30 g and a 1.5 kg vehicle: 0.02 N of the Crazyflie's 0.0733 N.
@@ -240,33 +255,73 @@ void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller,
   recordEnd(b, slot, length, status);
 }
 
+std::unique_ptr<Controller> RolloutEngine::makeFlightController(const FlightDraw& d) const {
+  // Designed on the described vehicle (what its user knows), not on the plant.
+  const VehicleParams& described = config_.randomisation.vehicles[static_cast<std::size_t>(d.vehicle)];
+  if (d.controller == DrawnController::kPid)
+    return std::make_unique<PidController>(described, scaledPid(config_.controller.pid, d.gain_scale), config_.dt);
+  std::size_t level = 0;
+  for (std::size_t i = 1; i < lqr_gain_levels_.size(); ++i)
+    if (std::abs(std::log(lqr_gain_levels_[i] / d.gain_scale)) < std::abs(std::log(lqr_gain_levels_[level] / d.gain_scale)))
+      level = i;
+  const GainMatrix& gain = vehicle_lqr_[static_cast<std::size_t>(d.vehicle)][level].gain;
+  if (d.controller == DrawnController::kLqr) return std::make_unique<LqrController>(described, gain);
+  return std::make_unique<CbfQpController>(described, gain, config_.controller.cbf);
+}
+
+bool RolloutEngine::flyable(const FlightDraw& d, std::uint64_t scenario_index) const {
+  const double dt = config_.dt;
+  Rng rng(config_.seed, scenario_index);
+  const Scenario sc = sampleScenario(config_.ranges, rng);
+  const VehicleParams& described = config_.randomisation.vehicles[static_cast<std::size_t>(d.vehicle)];
+  const RigidBodyModel plant_model = RigidBodyModel::fromParams(d.plant);
+  const std::unique_ptr<Controller> controller = makeFlightController(d);
+  const TrajectorySpec trajectory = trajectoryFor(d.manoeuvre, sc.goal);
+  SensorModel sensors(d.sensors, dt);
+  Rng sensor_rng(config_.seed ^ kSensorSalt ^ kProbeSalt, scenario_index);
+  PlantState plant;
+  plant.x = sc.initial_state;
+  plant.rotor_thrust = Input::Constant(d.plant.hoverThrust());
+  sensors.reset(plant.x);
+  ControlStep control;
+  const int steps = static_cast<int>(std::lround(kFlyabilityProbe / dt)), judged_from = steps / 2;
+  const double low = described.min_thrust + kAtLimit * described.max_thrust, high = (1.0 - kAtLimit) * described.max_thrust;
+  int saturated = 0;
+  for (int k = 0; k < steps; ++k) {
+    controller->setReference(referenceAt(trajectory, static_cast<double>(k) * dt));
+    controller->compute(sensors.measure(plant.x, sensor_rng), control);
+    stepPlant(plant_model, config_.integrator, dt, d.plant.motor_time_constant, d.thrust_gain * control.u_cmd, plant);
+    if (checkState(plant.x, StateBounds{}) != StepStatus::kOk) return false;
+    if (k >= judged_from && (control.u_cmd.minCoeff() <= low || control.u_cmd.maxCoeff() >= high)) ++saturated;
+  }
+  return saturated <= kMaxSaturatedFraction * (steps - judged_from);
+}
+
+FlightDraw RolloutEngine::flightDraw(std::uint64_t scenario_index, int* attempts) const {
+  FlightDraw d;
+  int attempt = 0;
+  for (; attempt < kFlyableAttempts; ++attempt) {
+    // Attempt 0 is the draw every flyable flight has always had; redraws take their own streams.
+    Rng draw_rng(config_.seed ^ kDrawSalt ^ (static_cast<std::uint64_t>(attempt) * kRedrawSalt), scenario_index);
+    d = drawFlight(config_.randomisation, config_.dt, draw_rng);
+    if (flyable(d, scenario_index)) break;
+  }
+  if (attempts) *attempts = std::min(attempt + 1, kFlyableAttempts);
+  return d;
+}
+
 void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch& b, int slot) const {
   const int samples = b.samples, fault_step = config_.faultStep();
   const double dt = config_.dt;
-  const Randomisation& r = config_.randomisation;
 
   Rng rng(config_.seed, job.scenario_index);
   const Scenario sc = sampleScenario(config_.ranges, rng);
-  Rng draw_rng(config_.seed ^ kDrawSalt, job.scenario_index);
-  const FlightDraw d = drawFlight(r, dt, draw_rng);
-  const VehicleParams& described = r.vehicles[static_cast<std::size_t>(d.vehicle)];
+  const FlightDraw d = flightDraw(job.scenario_index);
+  const VehicleParams& described = config_.randomisation.vehicles[static_cast<std::size_t>(d.vehicle)];
   const RigidBodyModel plant_model = RigidBodyModel::fromParams(d.plant);
   const RigidBodyModel described_model = RigidBodyModel::fromParams(described);
   const double lag = d.plant.motor_time_constant;
-
-  // The controller, designed on the described vehicle (what its user knows), not on the plant.
-  std::unique_ptr<Controller> controller;
-  if (d.controller == DrawnController::kPid) {
-    controller = std::make_unique<PidController>(described, scaledPid(config_.controller.pid, d.gain_scale), dt);
-  } else {
-    std::size_t level = 0;
-    for (std::size_t i = 1; i < lqr_gain_levels_.size(); ++i)
-      if (std::abs(std::log(lqr_gain_levels_[i] / d.gain_scale)) < std::abs(std::log(lqr_gain_levels_[level] / d.gain_scale)))
-        level = i;
-    const GainMatrix& gain = vehicle_lqr_[static_cast<std::size_t>(d.vehicle)][level].gain;
-    if (d.controller == DrawnController::kLqr) controller = std::make_unique<LqrController>(described, gain);
-    else controller = std::make_unique<CbfQpController>(described, gain, config_.controller.cbf);
-  }
+  const std::unique_ptr<Controller> controller = makeFlightController(d);
   const TrajectorySpec trajectory = trajectoryFor(d.manoeuvre, sc.goal);
   SensorModel sensors(d.sensors, dt);
   Rng sensor_rng(config_.seed ^ kSensorSalt, job.scenario_index);

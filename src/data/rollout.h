@@ -80,6 +80,13 @@ class RolloutEngine {
   void rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch& batch, int slot) const;
   std::unique_ptr<Controller> makeWorkerController() const;
 
+  // Randomised flights: the draw of scenario `scenario_index` — the first of up to 8 draws that is
+  // flyable (the drawn controller holds the drawn plant through a 1 s healthy probe without
+  // crashing or sitting at a thrust limit; docs/data.md#flyability), else the 8th. `attempts`
+  // receives how many draws were made.
+  FlightDraw flightDraw(std::uint64_t scenario_index, int* attempts = nullptr) const;
+  bool flyable(const FlightDraw& draw, std::uint64_t scenario_index) const;
+
  private:
   RolloutConfig config_;
   RigidBodyModel plant_model_;
@@ -90,6 +97,8 @@ class RolloutEngine {
   std::vector<std::vector<LqrDesign>> vehicle_lqr_;
   std::vector<double> lqr_gain_levels_;  // [-] gain scales the designs stand for
   std::string error_;
+
+  std::unique_ptr<Controller> makeFlightController(const FlightDraw& draw) const;
 };
 
 }  // namespace quadfdi

@@ -205,5 +205,36 @@ TEST(Algorithm1Data, IterationsAreFreshDisjointAndCapped) {
   EXPECT_EQ(findScale("huge"), nullptr);
 }
 
+// Flyability (docs/data.md#flyability): a draw whose controller cannot hold the plant is redrawn.
+RolloutConfig lqrOnlyRandomised(double motor_time_constant) {
+  RolloutConfig c;
+  c.seed = 5;
+  c.randomisation.vehicles = {nominalParams()};
+  c.randomisation.vehicle_names = {"nominal"};
+  c.randomisation.parameters.motor_time_constant = {motor_time_constant, motor_time_constant};
+  c.randomisation.manoeuvres = {1.0, 0.0, 0.0, 0.0, {0.3, 2.0}, {0.5, 2.0}, 4.9};
+  c.randomisation.controllers = {1.0, 0.0, 0.0, {1.4, 1.4}};
+  c.randomisation.preroll_seconds = {0.2, 0.2};
+  return c;
+}
+
+TEST(Flyability, AnLqrOnAMotorFarSlowerThanItWasDesignedForIsRedrawnAndAFastOneIsKept) {
+  // The Crazyflie's LQR, designed without motor lag, on motors with a 150 ms time constant:
+  // every draw is the same pairing, so all 8 attempts fail and the last draw is flown anyway.
+  const RolloutEngine slow(lqrOnlyRandomised(0.15));
+  ASSERT_EQ(slow.error(), "");
+  int attempts = 0;
+  const FlightDraw d = slow.flightDraw(3, &attempts);
+  EXPECT_FALSE(slow.flyable(d, 3));
+  EXPECT_EQ(attempts, 8);
+  // The same design on motors as fast as it assumes: the first draw, unchanged.
+  const RolloutEngine fast(lqrOnlyRandomised(0.0));
+  const FlightDraw kept = fast.flightDraw(3, &attempts);
+  EXPECT_TRUE(fast.flyable(kept, 3));
+  EXPECT_EQ(attempts, 1);
+  Rng first(fast.config().seed ^ 0xD4A35EEDull, 3);
+  EXPECT_EQ(kept.plant.mass, drawFlight(fast.config().randomisation, fast.config().dt, first).plant.mass);
+}
+
 }  // namespace
 }  // namespace quadfdi
