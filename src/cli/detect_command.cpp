@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <utility>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -29,6 +30,21 @@ std::string defaultModelPath() {
   return QUADFDI_DEFAULT_MODEL;
 }
 
+std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir) {
+  if (vehicle_file.empty()) return {};
+  const std::filesystem::path candidate =
+      std::filesystem::path(models_dir) / ("tcn-" + std::filesystem::path(vehicle_file).stem().string() + ".qfdw");
+  std::error_code ec;  // an unreadable directory is "no vehicle model", not an error: the general model serves
+  return std::filesystem::is_regular_file(candidate, ec) ? candidate.string() : std::string();
+}
+
+std::string detectModelPath(const std::string& model_option, const std::string& vehicle_file) {
+  if (!model_option.empty()) return model_option;
+  if (const char* env = std::getenv("QUADFDI_MODEL"); env && *env) return env;
+  const std::string own = vehicleModelPath(vehicle_file, std::filesystem::path(QUADFDI_DEFAULT_MODEL).parent_path().string());
+  return own.empty() ? std::string(QUADFDI_DEFAULT_MODEL) : own;
+}
+
 CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "detect",
@@ -40,7 +56,9 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
       "and, with the sequential rule (default), \"severity\", \"theta_est\", \"theta_lo\", \"theta_hi\". A summary goes to stderr.");
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
-  t->add("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)").defaultText("");
+  t->add("--model,-m", o.model,
+         "Model file (default: $QUADFDI_MODEL; else, with --vehicle FILE, the shipped models/tcn-STEM.qfdw trained for that "
+         "vehicle when there is one; else the shipped general model)").defaultText("");
   t->add("--input,-i", o.input,
          "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)");
   t->add("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
@@ -170,9 +188,11 @@ int runDetect(const DetectOptions& o) {
   require(o.watch >= o.raise_below, "--watch must not be below --raise-below (the alarm must be decided at full rate)");
   require(o.failed_below < o.degraded_below, "--failed-below must be below --degraded-below");
   require(o.max_input_period > 0.0 && o.max_gap >= o.max_input_period, "--max-gap must be at least --max-input-period (> 0)");
-  const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
+  const std::string model_path = detectModelPath(o.model, o.log.vehicle);
   const TrainedModel model = readModelFile(model_path);
   const ModelMetadata& m = model.metadata;
+  if (!o.quiet && o.model.empty() && !o.log.vehicle.empty())
+    std::fprintf(stderr, "detect: model %s (for --vehicle %s)\n", model_path.c_str(), o.log.vehicle.c_str());
 
   DetectorConfig config;
   config.symmetry = m.symmetry;

@@ -50,4 +50,12 @@ std::string calibrationSidecarPath(const std::string& model_path);
 // The shipped model: $QUADFDI_MODEL if set, else models/tcn-randomised.qfdw of the source tree.
 std::string defaultModelPath();
 
+// A vehicle's own model: MODELS_DIR/tcn-STEM.qfdw for the description FILE STEM.toml (the shipped
+// per-vehicle models are named so, models/README.md), or empty when there is no such file.
+std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir);
+
+// The model detect runs: --model; else $QUADFDI_MODEL; else the --vehicle's own model in the
+// shipped models folder; else the shipped general model.
+std::string detectModelPath(const std::string& model_option, const std::string& vehicle_file);
+
 }  // namespace quadfdi::cli

@@ -21,7 +21,8 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
   t.add("--vehicle", o.vehicle,
         "Logs with thrust-fraction commands: a vehicle description FILE (docs/vehicles.md); its max thrust and mass "
         "stand in for --max-thrust and --mass where those are not given, and its thrust curve for THR_MDL_FAC / "
-        "MOT_THST_EXPO where the log has none")
+        "MOT_THST_EXPO where the log has none; detect also runs the vehicle's own shipped model (models/tcn-STEM.qfdw) when "
+        "there is one")
       .defaultText("");
   t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
       .atLeast(0.0)

@@ -33,14 +33,19 @@ constexpr std::uint64_t kSensorSalt = 0x5E45'0125ull;
 constexpr std::uint64_t kRedrawSalt = 0x9E37'79B9'7F4A'7C15ull;  // the golden-ratio constant: attempt n's draw stream
 constexpr std::uint64_t kProbeSalt = 0x0B5E'4F1Aull;             // the probe's own sensor noise
 
-// Flyability (docs/data.md#flyability): a randomised draw is flown healthy for kFlyabilityProbe
-// along its manoeuvre before it is used; if the vehicle leaves the state bounds, or the controller
-// holds a motor at a thrust limit for more than kMaxSaturatedFraction of the probe's second half
-// (a saturating limit cycle: a high-gain design meeting a slow motor it was not designed for), the
-// draw is redrawn. Nobody flies such a pairing, so it is neither healthy training data nor a
-// healthy flight whose alarms count. The first half is left out: recovering from the scenario's
-// initial state may saturate on purpose.
-constexpr double kFlyabilityProbe = 1.0;        // [s]
+// Flyability (docs/data.md#flyability): a randomised draw is flown healthy along its manoeuvre,
+// for its whole length (pre-roll and recorded samples) but at least kMinFlyabilityProbe, before it
+// is used; if the vehicle leaves the state bounds, or the controller holds a motor at a thrust
+// limit for more than kMaxSaturatedFraction of the probe after kFlyabilityJudgedFrom (a saturating
+// limit cycle: a high-gain design meeting a slow motor it was not designed for, or a manoeuvre
+// beyond the drawn thrust), the draw is redrawn. Nobody flies such a pairing, so it is neither
+// healthy training data nor a healthy flight whose alarms count. The first second is left out:
+// recovering from the scenario's initial state may saturate on purpose. The whole flight, not a
+// fixed second: on one-minute calibration flights a Crazyflie LQR on 31 ms motors grew its cycle
+// for ~15 s before reaching the limits, and another cycled from ~2 s on (measured; both had
+// passed a 1 s probe and held the largest healthy Θ̂ excursions).
+constexpr double kMinFlyabilityProbe = 4.0;     // [s]
+constexpr double kFlyabilityJudgedFrom = 1.0;   // [s]
 constexpr double kMaxSaturatedFraction = 0.05;  // [-] of the judged steps
 constexpr double kAtLimit = 1e-3;               // [-] of max thrust: a command this close to a limit is at it
 constexpr int kFlyableAttempts = 8;             // draws tried before the last one is flown anyway
@@ -284,7 +289,9 @@ bool RolloutEngine::flyable(const FlightDraw& d, std::uint64_t scenario_index) c
   plant.rotor_thrust = Input::Constant(d.plant.hoverThrust());
   sensors.reset(plant.x);
   ControlStep control;
-  const int steps = static_cast<int>(std::lround(kFlyabilityProbe / dt)), judged_from = steps / 2;
+  const int steps = std::max(static_cast<int>(std::lround(kMinFlyabilityProbe / dt)),
+                             d.preroll_steps + config_.samplesPerTrajectory());
+  const int judged_from = static_cast<int>(std::lround(kFlyabilityJudgedFrom / dt));
   const double low = described.min_thrust + kAtLimit * described.max_thrust, high = (1.0 - kAtLimit) * described.max_thrust;
   int saturated = 0;
   for (int k = 0; k < steps; ++k) {

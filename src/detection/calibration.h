@@ -10,6 +10,9 @@
 // rate of excursions whose maximum exceeds h — the false alarms a threshold h gives — is
 // λ(h) = (N_u / T) · exp(−(h − u) / β), fitted on the largest maxima (u: the smallest of them,
 // β: their mean excess, the exponential's maximum-likelihood scale). h solves λ(h) = target.
+// When the target expects less than one alarm in the calibration data (target · T < 1), h is also
+// kept above the largest excursion in it: the data's own alarms would otherwise already exceed
+// the target.
 // With too few excursions (a level far below healthy Θ̂, such as `failed`) it falls back to
 // Siegmund's approximation of the CUSUM's average run length for the AR(1) noise model, whose
 // long-run variance σ²(1+φ)/(1−φ) accounts for the autocorrelation of Θ̂.

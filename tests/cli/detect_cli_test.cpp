@@ -135,6 +135,28 @@ TEST(DetectCli, APipelineFromSimulateGivesTheFileModeOutput) {
   EXPECT_EQ(file.out, pipe.out);
 }
 
+// Issue 13: a library vehicle is detected with its own shipped model (models/tcn-STEM.qfdw), a
+// vehicle without one with the general model; --model still wins. A racer flown by the PID that
+// loses half of motor 2's thrust (quadfdi numbering) at 1 s is found by its own model.
+TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string csv = temp("racer.csv");
+  ASSERT_EQ(run("simulate --controller pid --params " + src + "/configs/vehicles/racer250.toml --motor 2 --theta 0.5 "
+                "--fault-step 500 --steps 1200 --seed 3 --output " + csv).exit_code, 0);
+  const CommandResult own = run("detect --vehicle " + src + "/configs/vehicles/racer250.toml --input " + csv + " --output -", true);
+  ASSERT_EQ(own.exit_code, 0) << own.out;
+  EXPECT_NE(own.out.find("/models/tcn-racer250.qfdw (for --vehicle"), std::string::npos) << own.out;
+  EXPECT_NE(own.out.find("FAULT in motor 2 at t = 1."), std::string::npos) << own.out.substr(own.out.size() - 400);
+  const CommandResult general = run("detect -q --vehicle " + src + "/configs/vehicle-example.toml --input " + csv, false);
+  const CommandResult plain = run("detect -q --input " + csv, false);
+  ASSERT_EQ(general.exit_code, 0);
+  EXPECT_EQ(general.out, plain.out);  // no tcn-vehicle-example.qfdw: the general model, the same output
+  const CommandResult named =
+      run("detect -q --model " + src + "/models/tcn-randomised.qfdw --vehicle " + src + "/configs/vehicles/racer250.toml --input " + csv, false);
+  EXPECT_EQ(named.out, plain.out);
+  EXPECT_NE(named.out, run("detect -q --vehicle " + src + "/configs/vehicles/racer250.toml --input " + csv, false).out);
+}
+
 TEST(DetectCli, AHealthyFlightRaisesNoAlarm) {
   const std::string csv = temp("healthy.csv");
   ASSERT_EQ(run("simulate --steps 1500 --seed 8 --output " + csv).exit_code, 0);

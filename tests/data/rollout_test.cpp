@@ -206,6 +206,8 @@ TEST(Algorithm1Data, IterationsAreFreshDisjointAndCapped) {
 }
 
 // Flyability (docs/data.md#flyability): a draw whose controller cannot hold the plant is redrawn.
+constexpr double kSlowCycleMotorLag = 0.035;  // [s] with this LQR gain, delay and noise, scenario 3 passes a short
+constexpr double kSlowCycleGain = 0.77;       // [-]   probe and fails a one-minute one (found by a search over lags and gains)
 RolloutConfig lqrOnlyRandomised(double motor_time_constant) {
   RolloutConfig c;
   c.seed = 5;
@@ -234,6 +236,27 @@ TEST(Flyability, AnLqrOnAMotorFarSlowerThanItWasDesignedForIsRedrawnAndAFastOneI
   EXPECT_EQ(attempts, 1);
   Rng first(fast.config().seed ^ 0xD4A35EEDull, 3);
   EXPECT_EQ(kept.plant.mass, drawFlight(fast.config().randomisation, fast.config().dt, first).plant.mass);
+}
+
+// The probe flies the whole flight: an LQR whose cycle on slow motors takes seconds to grow passes
+// as a short training flight and is redrawn as a one-minute flight (docs/data.md#flyability: such
+// flights passed a 1 s probe and held the largest healthy excursions of a calibration).
+TEST(Flyability, ASlowlyGrowingCycleIsCaughtOnALongFlight) {
+  RolloutConfig short_flight = lqrOnlyRandomised(kSlowCycleMotorLag);
+  short_flight.randomisation.controllers.gain_scale = {kSlowCycleGain, kSlowCycleGain};
+  SensorRanges& sensors = short_flight.randomisation.sensors;  // an autopilot's estimate: delay, noise, gyro filter
+  sensors.delay_steps_max = 5;
+  sensors.attitude_std = {0.002, 0.002};
+  sensors.rate_std = {0.02, 0.02};
+  sensors.rate_filter_tau = {0.004, 0.004};
+  RolloutConfig long_flight = short_flight;
+  long_flight.post_fault_steps = 30000;  // one minute at 500 Hz
+  const RolloutEngine a(short_flight), b(long_flight);
+  ASSERT_EQ(b.error(), "");
+  int attempts = 0;
+  const FlightDraw d = a.flightDraw(3, &attempts);
+  EXPECT_EQ(attempts, 1);
+  EXPECT_FALSE(b.flyable(d, 3));
 }
 
 }  // namespace

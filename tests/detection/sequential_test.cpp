@@ -3,6 +3,7 @@
 // calibration file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -229,6 +230,30 @@ TEST(Calibration, TheCalibratedThresholdGivesTheTargetRateOnFreshNoise) {
   const double ratio = siegmundThreshold(noise, level, 15.0, dt) / fit.threshold;
   EXPECT_GE(ratio, 1.0);
   EXPECT_LE(ratio, 2.0);
+}
+
+// Exponential excursion maxima by inversion: m = −β ln(1 − U) (the random walk's tail).
+std::vector<double> exponentialSample(int n, double scale, std::uint64_t seed) {
+  Rng rng(seed, 0);
+  std::vector<double> y(static_cast<std::size_t>(n));
+  for (double& v : y) {
+    v = -scale * std::log1p(-rng.uniform(0.0, 1.0));
+  }
+  return y;
+}
+
+// A few excursions far beyond the bulk of the tail (a manoeuvre's transient): when the target
+// expects less than one alarm in the data, h stays above all of them; with more, the fit decides.
+TEST(Calibration, NoExcursionOfTheDataReachesTheThresholdWhenNoneIsExpected) {
+  std::vector<double> maxima = exponentialSample(20000, 1.0, 9);
+  maxima.push_back(200.0);  // far beyond anything the exponential bulk extrapolates to
+  const ThetaNoiseModel noise;
+  const LevelCalibration rare = calibrateLevel(maxima, 0.8, 5.0, 0.05, noise, 0.002);  // 0.25 alarms expected
+  EXPECT_GT(rare.threshold, 200.0);
+  EXPECT_EQ(rare.alarms_at_threshold, 0);
+  const LevelCalibration common = calibrateLevel(maxima, 0.8, 5.0, 2.0, noise, 0.002);  // 10 expected
+  EXPECT_LT(common.threshold, 200.0);
+  EXPECT_GE(common.alarms_at_threshold, 1);
 }
 
 TEST(Calibration, FallsBackToSiegmundWithoutExcursions) {
