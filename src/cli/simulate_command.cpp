@@ -110,7 +110,7 @@ int runSimulate(const SimulateOptions& o) {
   if (!o.controller_config.empty()) cc = loadControllerConfig(o.controller_config, cc);
   if (o.controller_config.empty() || given("controller")) parseControllerKind(o.controller, cc.kind);
   if (o.controller_config.empty() || given("lqr_weights"))
-    cc.lqr = o.lqr_weights == "authors" ? LqrConfig::authors() : LqrConfig::bryson();
+    cc.lqr = o.lqr_weights == "authors" ? LqrConfig::authors() : LqrConfig::brysonFor(design);
   if (o.controller_config.empty() || given("cbf_min_altitude")) cc.cbf.min_altitude = o.cbf_min_altitude;
   if (o.controller_config.empty() || given("cbf_max_tilt")) cc.cbf.max_tilt = o.cbf_max_tilt;
 

@@ -29,6 +29,13 @@ LqrConfig LqrConfig::bryson() {
   return c;
 }
 
+LqrConfig LqrConfig::brysonFor(const VehicleParams& vehicle) {
+  LqrConfig c = bryson();
+  const double scale = vehicle.hoverThrust() / nominalParams().hoverThrust();  // [-] 1 for the nominal set
+  c.r_diag /= scale * scale;
+  return c;
+}
+
 LqrConfig LqrConfig::authors() {
   LqrConfig c;
   c.q_diag = StateWeights::Ones();

@@ -27,6 +27,11 @@ struct LqrConfig {
   // acceptable deviations listed in lqr.cpp; chosen so the healthy loop settles from
   // the docs/control.md initial-condition set in about 2 s without long saturation.
   static LqrConfig bryson();
+  // Bryson's rule for another vehicle: the same maximum deviations, but the per-motor thrust
+  // deviation scaled with the vehicle's hover thrust (0.02 N is 27 % of the Crazyflie's; on a
+  // 0.75 kg racer it would be 1 % and give a loop fast enough to saturate its 33 ms motors into a
+  // crash). Exactly bryson() for the nominal Crazyflie (the ratio of its hover thrust to itself is 1).
+  static LqrConfig brysonFor(const VehicleParams& vehicle);
   // The authors' choice: Q = I, R = I on the forward-Euler discretisation (docs/control.md, docs/model.md).
   static LqrConfig authors();
 };

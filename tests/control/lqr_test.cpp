@@ -93,6 +93,20 @@ TEST(Lqr, RejectsBadWeights) {
   EXPECT_FALSE(designLqr(nominalParams(), LqrConfig::bryson(), 0.0).ok());
 }
 
+// Bryson's rule for another vehicle scales the per-motor thrust deviation with its hover thrust:
+// bit-identical to bryson() for the nominal Crazyflie (the goldens depend on it), and the same
+// deviation relative to hover for a 1.5× heavier one.
+TEST(Lqr, BrysonForAVehicleScalesTheThrustDeviationWithItsHoverThrust) {
+  const LqrConfig nominal = LqrConfig::brysonFor(nominalParams()), reference = LqrConfig::bryson();
+  EXPECT_EQ(nominal.r_diag, reference.r_diag);
+  EXPECT_EQ(nominal.q_diag, reference.q_diag);
+  VehicleParams heavy = nominalParams();
+  heavy.mass *= 1.5;
+  const LqrConfig scaled = LqrConfig::brysonFor(heavy);
+  EXPECT_NEAR(scaled.r_diag(0), reference.r_diag(0) / (1.5 * 1.5), 1e-9 * reference.r_diag(0));
+  EXPECT_EQ(scaled.q_diag, reference.q_diag);
+}
+
 TEST(Lqr, WrapAngle) {
   EXPECT_NEAR(wrapAngle(3.0 * M_PI / 2), -M_PI / 2, 1e-15);
   EXPECT_NEAR(wrapAngle(-3.0 * M_PI / 2), M_PI / 2, 1e-15);
