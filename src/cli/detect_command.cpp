@@ -18,6 +18,7 @@
 #include "io/key_value.h"
 #include "io/model_file.h"
 #include "io/telemetry_reader.h"
+#include "io/vehicle_file.h"
 
 #ifndef QUADFDI_DEFAULT_MODEL
 #define QUADFDI_DEFAULT_MODEL "models/tcn-randomised.qfdw"
@@ -25,9 +26,17 @@
 
 namespace quadfdi::cli {
 
+namespace {
+// $QUADFDI_MODEL, or empty when it is unset or empty.
+std::string environmentModel() {
+  const char* env = std::getenv("QUADFDI_MODEL");
+  return env ? env : "";
+}
+}  // namespace
+
 std::string defaultModelPath() {
-  if (const char* env = std::getenv("QUADFDI_MODEL"); env && *env) return env;
-  return QUADFDI_DEFAULT_MODEL;
+  const std::string env = environmentModel();
+  return env.empty() ? std::string(QUADFDI_DEFAULT_MODEL) : env;
 }
 
 std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir) {
@@ -40,7 +49,7 @@ std::string vehicleModelPath(const std::string& vehicle_file, const std::string&
 
 std::string detectModelPath(const std::string& model_option, const std::string& vehicle_file) {
   if (!model_option.empty()) return model_option;
-  if (const char* env = std::getenv("QUADFDI_MODEL"); env && *env) return env;
+  if (const std::string env = environmentModel(); !env.empty()) return env;
   const std::string own = vehicleModelPath(vehicle_file, std::filesystem::path(QUADFDI_DEFAULT_MODEL).parent_path().string());
   return own.empty() ? std::string(QUADFDI_DEFAULT_MODEL) : own;
 }
@@ -188,6 +197,9 @@ int runDetect(const DetectOptions& o) {
   require(o.watch >= o.raise_below, "--watch must not be below --raise-below (the alarm must be decided at full rate)");
   require(o.failed_below < o.degraded_below, "--failed-below must be below --degraded-below");
   require(o.max_input_period > 0.0 && o.max_gap >= o.max_input_period, "--max-gap must be at least --max-input-period (> 0)");
+  // Checked for every input: with a CSV the description only picks the model, and a missing or
+  // broken one must be refused ("FILE:LINE: problem"), not read as "no model of its own".
+  if (!o.log.vehicle.empty()) loadVehicleDescription(o.log.vehicle);
   const std::string model_path = detectModelPath(o.model, o.log.vehicle);
   const TrainedModel model = readModelFile(model_path);
   const ModelMetadata& m = model.metadata;

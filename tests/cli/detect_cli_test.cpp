@@ -147,14 +147,29 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
   ASSERT_EQ(own.exit_code, 0) << own.out;
   EXPECT_NE(own.out.find("/models/tcn-racer250.qfdw (for --vehicle"), std::string::npos) << own.out;
   EXPECT_NE(own.out.find("FAULT in motor 2 at t = 1."), std::string::npos) << own.out.substr(own.out.size() - 400);
-  const CommandResult general = run("detect -q --vehicle " + src + "/configs/vehicle-example.toml --input " + csv, false);
+  // The same description under a name no shipped model has (a user's own vehicle): the general model.
+  const std::string mine = temp("my-racer.toml");
+  std::ofstream(mine) << readFile(src + "/configs/vehicles/racer250.toml");
+  const CommandResult general = run("detect -q --vehicle " + mine + " --input " + csv, false);
   const CommandResult plain = run("detect -q --input " + csv, false);
   ASSERT_EQ(general.exit_code, 0);
-  EXPECT_EQ(general.out, plain.out);  // no tcn-vehicle-example.qfdw: the general model, the same output
+  EXPECT_EQ(general.out, plain.out);  // no tcn-quadfdi_detect_my-racer.qfdw: the general model, the same output
   const CommandResult named =
       run("detect -q --model " + src + "/models/tcn-randomised.qfdw --vehicle " + src + "/configs/vehicles/racer250.toml --input " + csv, false);
   EXPECT_EQ(named.out, plain.out);
   EXPECT_NE(named.out, run("detect -q --vehicle " + src + "/configs/vehicles/racer250.toml --input " + csv, false).out);
+  // A description that does not read is refused in one line naming it, whatever the input, and
+  // an existing output is kept.
+  const std::string bad = temp("bad-vehicle.toml"), out = temp("vehicle-kept.jsonl");
+  std::ofstream(bad) << "name = \"x\"\nmass = abc\n";
+  std::ofstream(out) << "kept\n";
+  for (const std::string& vehicle : {bad, temp("no-such-vehicle.toml")}) {
+    const CommandResult r = run("detect --vehicle " + vehicle + " --input " + csv + " --output " + out);
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_EQ(countLines(r.out), 1) << r.out;
+    EXPECT_EQ(r.out.rfind("quadfdi: error: " + vehicle, 0), 0u) << r.out;
+  }
+  EXPECT_EQ(readFile(out), "kept\n");
 }
 
 TEST(DetectCli, AHealthyFlightRaisesNoAlarm) {
