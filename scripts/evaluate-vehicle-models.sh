@@ -3,8 +3,8 @@
 # and 14, models/README.md): each library vehicle is flown and scored with its own model
 # models/tcn-STEM.qfdw and that model's calibration, into docs/results/vehicles/STEM/.
 #   scripts/evaluate-vehicle-models.sh [QUADFDI] [FLIGHT_HOURS_PER_VEHICLE]
-# The pooled false-alarm count over the vehicles is summed by hand in the README (each
-# vehicle's decisions.md states its own count, hours and bound).
+# Then the summary docs/results/vehicles/README.md (scripts/summarise-vehicle-results.py), with the
+# general model's E7 of docs/results/randomised/e7.csv alongside when it is there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quadfdi=${1:-build/release/src/quadfdi}
@@ -16,3 +16,5 @@ for vehicle in configs/vehicles/*.toml; do
   "$quadfdi" evaluate -e e7 decisions --model-free "$model" --vehicle "$vehicle" --flights-per-class 5 \
     --flight-hours "$hours" --scale default -o "docs/results/vehicles/$stem" -q
 done
+general=docs/results/randomised/e7.csv
+python3 scripts/summarise-vehicle-results.py $([[ -f $general ]] && echo "$general")
