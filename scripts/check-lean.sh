@@ -6,7 +6,8 @@ set -eu
 Q=$1
 cd "$(dirname "$0")/.."
 fail() { echo "check-lean: $*" >&2; exit 1; }
-if ldd "$Q" | grep -Ei 'torch|c10|caffe2'; then fail "$Q links LibTorch"; fi
+# Library names only (ldd's first field): a load address such as 0x00007f69cdfc1000 contains "c10".
+if ldd "$Q" | awk '{print $1}' | grep -Ei 'torch|c10|caffe2'; then fail "$Q links LibTorch"; fi
 ldd "$Q" > /dev/null || fail "ldd failed on $Q"
 "$Q" --help | grep -Eq '^ +(train|reproduce|convert-model) ' && fail "the lean build lists a training command"
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/quadfdi-lean.XXXXXX")
