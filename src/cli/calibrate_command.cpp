@@ -45,6 +45,10 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
   t->add("--false-alarms-per-hour", o.false_alarms_per_hour, "Target false alarms per flight hour").above(0.0, 3600.0);
   t->add("--degraded-below", o.degraded_below, "Degraded level").above(0.0, 1.0);
   t->add("--failed-below", o.failed_below, "Failed level").above(0.0, 1.0);
+  t->add("--degraded-cap", o.degraded_cap,
+         "Most one sample adds to the degraded CUSUM [effectiveness] (a robust CUSUM: a short deep dip of healthy Θ̂ weighs "
+         "no more than a mild fault's sustained one; 0: no cap)")
+      .atLeast(0.0);
   t->add("--position-noise", o.position_noise, "Sensor noise on position [m]").atLeast(0.0);
   t->add("--attitude-noise", o.attitude_noise, "Sensor noise on Euler angles [rad]").atLeast(0.0);
   t->add("--randomise", o.randomise,
@@ -231,7 +235,8 @@ int runCalibrate(const CalibrateOptions& o) {
   if (!est.empty()) c.noise.model_sigma = fitModelSigma(est, truth, noise_var);
 
   const double per_level = o.false_alarms_per_hour / 2.0;
-  c.degraded = calibrateLevel(excursionMaxima(healthy, o.degraded_below), o.degraded_below, c.flight_hours, per_level, c.noise, dt);
+  const double cap = o.degraded_cap > 0.0 ? o.degraded_cap : kNoIncrementCap;
+  c.degraded = calibrateLevel(excursionMaxima(healthy, o.degraded_below, 0, cap), o.degraded_below, c.flight_hours, per_level, c.noise, dt, cap);
   c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below), o.failed_below, c.flight_hours, per_level, c.noise, dt);
   char src[512];
   std::snprintf(src, sizeof src,
@@ -249,8 +254,8 @@ int runCalibrate(const CalibrateOptions& o) {
                  c.flight_hours, c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt, c.noise.model_sigma, est.size());
     for (const LevelCalibration* l : {&c.degraded, &c.failed})
       std::fprintf(stderr,
-                   "calibrate: level %.2f: h = %.3f (%s; %ld excursions), %ld alarms in the data = %.3g/h (95 %% bound %.3g/h)\n",
-                   l->level, l->threshold, l->method.c_str(), l->excursions, l->alarms_at_threshold, l->rate_at_threshold,
+                   "calibrate: level %.2f, cap %g: h = %.3f (%s; %ld excursions), %ld alarms in the data = %.3g/h (95 %% bound %.3g/h)\n",
+                   l->level, l->increment_cap, l->threshold, l->method.c_str(), l->excursions, l->alarms_at_threshold, l->rate_at_threshold,
                    l->rate_upper_bound);
     std::fprintf(stderr, "calibrate: wrote %s\n", output.c_str());
   }

@@ -177,7 +177,7 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, double degr
       throw ConfigError(calibration_file + ": calibrated at dt = " + std::to_string(c.dt) + " s, the model runs at " + std::to_string(dt) + " s");
     // A level other than the calibrated one has no excursion data: Siegmund on the calibrated noise model.
     for (auto [level, below] : {std::pair<LevelCalibration*, double>{&c.degraded, degraded_below}, {&c.failed, failed_below}}) {
-      if (std::abs(level->level - below) > 1e-9) *level = calibrateLevel({}, below, 0.0, per_level, c.noise, dt);
+      if (std::abs(level->level - below) > 1e-9) *level = calibrateLevel({}, below, 0.0, per_level, c.noise, dt, level->increment_cap);
       else retarget(*level, c.flight_hours, per_level, c.noise, dt);
     }
     c.target_rate = false_alarms_per_hour;
@@ -186,6 +186,8 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, double degr
   s.config.failed_below = failed_below;
   s.config.degraded_threshold = c.degraded.threshold;
   s.config.failed_threshold = c.failed.threshold;
+  s.config.degraded_cap = c.degraded.increment_cap;
+  s.config.failed_cap = c.failed.increment_cap;
   s.config.noise = c.noise;
   return s;
 }

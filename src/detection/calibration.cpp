@@ -67,13 +67,13 @@ ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& stream
   return m;
 }
 
-std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip) {
+std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip, double cap) {
   std::vector<double> maxima;
   for (const auto& s : streams)
     for (int k = 0; k < kMotors; ++k) {
       double S = 0.0, peak = 0.0;
       for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i) {
-        S = std::max(0.0, S + level - static_cast<double>(s[i][static_cast<std::size_t>(k)]));
+        S = std::max(0.0, S + cusumIncrement(level, static_cast<double>(s[i][static_cast<std::size_t>(k)]), cap));
         if (S > 0.0) {
           peak = std::max(peak, S);
         } else if (peak > 0.0) {
@@ -130,9 +130,10 @@ void retarget(LevelCalibration& c, double flight_hours, double rate_per_hour, co
 }
 
 LevelCalibration calibrateLevel(std::vector<double> maxima, double level, double flight_hours, double rate_per_hour,
-                                const ThetaNoiseModel& noise, double dt) {
+                                const ThetaNoiseModel& noise, double dt, double cap) {
   LevelCalibration c;
   c.level = level;
+  c.increment_cap = cap;
   c.excursions = static_cast<long>(maxima.size());
   std::sort(maxima.begin(), maxima.end(), std::greater<double>());
   const std::size_t k = std::clamp<std::size_t>(maxima.size() / 5, std::min<std::size_t>(maxima.size(), kMinTail), kMaxTail);
@@ -158,12 +159,13 @@ double fitModelSigma(const std::vector<double>& estimates, const std::vector<dou
   return std::sqrt(std::max(0.0, (sq - noise) / static_cast<double>(estimates.size())));
 }
 
-DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt) {
+DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt,
+                                       double degraded_cap) {
   DecisionCalibration c;
   c.target_rate = target_rate;
   c.dt = dt;
   c.source = "defaults (docs/decisions.md): noise model of the shipped TCN, thresholds by Siegmund's approximation";
-  c.degraded = calibrateLevel({}, degraded_below, 0.0, target_rate / 2.0, c.noise, dt);
+  c.degraded = calibrateLevel({}, degraded_below, 0.0, target_rate / 2.0, c.noise, dt, degraded_cap);
   c.failed = calibrateLevel({}, failed_below, 0.0, target_rate / 2.0, c.noise, dt);
   return c;
 }

@@ -27,6 +27,7 @@ namespace quadfdi {
 
 struct LevelCalibration {
   double level = 0.9;               // [-] the CUSUM's reference (degraded_below or failed_below)
+  double increment_cap = kNoIncrementCap;  // [effectiveness] the CUSUM's cap per sample (SequentialConfig::degraded_cap)
   double threshold = 3.0;           // [effectiveness·samples] h for the target rate
   std::string method = "siegmund";  // "tail" (fitted on excursions) | "siegmund" (noise model)
   long excursions = 0;              // [-] CUSUM excursions above zero in the data, all motors
@@ -49,25 +50,30 @@ struct DecisionCalibration {
   std::string source;        // provenance: command, model, simulation settings
 };
 
-// The default calibration (no data): the default noise model, thresholds by Siegmund.
-DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt);
+// The default calibration (no data): the default noise model, thresholds by Siegmund, the
+// degraded level's increment capped at `degraded_cap`.
+DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt,
+                                       double degraded_cap = kNoIncrementCap);
 
 // Pooled over motors and flights (each stream's first `skip` samples dropped): mean, standard
 // deviation and lag-1 autocorrelation of Θ̂. model_sigma is left at the default.
 ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& streams, long skip = 0);
 
-// Every excursion maximum of the CUSUM S_k = max(0, S_{k−1} + level − Θ̂_k) of every motor of
-// every stream (unsorted).
-std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip = 0);
+// Every excursion maximum of the CUSUM S_k = max(0, S_{k−1} + min(level − Θ̂_k, cap)) of every
+// motor of every stream (unsorted).
+std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip = 0,
+                                    double cap = kNoIncrementCap);
 
 // Siegmund's ARL approximation for the AR(1) noise model: the CUSUM threshold h at `level` for
 // `rate_per_hour` false alarms per flight hour over kMotors motors at period dt. At least h_min.
 double siegmundThreshold(const ThetaNoiseModel& noise, double level, double rate_per_hour, double dt);
 
-// Fits a level from its excursion maxima over `flight_hours` (per vehicle) for `rate_per_hour`;
-// falls back to Siegmund with fewer than kMinTail maxima.
+// Fits a level from its excursion maxima (of the CUSUM with increment cap `cap`) over
+// `flight_hours` (per vehicle) for `rate_per_hour`; falls back to Siegmund with fewer than
+// kMinTail maxima (Siegmund's Gaussian increments ignore the cap: conservative, since a cap only
+// removes evidence).
 LevelCalibration calibrateLevel(std::vector<double> maxima, double level, double flight_hours, double rate_per_hour,
-                                const ThetaNoiseModel& noise, double dt);
+                                const ThetaNoiseModel& noise, double dt, double cap = kNoIncrementCap);
 // Re-solves an existing level's threshold for another target rate from its stored tail.
 void retarget(LevelCalibration& c, double flight_hours, double rate_per_hour, const ThetaNoiseModel& noise, double dt);
 
@@ -82,6 +88,11 @@ double poissonUpperBound(long count, double confidence = 0.95);
 
 inline constexpr int kMinTail = 10;        // [-] fewest excursion maxima for a tail fit
 inline constexpr int kMaxTail = 200;       // [-] most maxima kept in the tail
+// [effectiveness] The degraded level's increment cap that `calibrate` uses by default: swept over
+// 0.1 … 0.3 and none at level 0.8 on the three per-vehicle models' calibration flights (5 h each)
+// and held-out E7-style flights, 0.1 isolated the most partial faults at +300 ms on every vehicle
+// with no false alarm in 10 test hours each (docs/decisions.md "Capped increments").
+inline constexpr double kDefaultDegradedCap = 0.1;
 inline constexpr double kMinThreshold = 1.0;  // [effectiveness·samples] floor on h: at least 10 samples 0.1 below the level
 
 }  // namespace quadfdi

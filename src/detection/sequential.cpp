@@ -38,6 +38,7 @@ std::string validate(const SequentialConfig& c) {
   if (!(c.failed_below > 0.0 && c.failed_below < c.degraded_below && c.degraded_below <= 1.0))
     return "levels must satisfy 0 < failed_below < degraded_below <= 1";
   if (!(c.degraded_threshold > 0.0) || !(c.failed_threshold > 0.0)) return "CUSUM thresholds must be positive";
+  if (!(c.degraded_cap > 0.0) || !(c.failed_cap > 0.0)) return "CUSUM increment caps must be positive (infinite: none)";
   if (c.clear_after < 1) return "clear_after must be at least 1 sample";
   if (c.estimate_window < 1 || c.estimate_window > 100000) return "estimate_window must be 1 … 100000 samples";
   if (!(c.interval_level > 0.0 && c.interval_level < 1.0)) return "interval_level must lie in (0, 1)";
@@ -78,12 +79,13 @@ SequentialStatus SequentialRule::update(const MotorTheta& theta, int samples) {
   const long pushes = std::min<long>(n, w);
   for (int k = 0; k < kMotors; ++k) {
     const double x = static_cast<double>(theta[static_cast<std::size_t>(k)]);
-    // Page's CUSUM with the reference at the level: it grows exactly while Θ̂ is below the level.
-    // A held x adds the same increment n times, and max(0, ·) of a constant-sign sum is the
-    // same whether applied once or per sample.
+    // Page's CUSUM with the reference at the level: it grows exactly while Θ̂ is below the level,
+    // by at most the cap per sample. A held x adds the same increment n times, and max(0, ·) of a
+    // constant-sign sum is the same whether applied once or per sample.
     const double before = degraded_[static_cast<std::size_t>(k)];
-    degraded_[static_cast<std::size_t>(k)] = std::max(0.0, before + dn * (config_.degraded_below - x));
-    failed_[static_cast<std::size_t>(k)] = std::max(0.0, failed_[static_cast<std::size_t>(k)] + dn * (config_.failed_below - x));
+    degraded_[static_cast<std::size_t>(k)] = std::max(0.0, before + dn * cusumIncrement(config_.degraded_below, x, config_.degraded_cap));
+    failed_[static_cast<std::size_t>(k)] =
+        std::max(0.0, failed_[static_cast<std::size_t>(k)] + dn * cusumIncrement(config_.failed_below, x, config_.failed_cap));
     long& since = since_change_[static_cast<std::size_t>(k)];
     if (degraded_[static_cast<std::size_t>(k)] <= 0.0) since = 0;
     else since = (before <= 0.0) ? n : since + n;

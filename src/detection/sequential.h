@@ -8,7 +8,9 @@
 // Pure: no I/O; the constructor allocates, update() does not.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,9 @@ namespace quadfdi {
 
 enum class Severity { kHealthy, kDegraded, kFailed };
 const char* toString(Severity s);  // healthy | degraded | failed
+
+// No cap on a CUSUM's increment (the plain Page CUSUM).
+inline constexpr double kNoIncrementCap = std::numeric_limits<double>::infinity();
 
 // Θ̂ of one motor on healthy flights as a stationary AR(1) process, plus the systematic error of
 // the network on faulty flights. Defaults: measured on the shipped TCN (models/tcn-model-free.qfdw)
@@ -39,6 +44,11 @@ struct SequentialConfig {
   double degraded_threshold = 14.0; // [effectiveness·samples] CUSUM threshold h of the degraded level (shipped
                                     //     TCN calibration at 0.1 false alarms per flight hour, docs/decisions.md)
   double failed_threshold = 3.9;    // [effectiveness·samples] h of the failed level (same source)
+  double degraded_cap = kNoIncrementCap;  // [effectiveness] most one sample adds to the degraded statistic: a deep,
+                                          //     short dip of healthy Θ̂ (a hard manoeuvre) then weighs no more than a
+                                          //     mild fault's sustained one (docs/decisions.md "Capped increments").
+                                          //     A calibration sets it with its thresholds; none for these defaults
+  double failed_cap = kNoIncrementCap;    // [effectiveness] the same for the failed statistic
   int clear_after = 100;            // [samples] Θ̂ of the flagged motor at or above the level this long
                                     //     clears (or de-escalates) it: 200 ms at 500 Hz, as the persistence filter
   int estimate_window = 50;         // [samples] Θ̂ estimate: mean of the last this many samples since the
@@ -102,6 +112,10 @@ class SequentialRule {
   long recovery_run_ = 0;                      // flagged motor at/above its level: consecutive samples
   SequentialState state_;
 };
+
+// One sample's increment of a CUSUM at `level` with an increment cap: min(level − Θ̂, cap)
+// (a Huber-type robust CUSUM; the rule and its calibration share it).
+inline double cusumIncrement(double level, double theta, double cap) { return std::min(level - theta, cap); }
 
 // Standard-normal quantile Φ⁻¹(p), p in (0, 1) (bisection on erfc; to 1e-12).
 double normalQuantile(double p);

@@ -15,7 +15,7 @@ namespace quadfdi {
 namespace {
 
 nlohmann::json levelToJson(const LevelCalibration& c) {
-  return {{"level", c.level},
+  nlohmann::json j = {{"level", c.level},
           {"threshold", c.threshold},
           {"method", c.method},
           {"excursions", c.excursions},
@@ -25,6 +25,8 @@ nlohmann::json levelToJson(const LevelCalibration& c) {
           {"alarms_at_threshold", c.alarms_at_threshold},
           {"rate_at_threshold", c.rate_at_threshold},
           {"rate_upper_bound", c.rate_upper_bound}};
+  if (std::isfinite(c.increment_cap)) j["increment_cap"] = c.increment_cap;  // absent: no cap (files before the cap)
+  return j;
 }
 
 // A count: get<long> would convert a float or an out-of-range number (undefined behaviour for
@@ -48,6 +50,7 @@ LevelCalibration levelFromJson(const nlohmann::json& j) {
   c.alarms_at_threshold = count(j.at("alarms_at_threshold"), "alarms_at_threshold");
   c.rate_at_threshold = j.at("rate_at_threshold").get<double>();
   c.rate_upper_bound = j.at("rate_upper_bound").get<double>();
+  if (j.contains("increment_cap")) c.increment_cap = j.at("increment_cap").get<double>();
   return c;
 }
 
@@ -102,6 +105,8 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
   check.failed_below = c.failed.level;
   check.degraded_threshold = c.degraded.threshold;
   check.failed_threshold = c.failed.threshold;
+  check.degraded_cap = c.degraded.increment_cap;
+  check.failed_cap = c.failed.increment_cap;
   if (std::string p = validate(check); !p.empty()) throw fail("bad calibration: " + p);
   if (!(c.target_rate > 0.0) || !(c.dt > 0.0) || !(c.flight_hours >= 0.0)) throw fail("bad calibration: target_rate, dt or flight_hours out of range");
   return c;

@@ -115,8 +115,10 @@ TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
   const CommandResult c = run("calibrate --model " + std::string(QUADFDI_SOURCE_DIR) +
                               "/models/tcn-model-free.qfdw --flights 2 --flight-seconds 4 --faulty-flights 3 --output " + cal);
   ASSERT_EQ(c.exit_code, 0) << c.out;
-  EXPECT_NE(c.out.find("calibrate: level 0.80: h = "), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("calibrate: level 0.80, cap 0.1: h = "), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("calibrate: level 0.30, cap inf: h = "), std::string::npos) << c.out;
   EXPECT_NE(readFile(cal).find("\"format\": \"quadfdi-decision-calibration-1\""), std::string::npos);
+  EXPECT_NE(readFile(cal).find("\"increment_cap\": 0.1"), std::string::npos);  // the cap the thresholds were fitted for
   const CommandResult r = run("detect --model " + std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw --calibration " + cal +
                               " --input " + faultyCsv() + " --output " + temp("calibrated.jsonl"));
   ASSERT_EQ(r.exit_code, 0) << r.out;

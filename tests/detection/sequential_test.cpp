@@ -132,6 +132,33 @@ TEST(SequentialRule, AHeldEstimateCountsAsManySamples) {
   EXPECT_EQ(a.state().severity, b.state().severity);
 }
 
+// The capped (Huber-type) CUSUM: a deep dip adds at most the cap per sample, so a short dip that
+// the plain CUSUM alarms on passes, while a mild fault's deficit below the cap counts in full.
+TEST(SequentialRule, ACappedIncrementWeighsADeepDipNoMoreThanTheCap) {
+  SequentialConfig c = handConfig();
+  c.failed_threshold = 1000.0;  // only the degraded statistic decides here
+  c.degraded_cap = 0.25;
+  SequentialRule capped(c);
+  c.degraded_cap = kNoIncrementCap;
+  SequentialRule plain(c);
+  // A 5-sample dip to 0.2: 0.7 a sample uncapped (3.5 ≥ 3, raised on the 5th), 0.25 capped (1.25).
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(plain.update(with(1, 0.2f), 1), SequentialStatus::kBuilding);
+  EXPECT_EQ(plain.update(with(1, 0.2f), 1), SequentialStatus::kRaised);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(capped.update(with(1, 0.2f), 1), SequentialStatus::kBuilding);
+  EXPECT_NEAR(capped.degradedStatistic(0), 1.25, 1e-6);
+  for (int i = 0; i < 100; ++i) capped.update(healthy(), 1);  // the dip's evidence drains away
+  EXPECT_EQ(capped.degradedStatistic(0), 0.0);
+  // A step to 0.7: 0.2 a sample, under the cap, raised on the 15th sample as without a cap.
+  EXPECT_EQ(updatesUntil(capped, with(4, 0.7f), SequentialStatus::kRaised), 15);
+  EXPECT_EQ(capped.state().motor, 4);
+  // A held estimate adds the capped increment once per sample it stands for.
+  SequentialRule held(capped.config()), single(capped.config());
+  held.update(with(2, 0.1f), 4);
+  for (int i = 0; i < 4; ++i) single.update(with(2, 0.1f), 1);
+  EXPECT_NEAR(held.degradedStatistic(1), 1.0, 1e-6);
+  EXPECT_NEAR(held.degradedStatistic(1), single.degradedStatistic(1), 1e-12);
+}
+
 TEST(SequentialRule, RefusesBadConfigs) {
   SequentialConfig c;
   c.failed_below = 0.95;
@@ -139,6 +166,11 @@ TEST(SequentialRule, RefusesBadConfigs) {
   c = SequentialConfig{};
   c.noise.phi = 1.0;
   EXPECT_THROW(SequentialRule{c}, std::invalid_argument);
+  for (double cap : {0.0, -0.1, std::nan("")}) {
+    c = SequentialConfig{};
+    c.degraded_cap = cap;
+    EXPECT_THROW(SequentialRule{c}, std::invalid_argument) << cap;
+  }
 }
 
 TEST(Ar1MeanVariance, MatchesTheDirectSumAndTheIidCase) {
@@ -256,6 +288,35 @@ TEST(Calibration, NoExcursionOfTheDataReachesTheThresholdWhenNoneIsExpected) {
   EXPECT_GE(common.alarms_at_threshold, 1);
 }
 
+// The calibration measures the statistic the rule runs: with a cap, the excursion maxima are those
+// of the capped CUSUM, and a threshold fitted on them is never reached by the data's own capped
+// excursions when none is expected.
+TEST(Calibration, ExcursionsOfTheCappedStatistic) {
+  std::vector<MotorTheta> dip(200, healthy());
+  for (int i = 50; i < 60; ++i) dip[static_cast<std::size_t>(i)][0] = 0.0f;  // 10 samples at 0
+  const std::vector<std::vector<MotorTheta>> streams{dip};
+  const std::vector<double> plain = excursionMaxima(streams, 0.8, 0), capped = excursionMaxima(streams, 0.8, 0, 0.1);
+  ASSERT_EQ(plain.size(), 1u);
+  ASSERT_EQ(capped.size(), 1u);
+  EXPECT_NEAR(plain[0], 8.0, 1e-6);
+  EXPECT_NEAR(capped[0], 1.0, 1e-6);
+  const auto train = ar1Streams(4, 50000, 0.97, 0.05, 0.8, 13);
+  const ThetaNoiseModel noise = fitNoiseModel(train);
+  const double hours = 4 * 50000 * 0.002 / 3600.0;
+  const LevelCalibration c = calibrateLevel(excursionMaxima(train, 0.85, 0, 0.05), 0.85, hours, 0.05, noise, 0.002, 0.05);
+  EXPECT_EQ(c.method, "tail");
+  EXPECT_EQ(c.increment_cap, 0.05);
+  SequentialConfig rule;
+  rule.degraded_below = 0.85;
+  rule.degraded_cap = c.increment_cap;
+  rule.degraded_threshold = c.threshold;
+  rule.failed_threshold = 1e9;
+  for (const auto& s : train) {
+    SequentialRule r(rule);
+    for (const MotorTheta& t : s) ASSERT_NE(r.update(t, 1), SequentialStatus::kRaised);
+  }
+}
+
 TEST(Calibration, FallsBackToSiegmundWithoutExcursions) {
   const auto train = ar1Streams(2, 20000, 0.97, 0.02, 0.9, 3);
   const ThetaNoiseModel noise = fitNoiseModel(train);
@@ -273,9 +334,23 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
   c.noise = fitNoiseModel(train);
   c.flight_hours = 100000 * 0.002 / 3600.0;
   c.degraded = calibrateLevel(excursionMaxima(train, 0.9), 0.9, c.flight_hours, 0.05, c.noise, 0.002);
+  c.degraded.increment_cap = 0.1;
   const DecisionCalibration back = calibrationFromJson(calibrationToJson(c), "x.json");
   EXPECT_EQ(calibrationToJson(back), calibrationToJson(c));
   EXPECT_EQ(back.degraded.tail_maxima, c.degraded.tail_maxima);
+  EXPECT_EQ(back.degraded.increment_cap, 0.1);
+  EXPECT_EQ(back.failed.increment_cap, kNoIncrementCap);  // no key: no cap (every file before the cap)
+  EXPECT_EQ(calibrationToJson(back).find("increment_cap", calibrationToJson(back).find("\"failed\"")), std::string::npos);
+  {
+    std::string json = calibrationToJson(c);
+    json.replace(json.find("\"increment_cap\": 0.1"), 20, "\"increment_cap\": -1");
+    try {
+      calibrationFromJson(json, "cal.json");
+      ADD_FAILURE();
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("cal.json: bad calibration: CUSUM increment caps must be positive"), std::string::npos) << e.what();
+    }
+  }
   try {
     calibrationFromJson("{\"format\": \"quadfdi-decision-calibration-1\"}", "cal.json");
     FAIL();
