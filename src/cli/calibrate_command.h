@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "detection/calibration.h"
 
 namespace quadfdi::cli {
 
@@ -22,7 +23,7 @@ struct CalibrateOptions {
   double false_alarms_per_hour = 0.1;  // [1/flight hour]
   double degraded_below = 0.8;      // [-] as detect's default (docs/decisions.md)
   double failed_below = 0.3;        // [-]
-  double degraded_cap = 0.1;        // [effectiveness] degraded CUSUM's increment cap per sample (kDefaultDegradedCap; 0: none)
+  double degraded_cap = kDefaultDegradedCap;  // [effectiveness] degraded CUSUM's increment cap per sample (0: none)
   double position_noise = 0.0;      // [m] sensor noise on the logged position
   double attitude_noise = 0.0;      // [rad] on the logged Euler angles
   std::string randomise;            // randomisation FILE: fly its vehicles, controllers, manoeuvres and estimator instead

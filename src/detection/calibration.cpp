@@ -159,13 +159,12 @@ double fitModelSigma(const std::vector<double>& estimates, const std::vector<dou
   return std::sqrt(std::max(0.0, (sq - noise) / static_cast<double>(estimates.size())));
 }
 
-DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt,
-                                       double degraded_cap) {
+DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt) {
   DecisionCalibration c;
   c.target_rate = target_rate;
   c.dt = dt;
   c.source = "defaults (docs/decisions.md): noise model of the shipped TCN, thresholds by Siegmund's approximation";
-  c.degraded = calibrateLevel({}, degraded_below, 0.0, target_rate / 2.0, c.noise, dt, degraded_cap);
+  c.degraded = calibrateLevel({}, degraded_below, 0.0, target_rate / 2.0, c.noise, dt);
   c.failed = calibrateLevel({}, failed_below, 0.0, target_rate / 2.0, c.noise, dt);
   return c;
 }

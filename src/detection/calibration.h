@@ -50,10 +50,8 @@ struct DecisionCalibration {
   std::string source;        // provenance: command, model, simulation settings
 };
 
-// The default calibration (no data): the default noise model, thresholds by Siegmund, the
-// degraded level's increment capped at `degraded_cap`.
-DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt,
-                                       double degraded_cap = kNoIncrementCap);
+// The default calibration (no data): the default noise model, thresholds by Siegmund, no caps.
+DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt);
 
 // Pooled over motors and flights (each stream's first `skip` samples dropped): mean, standard
 // deviation and lag-1 autocorrelation of Θ̂. model_sigma is left at the default.
