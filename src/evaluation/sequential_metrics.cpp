@@ -33,7 +33,7 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
     const bool is_degraded = faulty && truth.theta < degraded_below, is_failed = faulty && truth.theta < failed_below;
     r.degraded.flights += is_degraded;
     r.failed.flights += is_failed;
-    r.isolation_flights += is_degraded;
+    r.isolation_flights += faulty;  // every fault is to be isolated, also one at or above the degraded level
     const Severity expected = is_failed ? Severity::kFailed : Severity::kDegraded;
     bool found_degraded = false, found_failed = false;
     for (long k = 0; k < static_cast<long>(f.theta.size()); ++k) {
@@ -55,8 +55,8 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
         found_failed = true;
         failed_delays.push_back(static_cast<double>(since) * config.dt);
       }
-      if (is_degraded && since == config.isolation_early) early += right;
-      if (is_degraded && since == config.isolation_late) {
+      if (since == config.isolation_early) early += right;
+      if (since == config.isolation_late) {
         late += right;
         severity_late += right && s.severity == expected;
       }

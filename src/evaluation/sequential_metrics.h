@@ -38,7 +38,7 @@ struct SeverityDetection {
 
 struct SequentialEvaluation {
   SeverityDetection degraded, failed;
-  int isolation_flights = 0;          // faulty flights with Θ below degraded_below
+  int isolation_flights = 0;          // faulty flights, whatever their Θ (issue 13 scores Θ ≤ 0.8 at the 0.8 level too)
   double isolated_early = 0.0;        // [-] fraction naming the true motor (any severity) at fault + isolation_early
   double isolated_late = 0.0;         // [-] … at fault + isolation_late
   double severity_right_late = 0.0;   // [-] … with the right severity for the true Θ

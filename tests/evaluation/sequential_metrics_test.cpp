@@ -59,6 +59,13 @@ TEST(SequentialEvaluation, CountsDelaysIsolationAndFalseAlarmsOnCleanSteps) {
   EXPECT_NEAR(r.healthy_hours, (2000 + 800) * c.dt / 3600.0, 1e-12);
   EXPECT_NEAR(r.false_alarms_upper_bound * r.healthy_hours, 4.743864518, 1e-6);
   EXPECT_LT(r.theta_max_error, 1e-6);  // noise-free steps: the estimate is exact once flown through
+  // A fault at the degraded level itself (Θ̂ = 0.9 = the level never builds evidence) is still a
+  // fault to isolate: it counts, unisolated, instead of dropping out of the fraction.
+  flights.push_back(flight(1000, 2, 0.9, 400, 0.0, 0.0, rng));
+  const SequentialEvaluation with_mild = evaluateSequential(flights, c);
+  EXPECT_EQ(with_mild.isolation_flights, 3);
+  EXPECT_EQ(with_mild.degraded.flights, 2);  // not `degraded` by the rule's own level
+  EXPECT_NEAR(with_mild.isolated_late, 2.0 / 3.0, 1e-12);
 }
 
 TEST(SequentialEvaluation, TheIntervalCoversTheTruthAtItsNominalRate) {
