@@ -3,6 +3,7 @@
 // simulateFlight, so that another vehicle, controller or trajectory generator can replace it.
 #include "cli/calibrate_command.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include "detection/calibration.h"
 #include "detection/session.h"
 #include "evaluation/flight_streams.h"
+#include "evaluation/level_choice.h"
 #include "io/calibration_file.h"
 #include "io/model_file.h"
 #include "io/params_file.h"
@@ -43,7 +45,12 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
       .range(0, 100000);
   t->add("--seed", o.seed, "Scenario seed");
   t->add("--false-alarms-per-hour", o.false_alarms_per_hour, "Target false alarms per flight hour").above(0.0, 3600.0);
-  t->add("--degraded-below", o.degraded_below, "Degraded level").above(0.0, 1.0);
+  t->add("--degraded-below", o.degraded_below,
+         "Degraded level; given several (e.g. 0.8 0.85 0.9), each is calibrated and the one that names the motor of the most "
+         "faulty flights (Θ below the highest) within --delay-budget wins, a tie going to the higher")
+      .above(0.0, 1.0);
+  t->add("--delay-budget", o.delay_budget, "Choosing among several --degraded-below: the delay a fault must be reported within [s]")
+      .above(0.0, 60.0);
   t->add("--failed-below", o.failed_below, "Failed level").above(0.0, 1.0);
   t->add("--degraded-cap", o.degraded_cap,
          "Most one sample adds to the degraded CUSUM [effectiveness] (a robust CUSUM: a short deep dip of healthy Θ̂ weighs "
@@ -142,7 +149,7 @@ std::vector<MotorTheta> thetaStream(const TrainedModel& model, const std::vector
 }  // namespace
 
 int runCalibrate(const CalibrateOptions& o) {
-  require(o.failed_below < o.degraded_below, "--failed-below must be below --degraded-below");
+  for (double level : o.degraded_below) require(o.failed_below < level, "--failed-below must be below --degraded-below");
   const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
   const TrainedModel model = readModelFile(model_path);
   const double dt = model.metadata.dt;
@@ -155,7 +162,7 @@ int runCalibrate(const CalibrateOptions& o) {
   std::vector<std::vector<MotorTheta>> healthy;
   long samples = 0;
   // Randomised flights (--randomise): every library vehicle, controller, manoeuvre and estimator.
-  std::vector<FlightThetaStream> randomised_faulty;
+  std::vector<FlightThetaStream> faulty;
   if (!o.randomise.empty()) {
     RolloutConfig rc;
     rc.window = T;
@@ -185,7 +192,7 @@ int runCalibrate(const CalibrateOptions& o) {
     Rng draw(o.seed, kFirstStream - 2);
     for (int f = 0; f < o.faulty_flights; ++f)
       jobs.push_back({static_cast<std::uint64_t>(f), 1 + static_cast<int>(draw.next() % 4), draw.uniform(0.0, 0.9)});
-    randomised_faulty = simulateThetaStreams(model, rc, jobs, 0, 16);
+    faulty = simulateThetaStreams(model, rc, jobs, 0, 16);
   } else {
     for (int f = 0; f < o.flights; ++f) {
       healthy.push_back(thetaStream(model, simulateFlight(o.seed, kFirstStream + static_cast<std::uint64_t>(f), steps, goal_steps, 0, 1.0, 0, o)));
@@ -199,12 +206,24 @@ int runCalibrate(const CalibrateOptions& o) {
   c.flight_hours = static_cast<double>(samples) * dt / 3600.0;
   c.target_rate = o.false_alarms_per_hour;
 
+  // Faulty flights of the default path (nominal Crazyflie under LQR): fault at step 500.
+  Rng draw(o.seed, kFirstStream - 1);
+  for (int f = 0; o.randomise.empty() && f < o.faulty_flights; ++f) {
+    FlightThetaStream s;
+    s.truth.motor = 1 + static_cast<int>(draw.uniform(0.0, 4.0)) % 4;
+    s.truth.theta = draw.uniform(0.0, 0.9);
+    const int fault_step = 500, flight_steps = fault_step + 2 * T + 4 * SequentialConfig{}.estimate_window;
+    s.theta = thetaStream(model, simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(f), flight_steps,
+                                                flight_steps, s.truth.motor, s.truth.theta, fault_step, o));
+    s.truth.fault_sample = fault_step - (T - 1);  // stream index of the fault's sample
+    faulty.push_back(std::move(s));
+  }
+
   // Model error of the estimate: after the fault has been flown through (T + the estimate window),
   // the mean of the last estimate_window samples of the true motor against Θ.
-  const SequentialConfig defaults;
-  const int w = defaults.estimate_window;
+  const int w = SequentialConfig{}.estimate_window;
   std::vector<double> est, truth, noise_var;
-  for (const FlightThetaStream& s : randomised_faulty) {
+  for (const FlightThetaStream& s : faulty) {
     const int motor = s.truth.motor;
     for (long end = s.truth.fault_sample + T + w; end <= static_cast<long>(s.theta.size()); end += w) {
       double sum = 0.0;
@@ -214,38 +233,43 @@ int runCalibrate(const CalibrateOptions& o) {
       noise_var.push_back(ar1MeanVariance(c.noise.sigma, c.noise.phi, w));
     }
   }
-  Rng draw(o.seed, kFirstStream - 1);
-  for (int f = 0; o.randomise.empty() && f < o.faulty_flights; ++f) {
-    const int motor = 1 + static_cast<int>(draw.uniform(0.0, 4.0)) % 4;
-    const double theta = draw.uniform(0.0, 0.9);
-    const int fault_step = 500, flight_steps = fault_step + 2 * T + 4 * w;
-    const std::vector<MotorTheta> s = thetaStream(
-        model, simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(f), flight_steps, flight_steps,
-                              motor, theta, fault_step, o));
-    const long fault_index = fault_step - (T - 1);  // stream index of the fault's sample
-    for (long end = fault_index + T + w; end <= static_cast<long>(s.size()); end += w) {
-      double sum = 0.0;
-      for (long k = end - w; k < end; ++k) sum += static_cast<double>(s[static_cast<std::size_t>(k)][static_cast<std::size_t>(motor - 1)]);
-      est.push_back(sum / w);
-      truth.push_back(theta);
-      noise_var.push_back(ar1MeanVariance(c.noise.sigma, c.noise.phi, w));
-    }
-  }
   c.faulty_flights = o.faulty_flights;
   if (!est.empty()) c.noise.model_sigma = fitModelSigma(est, truth, noise_var);
 
   const double per_level = o.false_alarms_per_hour / 2.0;
   const double cap = o.degraded_cap > 0.0 ? o.degraded_cap : kNoIncrementCap;
-  c.degraded = calibrateLevel(excursionMaxima(healthy, o.degraded_below, 0, cap), o.degraded_below, c.flight_hours, per_level, c.noise, dt, cap);
   c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below), o.failed_below, c.flight_hours, per_level, c.noise, dt);
+  LevelChoiceConfig choose;
+  choose.candidates = o.degraded_below;
+  choose.cap = cap;
+  choose.failed = c.failed;
+  choose.noise = c.noise;
+  choose.flight_hours = c.flight_hours;
+  choose.rate_per_hour = per_level;
+  choose.dt = dt;
+  choose.delay_budget = std::lround(o.delay_budget / dt);
+  // One candidate needs no faulty flight to win; several need some to be told apart.
+  require(o.degraded_below.size() == 1 || !faulty.empty(), "choosing among several --degraded-below needs --faulty-flights > 0");
+  const LevelChoice choice = chooseDegradedLevel(healthy, o.degraded_below.size() == 1 ? std::vector<FlightThetaStream>{} : faulty, choose);
+  c.degraded = choice.candidates[static_cast<std::size_t>(choice.chosen)].degraded;
+  std::string chosen_from;
+  if (choice.candidates.size() > 1) {
+    char part[160];
+    for (const LevelCandidate& l : choice.candidates) {
+      std::snprintf(part, sizeof part, "%s%.3g (h %.3g: %d of %d within %g s)", chosen_from.empty() ? "" : ", ", l.degraded.level,
+                    l.degraded.threshold, l.isolated, l.faults, o.delay_budget);
+      chosen_from += part;
+    }
+    chosen_from = "; degraded level chosen from " + chosen_from;
+  }
   char src[512];
   std::snprintf(src, sizeof src,
-                "quadfdi calibrate: model %s; %d healthy flights of %g s, %d faulty flights; %s; seed %llu",
+                "quadfdi calibrate: model %s; %d healthy flights of %g s, %d faulty flights; %s; seed %llu%s",
                 model_path.c_str(), o.flights, o.flight_seconds, o.faulty_flights,
                 o.randomise.empty() ? ("LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
                                        std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad").c_str()
                                     : ("randomisation " + o.randomise).c_str(),
-                o.seed);
+                o.seed, chosen_from.c_str());
   c.source = src;
   const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
   writeCalibrationFile(output, c);
@@ -257,6 +281,12 @@ int runCalibrate(const CalibrateOptions& o) {
                    "calibrate: level %.2f, cap %g: h = %.3f (%s; %ld excursions), %ld alarms in the data = %.3g/h (95 %% bound %.3g/h)\n",
                    l->level, l->increment_cap, l->threshold, l->method.c_str(), l->excursions, l->alarms_at_threshold, l->rate_at_threshold,
                    l->rate_upper_bound);
+    for (std::size_t i = 0; choice.candidates.size() > 1 && i < choice.candidates.size(); ++i) {
+      const LevelCandidate& l = choice.candidates[i];
+      std::fprintf(stderr, "calibrate: degraded level %.3g: h = %.3f, %d of %d faults (Θ < %.3g) named within %g s%s\n", l.degraded.level,
+                   l.degraded.threshold, l.isolated, l.faults, *std::max_element(o.degraded_below.begin(), o.degraded_below.end()),
+                   o.delay_budget, static_cast<int>(i) == choice.chosen ? " (chosen)" : "");
+    }
     std::fprintf(stderr, "calibrate: wrote %s\n", output.c_str());
   }
   return 0;

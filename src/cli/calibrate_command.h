@@ -21,7 +21,9 @@ struct CalibrateOptions {
   int faulty_flights = 40;          // [-] for the model error of the Θ̂ estimate
   unsigned long long seed = 1;      // scenario streams 2⁴² + …, disjoint from training and test sets
   double false_alarms_per_hour = 0.1;  // [1/flight hour]
-  double degraded_below = 0.8;      // [-] as detect's default (docs/decisions.md)
+  std::vector<double> degraded_below{0.8};  // [-] the degraded level; with several, the one chosen on the faulty flights
+                                           //     (evaluation/level_choice.h); 0.8 as detect's default (docs/decisions.md)
+  double delay_budget = 0.3;        // [s] level choice: a fault counts when its motor is named this long after it (issue 14)
   double failed_below = 0.3;        // [-]
   double degraded_cap = kDefaultDegradedCap;  // [effectiveness] degraded CUSUM's increment cap per sample (0: none)
   double position_noise = 0.0;      // [m] sensor noise on the logged position

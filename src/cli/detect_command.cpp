@@ -76,8 +76,12 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
          "Alarm rule: sequential (per-motor CUSUM, severity levels, thresholds from --false-alarms-per-hour) or "
          "persistence (--raise-below for --raise-after evaluations: the earlier rule, output unchanged)")
       .choices({"sequential", "persistence"});
-  t->add("--degraded-below", o.degraded_below, "Sequential: a motor below this effectiveness is degraded").above(0.0, 1.0);
-  t->add("--failed-below", o.failed_below, "Sequential: a motor below this effectiveness has failed").above(0.0, 1.0);
+  t->add("--degraded-below", o.degraded_below, "Sequential: a motor below this effectiveness is degraded")
+      .above(0.0, 1.0)
+      .defaultText("the calibration's level; 0.8 without one");
+  t->add("--failed-below", o.failed_below, "Sequential: a motor below this effectiveness has failed")
+      .above(0.0, 1.0)
+      .defaultText("the calibration's level; 0.3 without one");
   t->add("--false-alarms-per-hour", o.false_alarms_per_hour,
          "Sequential: target false alarms per flight hour; the CUSUM thresholds are solved for it").above(0.0, 3600.0);
   t->add("--calibration", o.calibration,
@@ -164,26 +168,32 @@ std::string calibrationSidecarPath(const std::string& model_path) {
   return (has ? model_path.substr(0, model_path.size() - ext.size()) : model_path) + ".calibration.json";
 }
 
-SequentialSetup sequentialSetup(const std::string& calibration_file, double degraded_below, double failed_below,
-                                double false_alarms_per_hour, double dt) {
+SequentialSetup sequentialSetup(const std::string& calibration_file, std::optional<double> degraded_below,
+                                std::optional<double> failed_below, double false_alarms_per_hour, double dt) {
   SequentialSetup s;
   DecisionCalibration& c = s.calibration;
   const double per_level = false_alarms_per_hour / 2.0;  // the vehicle's budget, split over the two levels
   if (calibration_file.empty()) {
-    c = defaultCalibration(degraded_below, failed_below, false_alarms_per_hour, dt);
+    const SequentialConfig defaults;
+    c = defaultCalibration(degraded_below.value_or(defaults.degraded_below), failed_below.value_or(defaults.failed_below),
+                           false_alarms_per_hour, dt);
   } else {
     c = readCalibrationFile(calibration_file);
     if (std::abs(c.dt - dt) > 1e-12 * dt)
       throw ConfigError(calibration_file + ": calibrated at dt = " + std::to_string(c.dt) + " s, the model runs at " + std::to_string(dt) + " s");
     // A level other than the calibrated one has no excursion data: Siegmund on the calibrated noise model.
-    for (auto [level, below] : {std::pair<LevelCalibration*, double>{&c.degraded, degraded_below}, {&c.failed, failed_below}}) {
+    for (auto [level, below] : {std::pair<LevelCalibration*, double>{&c.degraded, degraded_below.value_or(c.degraded.level)},
+                                {&c.failed, failed_below.value_or(c.failed.level)}}) {
       if (std::abs(level->level - below) > 1e-9) *level = calibrateLevel({}, below, 0.0, per_level, c.noise, dt, level->increment_cap);
       else retarget(*level, c.flight_hours, per_level, c.noise, dt);
     }
     c.target_rate = false_alarms_per_hour;
   }
-  s.config.degraded_below = degraded_below;
-  s.config.failed_below = failed_below;
+  if (!(c.failed.level < c.degraded.level))
+    throw ConfigError("--failed-below (" + std::to_string(c.failed.level) + ") must be below --degraded-below (" +
+                      std::to_string(c.degraded.level) + ")" + (calibration_file.empty() ? "" : ", the calibration's where not given"));
+  s.config.degraded_below = c.degraded.level;
+  s.config.failed_below = c.failed.level;
   s.config.degraded_threshold = c.degraded.threshold;
   s.config.failed_threshold = c.failed.threshold;
   s.config.degraded_cap = c.degraded.increment_cap;
@@ -197,7 +207,7 @@ int runDetect(const DetectOptions& o) {
   // Checked whichever rule runs: a config file stays valid for both.
   require(o.clear_above >= o.raise_below, "--clear-above must not be below --raise-below");
   require(o.watch >= o.raise_below, "--watch must not be below --raise-below (the alarm must be decided at full rate)");
-  require(o.failed_below < o.degraded_below, "--failed-below must be below --degraded-below");
+  require(!o.failed_below || !o.degraded_below || *o.failed_below < *o.degraded_below, "--failed-below must be below --degraded-below");
   require(o.max_input_period > 0.0 && o.max_gap >= o.max_input_period, "--max-gap must be at least --max-input-period (> 0)");
   // Checked for every input: with a CSV the description only picks the model, and a missing or
   // broken one must be refused ("FILE:LINE: problem"), not read as "no model of its own".

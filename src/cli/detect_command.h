@@ -1,6 +1,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 
 #include "cli/log_input.h"
@@ -14,8 +15,9 @@ struct DetectOptions {
   std::string input = "-";
   std::string output = "-";
   std::string rule = "sequential";  // sequential | persistence (docs/decisions.md)
-  double degraded_below = 0.8;      // [-] sequential: severity `degraded` below this effectiveness (docs/decisions.md: why 0.8)
-  double failed_below = 0.3;        // [-] sequential: `failed` below this
+  std::optional<double> degraded_below;  // [-] sequential: severity `degraded` below this effectiveness; unset: the
+                                         //     calibration's level, else 0.8 (docs/decisions.md: why 0.8)
+  std::optional<double> failed_below;    // [-] sequential: `failed` below this; unset: the calibration's, else 0.3
   double false_alarms_per_hour = 0.1;  // [1/flight hour] sequential: target rate the thresholds are solved for
   std::string calibration;          // sequential: calibration JSON from `quadfdi calibrate`; empty: defaults
   int stride = 4;              // [samples]
@@ -36,13 +38,15 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& options);
 int runDetect(const DetectOptions& options);
 
 // The sequential rule's configuration from the options (levels, target rate, calibration file
-// or the documented defaults); `dt` is the model's. Throws ConfigError / std::runtime_error.
+// or the documented defaults); `dt` is the model's. An unset level is the calibration's (the
+// SequentialConfig default without one); a level other than the calibrated one is solved by
+// Siegmund on the calibrated noise model. Throws ConfigError / std::runtime_error.
 struct SequentialSetup {
   SequentialConfig config;
   DecisionCalibration calibration;  // as used: thresholds re-solved for the options' target rate
 };
-SequentialSetup sequentialSetup(const std::string& calibration_file, double degraded_below, double failed_below,
-                                double false_alarms_per_hour, double dt);
+SequentialSetup sequentialSetup(const std::string& calibration_file, std::optional<double> degraded_below,
+                                std::optional<double> failed_below, double false_alarms_per_hour, double dt);
 
 // MODEL.qfdw → MODEL.calibration.json: the calibration detect uses when none is named.
 std::string calibrationSidecarPath(const std::string& model_path);

@@ -186,13 +186,7 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
     if (std::ifstream(sidecar).good()) calibration = sidecar;
   }
   // The calibration's own levels (their thresholds come from data); defaults without one.
-  double degraded_below = SequentialConfig{}.degraded_below, failed_below = SequentialConfig{}.failed_below;
-  if (!calibration.empty()) {
-    const DecisionCalibration c = readCalibrationFile(calibration);
-    degraded_below = c.degraded.level;
-    failed_below = c.failed.level;
-  }
-  const SequentialSetup rule = sequentialSetup(calibration, degraded_below, failed_below, 0.1, model.metadata.dt);
+  const SequentialSetup rule = sequentialSetup(calibration, std::nullopt, std::nullopt, 0.1, model.metadata.dt);
   SequentialReportInputs in;
   in.model = &model;
   in.model_path = o.model_free;

@@ -67,7 +67,7 @@ std::string transferReport(const SequentialReportInputs& in, const ReportProgres
 
   std::ostringstream csv, md;
   csv << "vehicle,condition,held_out,flights,complete_isolated_50ms,partial_isolated_300ms,degraded_detected,degraded_delay_median_s,"
-         "failed_detected,failed_delay_median_s,theta_mae,coverage,false_alarms,healthy_hours\n";
+         "failed_detected,failed_delay_median_s,theta_mae,coverage,false_alarms,healthy_hours,targets_met\n";
   md << "### E7: transfer matrix — library vehicles × controllers, gains, manoeuvres and plant errors\n\n"
      << "Model: `" << in.model_path << "` (" << toString(in.model->metadata.features) << ", trained with "
      << (in.model->metadata.randomisation.empty() ? "no randomisation" : "randomisation") << "). "
@@ -92,7 +92,7 @@ std::string transferReport(const SequentialReportInputs& in, const ReportProgres
     csv << c.vehicle << ",\"" << c.condition << "\"," << c.held_out << ',' << c.flights << ',' << c.complete.isolated_early << ','
         << c.partial.isolated_late << ',' << c.all.degraded.detected << ',' << c.all.degraded.delay_median << ','
         << c.all.failed.detected << ',' << c.all.failed.delay_median << ',' << c.all.theta_mae << ',' << c.all.coverage << ','
-        << c.all.false_alarms << ',' << c.all.healthy_hours << '\n';
+        << c.all.false_alarms << ',' << c.all.healthy_hours << ',' << ok << '\n';
   }
   md << "\nTargets (issue 13): complete faults ≥ 99 % isolated at +50 ms, partial faults ≥ 95 % at +300 ms, Θ MAE ≤ 0.05 once "
         "flown through, no false alarm. "
@@ -114,6 +114,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
 
   // Long healthy flights: one minute each, every vehicle, controller and manoeuvre of the randomisation.
   constexpr double kFlightSeconds = 60.0;
+  constexpr double kStartSeconds = 1.0;  // [s] false alarms this early in a recording are also counted apart
   const int flights = std::max(1, static_cast<int>(std::lround(in.flight_hours * 3600.0 / kFlightSeconds)));
   RolloutConfig healthy = base;
   healthy.seed = in.seed + 101;
@@ -136,7 +137,11 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   if (progress) progress("flying " + std::to_string(fault_jobs.size()) + " faulty flights");
   const std::vector<FlightThetaStream> fault_streams = simulateThetaStreams(model, faulty, fault_jobs, in.threads);
 
-  const SequentialEvaluation h = evaluateSequential(healthy_streams, in.decision);
+  // Alarms early in a recording are counted apart: each simulated flight begins its pre-roll after a
+  // random initial state (±0.3 rad, ±1 rad/s; docs/data.md), a recovery a real flight does not start with.
+  SequentialEvaluationConfig healthy_decision = in.decision;
+  healthy_decision.start_samples = static_cast<long>(std::lround(kStartSeconds / base.dt));
+  const SequentialEvaluation h = evaluateSequential(healthy_streams, healthy_decision);
   std::ostringstream md, csv;
   md << "### Decisions: severity against Θ, false alarms per flight hour (issue 14)\n\n"
      << "Model `" << in.model_path << "`; " << ruleLine(in) << ". Flights: the randomisation `" << in.randomise_path
@@ -144,7 +149,9 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
      << "**False alarms:** " << h.false_alarms << " in " << num(h.healthy_hours, 2) << " healthy flight hours (" << flights
      << " flights of " << num(kFlightSeconds, 0) << " s) = " << num(h.false_alarms_per_hour, 3) << " per flight hour, one-sided 95 % upper bound "
      << num(h.false_alarms_upper_bound, 3) << " per hour (" << num(h.false_alarms_upper_bound / 60.0, 5)
-     << " per flight-minute). Target: ≤ 0.1 per hour (1 per 10 flight hours) at the bound.\n\n"
+     << " per flight-minute); " << h.false_alarms_at_start << " of them in a recording's first " << num(kStartSeconds, 0)
+     << " s, which begins " << num(base.randomisation.preroll_seconds.lo, 1) << "–" << num(base.randomisation.preroll_seconds.hi, 1)
+     << " s into the flight's recovery from its random initial state. Target: ≤ 0.1 per hour (1 per 10 flight hours) at the bound.\n\n"
      << "| Θ | flights | degraded: detected, delay median / p95 [ms] | failed: detected, delay median / p95 [ms] | right motor at +50 ms | "
         "right motor at +300 ms | right severity at +300 ms | Θ MAE flown through | interval coverage |\n|---|---|---|---|---|---|---|---|---|\n";
   csv << "theta,flights,degraded_detected,degraded_flights,degraded_delay_median_s,degraded_delay_p95_s,failed_detected,failed_flights,"

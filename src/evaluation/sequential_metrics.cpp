@@ -43,6 +43,7 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
       if (!after) {
         ++healthy_samples;
         r.false_alarms += status == SequentialStatus::kRaised;
+        r.false_alarms_at_start += status == SequentialStatus::kRaised && k < config.start_samples;
         continue;
       }
       const long since = k - truth.fault_sample;

@@ -27,6 +27,8 @@ struct SequentialEvaluationConfig {
   long isolation_early = 25;     // [samples] first isolation check after the fault (50 ms at 500 Hz)
   long isolation_late = 150;     // [samples] second check (300 ms: issue 14's bound for mild faults)
   double confidence = 0.95;      // [-] one-sided, for the false-alarm rate's Poisson upper bound
+  long start_samples = 0;        // [samples] false alarms raised this early in a stream are also counted apart
+                                 //     (a simulated flight's start: the recovery from its random initial state)
 };
 
 struct SeverityDetection {
@@ -47,6 +49,7 @@ struct SequentialEvaluation {
   double theta_max_error = 0.0;       // [-] largest
   double coverage = 0.0;              // [-] fraction with theta_lo ≤ Θ ≤ theta_hi
   long false_alarms = 0;              // alarms raised in healthy time (healthy flights, before a fault)
+  long false_alarms_at_start = 0;     // … of them, raised in a stream's first start_samples samples
   double healthy_hours = 0.0;         // [h] healthy flight time
   double false_alarms_per_hour = 0.0;       // [1/h]
   double false_alarms_upper_bound = 0.0;    // [1/h] one-sided Poisson (Garwood) bound at `confidence`

@@ -125,6 +125,36 @@ TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
   EXPECT_NE(r.out.find("FAULT in motor 3"), std::string::npos) << r.out;
 }
 
+// Several degraded levels: each is calibrated and scored on the faulty flights, one is kept, and
+// detect then runs at the calibration's level unless told otherwise.
+TEST(DetectCli, CalibrateChoosesALevelThatDetectThenUses) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw", cal = temp("chosen-calibration.json");
+  const CommandResult c = run("calibrate --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 4 --degraded-below 0.8 0.9 --output " + cal);
+  ASSERT_EQ(c.exit_code, 0) << c.out;
+  EXPECT_NE(c.out.find("calibrate: degraded level 0.8: h = "), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("calibrate: degraded level 0.9: h = "), std::string::npos) << c.out;
+  const std::size_t mark = c.out.find(" (chosen)");
+  ASSERT_NE(mark, std::string::npos) << c.out;
+  const std::string line = c.out.substr(c.out.rfind('\n', mark) + 1, mark - c.out.rfind('\n', mark) - 1);
+  const std::string chosen = line.substr(std::string("calibrate: degraded level ").size(), 3);  // "0.8" or "0.9"
+  ASSERT_TRUE(chosen == "0.8" || chosen == "0.9") << line;
+  EXPECT_NE(readFile(cal).find("degraded level chosen from 0.8 (h "), std::string::npos);  // provenance in `source`
+  // A mild fault (Θ = 0.6), where the degraded level decides the output.
+  const std::string mild = temp("mild.csv");
+  ASSERT_EQ(run("simulate --motor 2 --theta 0.6 --fault-step 500 --steps 1200 --seed 5 --output " + mild).exit_code, 0);
+  const std::string base = "detect -q --model " + model + " --calibration " + cal + " --input " + mild + " --output -";
+  const CommandResult by_default = run(base, false), named = run(base + " --degraded-below " + chosen, false);
+  ASSERT_EQ(by_default.exit_code, 0) << by_default.out.substr(0, 400);
+  EXPECT_TRUE(by_default.out == named.out);  // the calibration's level is the default
+  EXPECT_TRUE(by_default.out != run(base + " --degraded-below 0.5", false).out);  // and another level is not ignored
+  // Several levels cannot be told apart without faulty flights: refused in one line.
+  const CommandResult none = run("calibrate --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 0 --degraded-below 0.8 0.9 --output " +
+                                 temp("never-written.json"));
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_EQ(countLines(none.out), 1) << none.out;
+  EXPECT_NE(none.out.find("needs --faulty-flights > 0"), std::string::npos) << none.out;
+}
+
 TEST(DetectCli, APipelineFromSimulateGivesTheFileModeOutput) {
   const CommandResult file = run("detect --input " + faultyCsv(), false);
   const CommandResult pipe =

@@ -56,6 +56,12 @@ TEST(SequentialEvaluation, CountsDelaysIsolationAndFalseAlarmsOnCleanSteps) {
   EXPECT_EQ(r.isolated_early, 1.0);
   EXPECT_EQ(r.severity_right_late, 1.0);
   EXPECT_EQ(r.false_alarms, 1);
+  EXPECT_EQ(r.false_alarms_at_start, 0);  // no start window asked for
+  SequentialEvaluationConfig start = c;
+  start.start_samples = 108;  // the dip raises its alarm at sample 107: 8 × (0.9 − 0.5) ≥ 2.999
+  EXPECT_EQ(evaluateSequential(flights, start).false_alarms_at_start, 1);
+  start.start_samples = 107;
+  EXPECT_EQ(evaluateSequential(flights, start).false_alarms_at_start, 0);
   EXPECT_NEAR(r.healthy_hours, (2000 + 800) * c.dt / 3600.0, 1e-12);
   EXPECT_NEAR(r.false_alarms_upper_bound * r.healthy_hours, 4.743864518, 1e-6);
   EXPECT_LT(r.theta_max_error, 1e-6);  // noise-free steps: the estimate is exact once flown through
