@@ -146,6 +146,20 @@ std::vector<MotorTheta> thetaStream(const TrainedModel& model, const std::vector
   return std::move(sink.theta);
 }
 
+// The command gate's mask for each Θ̂ of thetaStream (stream index i is flight sample i + T − 1;
+// the simulated flights are at the model rate, so the detector's resampler passes them through).
+std::vector<std::uint8_t> observableMasks(const std::vector<TelemetrySample>& flight, int window) {
+  CommandGateConfig config;
+  config.hold = window;
+  CommandGate gate(config);
+  std::vector<std::uint8_t> masks;
+  for (std::size_t k = 0; k < flight.size(); ++k) {
+    const std::uint8_t mask = gate.step(flight[k].u);
+    if (static_cast<long>(k) >= window - 1) masks.push_back(mask);
+  }
+  return masks;
+}
+
 }  // namespace
 
 int runCalibrate(const CalibrateOptions& o) {
@@ -160,6 +174,7 @@ int runCalibrate(const CalibrateOptions& o) {
   constexpr std::uint64_t kFirstStream = std::uint64_t{1} << 42;  // disjoint from training (0 …), held-out (2⁴⁰), test (2⁴¹)
 
   std::vector<std::vector<MotorTheta>> healthy;
+  std::vector<std::vector<std::uint8_t>> healthy_observable;  // the command gate's masks (detection/command_gate.h)
   long samples = 0;
   // Randomised flights (--randomise): every library vehicle, controller, manoeuvre and estimator.
   std::vector<FlightThetaStream> faulty;
@@ -184,6 +199,7 @@ int runCalibrate(const CalibrateOptions& o) {
     for (FlightThetaStream& s : simulateThetaStreams(model, rc, jobs, 0, 16)) {
       samples += static_cast<long>(s.theta.size());
       healthy.push_back(std::move(s.theta));
+      healthy_observable.push_back(std::move(s.observable));
     }
     const int w = SequentialConfig{}.estimate_window;
     rc.seed = o.seed + kFirstStream + 1;
@@ -195,7 +211,9 @@ int runCalibrate(const CalibrateOptions& o) {
     faulty = simulateThetaStreams(model, rc, jobs, 0, 16);
   } else {
     for (int f = 0; f < o.flights; ++f) {
-      healthy.push_back(thetaStream(model, simulateFlight(o.seed, kFirstStream + static_cast<std::uint64_t>(f), steps, goal_steps, 0, 1.0, 0, o)));
+      const std::vector<TelemetrySample> flight = simulateFlight(o.seed, kFirstStream + static_cast<std::uint64_t>(f), steps, goal_steps, 0, 1.0, 0, o);
+      healthy.push_back(thetaStream(model, flight));
+      healthy_observable.push_back(observableMasks(flight, T));
       samples += static_cast<long>(healthy.back().size());
     }
   }
@@ -213,8 +231,10 @@ int runCalibrate(const CalibrateOptions& o) {
     s.truth.motor = 1 + static_cast<int>(draw.uniform(0.0, 4.0)) % 4;
     s.truth.theta = draw.uniform(0.0, 0.9);
     const int fault_step = 500, flight_steps = fault_step + 2 * T + 4 * SequentialConfig{}.estimate_window;
-    s.theta = thetaStream(model, simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(f), flight_steps,
-                                                flight_steps, s.truth.motor, s.truth.theta, fault_step, o));
+    const std::vector<TelemetrySample> flight = simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(f),
+                                                               flight_steps, flight_steps, s.truth.motor, s.truth.theta, fault_step, o);
+    s.theta = thetaStream(model, flight);
+    s.observable = observableMasks(flight, T);
     s.truth.fault_sample = fault_step - (T - 1);  // stream index of the fault's sample
     faulty.push_back(std::move(s));
   }
@@ -238,7 +258,8 @@ int runCalibrate(const CalibrateOptions& o) {
 
   const double per_level = o.false_alarms_per_hour / 2.0;
   const double cap = o.degraded_cap > 0.0 ? o.degraded_cap : kNoIncrementCap;
-  c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below), o.failed_below, c.flight_hours, per_level, c.noise, dt);
+  c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below, 0, kNoIncrementCap, &healthy_observable), o.failed_below, c.flight_hours,
+                            per_level, c.noise, dt);
   LevelChoiceConfig choose;
   choose.candidates = o.degraded_below;
   choose.cap = cap;
@@ -250,7 +271,8 @@ int runCalibrate(const CalibrateOptions& o) {
   choose.delay_budget = std::lround(o.delay_budget / dt);
   // One candidate needs no faulty flight to win; several need some to be told apart.
   require(o.degraded_below.size() == 1 || !faulty.empty(), "choosing among several --degraded-below needs --faulty-flights > 0");
-  const LevelChoice choice = chooseDegradedLevel(healthy, o.degraded_below.size() == 1 ? std::vector<FlightThetaStream>{} : faulty, choose);
+  const LevelChoice choice =
+      chooseDegradedLevel(healthy, o.degraded_below.size() == 1 ? std::vector<FlightThetaStream>{} : faulty, choose, &healthy_observable);
   c.degraded = choice.candidates[static_cast<std::size_t>(choice.chosen)].degraded;
   std::string chosen_from;
   if (choice.candidates.size() > 1) {

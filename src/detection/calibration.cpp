@@ -67,13 +67,18 @@ ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& stream
   return m;
 }
 
-std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip, double cap) {
+std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip, double cap,
+                                    const std::vector<std::vector<std::uint8_t>>* observable) {
   std::vector<double> maxima;
-  for (const auto& s : streams)
+  for (std::size_t f = 0; f < streams.size(); ++f)
     for (int k = 0; k < kMotors; ++k) {
+      const std::vector<MotorTheta>& s = streams[f];
+      const std::vector<std::uint8_t>* mask = observable && f < observable->size() && !(*observable)[f].empty() ? &(*observable)[f] : nullptr;
       double S = 0.0, peak = 0.0;
       for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i) {
-        S = std::max(0.0, S + cusumIncrement(level, static_cast<double>(s[i][static_cast<std::size_t>(k)]), cap));
+        double increment = cusumIncrement(level, static_cast<double>(s[i][static_cast<std::size_t>(k)]), cap);
+        if (mask && !(((*mask)[i] >> k) & 1u)) increment = std::min(increment, 0.0);  // as SequentialRule::update
+        S = std::max(0.0, S + increment);
         if (S > 0.0) {
           peak = std::max(peak, S);
         } else if (peak > 0.0) {

@@ -18,6 +18,7 @@
 // long-run variance σ²(1+φ)/(1−φ) accounts for the autocorrelation of Θ̂.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -58,9 +59,12 @@ DecisionCalibration defaultCalibration(double degraded_below, double failed_belo
 ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& streams, long skip = 0);
 
 // Every excursion maximum of the CUSUM S_k = max(0, S_{k−1} + min(level − Θ̂_k, cap)) of every
-// motor of every stream (unsorted).
+// motor of every stream (unsorted). With `observable` (per stream, per sample, CommandGate masks;
+// an empty stream entry: all observable), a motor's statistic gains nothing while it is hidden, as
+// in the rule.
 std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip = 0,
-                                    double cap = kNoIncrementCap);
+                                    double cap = kNoIncrementCap,
+                                    const std::vector<std::vector<std::uint8_t>>* observable = nullptr);
 
 // Siegmund's ARL approximation for the AR(1) noise model: the CUSUM threshold h at `level` for
 // `rate_per_hour` false alarms per flight hour over kMotors motors at period dt. At least h_min.

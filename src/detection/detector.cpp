@@ -39,6 +39,10 @@ Detector::Detector(const DetectorConfig& config, const TrainedModel& model)
   outputs_.assign(static_cast<std::size_t>(capacity_) * kOutputDim, 0.0f);
   inputs_.assign(static_cast<std::size_t>(capacity_) * kInputDim, 0.0f);
   times_.assign(static_cast<std::size_t>(capacity_), 0.0);
+  observable_.assign(static_cast<std::size_t>(capacity_), kAllMotorsObservable);
+  CommandGateConfig gate = config.command_gate;
+  gate.hold = window_;  // an estimate reads the whole window
+  gate_ = CommandGate(gate);
   if (windowed_) {
     features_.assign(static_cast<std::size_t>(kMaxPoints) * kMotors * windowed_->featuresPerWindow(), 0.0f);
     estimates_.assign(kMaxPoints, MotorTheta{});
@@ -54,6 +58,7 @@ void Detector::restart() {
   watch_left_ = config_.watch_samples;
   alarm_.reset();
   if (sequential_) sequential_->reset();
+  gate_.reset();
   last_evaluation_ = -1;
   evaluations_.clear();
 }
@@ -69,12 +74,14 @@ void Detector::appendModelSample(const TelemetrySample& s) {
     std::memmove(outputs_.data(), outputs_.data() + off * kOutputDim, sizeof(float) * static_cast<std::size_t>(n * kOutputDim));
     std::memmove(inputs_.data(), inputs_.data() + off * kInputDim, sizeof(float) * static_cast<std::size_t>(n * kInputDim));
     std::memmove(times_.data(), times_.data() + off, sizeof(double) * static_cast<std::size_t>(n));
+    std::memmove(observable_.data(), observable_.data() + off, static_cast<std::size_t>(n));
     first_index_ = keep_from;
   }
   const long at = count_ - first_index_;
   for (int i = 0; i < kOutputDim; ++i) outputs_[static_cast<std::size_t>(at * kOutputDim + i)] = static_cast<float>(s.y[static_cast<std::size_t>(i)]);
   for (int i = 0; i < kInputDim; ++i) inputs_[static_cast<std::size_t>(at * kInputDim + i)] = static_cast<float>(s.u[static_cast<std::size_t>(i)]);
   times_[static_cast<std::size_t>(at)] = s.t;
+  observable_[static_cast<std::size_t>(at)] = gate_.step(s.u);
   ++count_;
   if (streaming_) {  // every sample is evaluated as it arrives
     Output y;
@@ -140,7 +147,8 @@ void Detector::apply(long index, const MotorTheta& theta) {
   if (sequential_) {
     // The estimate stands for the model samples since the previous evaluation (the stride holds it).
     const long samples = last_evaluation_ < 0 ? 1 : index - last_evaluation_;
-    const SequentialStatus status = sequential_->update(theta, static_cast<int>(std::min<long>(samples, 1L << 30)));
+    const SequentialStatus status = sequential_->update(theta, static_cast<int>(std::min<long>(samples, 1L << 30)),
+                                                         observable_[static_cast<std::size_t>(index - first_index_)]);
     const SequentialState& s = sequential_->state();
     e.active = s.severity != Severity::kHealthy;
     e.raised = status == SequentialStatus::kRaised;

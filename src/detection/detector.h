@@ -49,6 +49,7 @@ struct DetectorConfig {
   AlarmRule rule = AlarmRule::kSequential;
   AlarmConfig alarm;            // kPersistence
   SequentialConfig sequential;  // kSequential
+  CommandGateConfig command_gate;  // kSequential: motors the commands hide take no evidence (hold: set to the model's T)
 };
 
 struct DetectorOutput {
@@ -117,6 +118,8 @@ class Detector {
   // History of model-rate samples since the last restart, contiguous: [capacity][6] and [capacity][4].
   std::vector<float> outputs_, inputs_;
   std::vector<double> times_;
+  std::vector<std::uint8_t> observable_;  // [capacity] the command gate's mask after each sample
+  CommandGate gate_;
   long capacity_ = 0, first_index_ = 0, count_ = 0;  // indices count model samples since the restart
   long next_due_ = 0;
   bool dense_ = false;  // evaluating every sample

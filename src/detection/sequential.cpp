@@ -71,7 +71,7 @@ void SequentialRule::reset() {
   state_ = SequentialState{};
 }
 
-SequentialStatus SequentialRule::update(const MotorTheta& theta, int samples) {
+SequentialStatus SequentialRule::update(const MotorTheta& theta, int samples, std::uint8_t observable) {
   const long n = std::max(1, samples);
   const double dn = static_cast<double>(n);
   const int w = config_.estimate_window;
@@ -82,10 +82,13 @@ SequentialStatus SequentialRule::update(const MotorTheta& theta, int samples) {
     // Page's CUSUM with the reference at the level: it grows exactly while Θ̂ is below the level,
     // by at most the cap per sample. A held x adds the same increment n times, and max(0, ·) of a
     // constant-sign sum is the same whether applied once or per sample.
+    // An unobservable motor (CommandGate) gains no evidence; what it has may still decay.
+    const double gain_limit = (observable >> k) & 1u ? kNoIncrementCap : 0.0;
     const double before = degraded_[static_cast<std::size_t>(k)];
-    degraded_[static_cast<std::size_t>(k)] = std::max(0.0, before + dn * cusumIncrement(config_.degraded_below, x, config_.degraded_cap));
-    failed_[static_cast<std::size_t>(k)] =
-        std::max(0.0, failed_[static_cast<std::size_t>(k)] + dn * cusumIncrement(config_.failed_below, x, config_.failed_cap));
+    degraded_[static_cast<std::size_t>(k)] =
+        std::max(0.0, before + dn * std::min(gain_limit, cusumIncrement(config_.degraded_below, x, config_.degraded_cap)));
+    failed_[static_cast<std::size_t>(k)] = std::max(
+        0.0, failed_[static_cast<std::size_t>(k)] + dn * std::min(gain_limit, cusumIncrement(config_.failed_below, x, config_.failed_cap)));
     long& since = since_change_[static_cast<std::size_t>(k)];
     if (degraded_[static_cast<std::size_t>(k)] <= 0.0) since = 0;
     else since = (before <= 0.0) ? n : since + n;

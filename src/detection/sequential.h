@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/types.h"
+#include "detection/command_gate.h"
 
 namespace quadfdi {
 
@@ -85,8 +86,9 @@ class SequentialRule {
   explicit SequentialRule(const SequentialConfig& config);
 
   // One Θ̂ that stands for `samples` ≥ 1 model samples (the detector's stride holds an estimate
-  // until the next evaluation). No allocation.
-  SequentialStatus update(const MotorTheta& theta, int samples);
+  // until the next evaluation). A motor whose bit is clear in `observable` (CommandGate) takes no
+  // evidence: its statistics may fall, not rise. No allocation.
+  SequentialStatus update(const MotorTheta& theta, int samples, std::uint8_t observable = kAllMotorsObservable);
   const SequentialState& state() const { return state_; }
   bool active() const { return state_.severity != Severity::kHealthy; }
   // Gap or restart: every statistic, window and alarm back to the start.

@@ -10,7 +10,7 @@ namespace quadfdi {
 
 std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, const RolloutConfig& rollout,
                                                     const std::vector<TrajectoryJob>& jobs, int threads, int chunk,
-                                                    const std::atomic<bool>* stop) {
+                                                    const std::atomic<bool>* stop, const CommandGateConfig& gate) {
   if (!StreamingMotorEstimator::canStream(model.metadata))
     throw std::invalid_argument("simulated Θ̂ streams need a streaming model (a TCN on streaming features)");
   const RolloutEngine engine(rollout);
@@ -28,13 +28,19 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
     std::atomic<int> next{0};
     auto work = [&] {
       StreamingMotorEstimator estimator(model, model.metadata.symmetry);
+      CommandGateConfig gate_config = gate;
+      gate_config.hold = window;  // as the detector: an estimate reads the whole window
+      CommandGate command_gate(gate_config);
       for (int t; (t = next.fetch_add(1)) < batch.count;) {
         FlightThetaStream& s = streams[first + static_cast<std::size_t>(t)];
         const TrajectoryJob& job = part[static_cast<std::size_t>(t)];
         const int length = batch.length[static_cast<std::size_t>(t)];
         s.theta.clear();
         s.theta.reserve(static_cast<std::size_t>(std::max(0, length - window + 1)));
+        s.observable.clear();
+        s.observable.reserve(s.theta.capacity());
         estimator.reset();
+        command_gate.reset();
         for (int k = 0; k < length; ++k) {
           const std::size_t o = batch.sampleOffset(t, k);
           Output y;
@@ -42,7 +48,11 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
           for (int i = 0; i < kOutputDim; ++i) y(i) = batch.outputs[o * kOutputDim + static_cast<std::size_t>(i)];
           for (int i = 0; i < kInputDim; ++i) u(i) = batch.inputs[o * kInputDim + static_cast<std::size_t>(i)];
           MotorTheta theta;
-          if (estimator.push(y, u, theta)) s.theta.push_back(theta);
+          const std::uint8_t observable = command_gate.step({u(0), u(1), u(2), u(3)});
+          if (estimator.push(y, u, theta)) {
+            s.theta.push_back(theta);
+            s.observable.push_back(observable);
+          }
         }
         const bool healthy = job.theta >= 1.0;
         s.truth.motor = healthy ? 0 : job.faulty_motor;

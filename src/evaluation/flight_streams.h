@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "data/rollout.h"
+#include "detection/command_gate.h"
 #include "evaluation/sequential_metrics.h"
 #include "inference/weights_file.h"
 
@@ -18,8 +19,9 @@ namespace quadfdi {
 // receptive field on (sample T − 1 of the flight is stream index 0). The model must stream
 // (StreamingMotorEstimator::canStream); throws std::invalid_argument otherwise. `threads` 0 = all
 // cores; the result does not depend on it. A flight cut by a crash keeps the samples before it.
+// Each stream also carries the command gate's mask per sample (`gate`, its hold set to T).
 std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, const RolloutConfig& rollout,
                                                     const std::vector<TrajectoryJob>& jobs, int threads = 0, int chunk = 64,
-                                                    const std::atomic<bool>* stop = nullptr);
+                                                    const std::atomic<bool>* stop = nullptr, const CommandGateConfig& gate = {});
 
 }  // namespace quadfdi

@@ -7,7 +7,7 @@
 namespace quadfdi {
 
 LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& healthy, const std::vector<FlightThetaStream>& faulty,
-                                const LevelChoiceConfig& config) {
+                                const LevelChoiceConfig& config, const std::vector<std::vector<std::uint8_t>>* healthy_observable) {
   if (config.candidates.empty()) throw std::invalid_argument("no degraded level to choose from");
   for (double level : config.candidates)
     if (!(level > config.failed.level && level <= 1.0))
@@ -20,7 +20,7 @@ LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& heal
   LevelChoice choice;
   for (double level : config.candidates) {
     LevelCandidate c;
-    c.degraded = calibrateLevel(excursionMaxima(healthy, level, 0, config.cap), level, config.flight_hours, config.rate_per_hour,
+    c.degraded = calibrateLevel(excursionMaxima(healthy, level, 0, config.cap, healthy_observable), level, config.flight_hours, config.rate_per_hour,
                                 config.noise, config.dt, config.cap);
     SequentialEvaluationConfig e;
     e.rule.degraded_below = level;

@@ -37,7 +37,9 @@ struct LevelChoice {
 };
 
 // Throws std::invalid_argument for an empty candidate list or a candidate not above failed.level.
+// `healthy_observable`: the healthy streams' CommandGate masks (excursionMaxima), or null.
 LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& healthy, const std::vector<FlightThetaStream>& faulty,
-                                const LevelChoiceConfig& config);
+                                const LevelChoiceConfig& config,
+                                const std::vector<std::vector<std::uint8_t>>* healthy_observable = nullptr);
 
 }  // namespace quadfdi

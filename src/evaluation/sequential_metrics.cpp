@@ -37,7 +37,8 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
     const Severity expected = is_failed ? Severity::kFailed : Severity::kDegraded;
     bool found_degraded = false, found_failed = false;
     for (long k = 0; k < static_cast<long>(f.theta.size()); ++k) {
-      const SequentialStatus status = rule.update(f.theta[static_cast<std::size_t>(k)], 1);
+      const SequentialStatus status = rule.update(
+          f.theta[static_cast<std::size_t>(k)], 1, f.observable.empty() ? kAllMotorsObservable : f.observable[static_cast<std::size_t>(k)]);
       const SequentialState& s = rule.state();
       const bool after = faulty && k >= truth.fault_sample;
       if (!after) {

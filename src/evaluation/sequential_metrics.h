@@ -3,6 +3,7 @@
 // each stream and the outcomes are summed. No I/O; the caller simulates or reads the flights.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "detection/sequential.h"
@@ -16,7 +17,8 @@ struct FlightTruth {
 };
 
 struct FlightThetaStream {
-  std::vector<MotorTheta> theta;  // Θ̂ per model sample
+  std::vector<MotorTheta> theta;         // Θ̂ per model sample
+  std::vector<std::uint8_t> observable;  // per Θ̂ sample, the CommandGate mask the rule is given; empty: all observable
   FlightTruth truth;
 };
 

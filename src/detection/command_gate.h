@@ -1,0 +1,56 @@
+// Which motors' effectiveness the recent commands let the data show (docs/decisions.md
+// "Unobservable motors"). Under the fault model f_k = Θ_k·u_k, a motor commanded far below the
+// others — at its lower thrust limit in a hard recovery — changes the response by (1 − Θ_k)·u_k,
+// next to nothing, so a network reading its window then cannot tell Θ_k, and in practice reads
+// such a motor as failed. The sequential rule takes no evidence against a motor while it is not
+// observable: its statistics may fall, not rise (SequentialRule::update). A failing motor is not
+// hidden by this: the controller commands it up, not down.
+//
+// A motor is observable when its command has been at least `min_share` of the mean command at
+// every sample of the last `hold` samples (the network's window: an estimate reads all of it).
+// Pure: no I/O, no allocation.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/types.h"
+
+namespace quadfdi {
+
+// Bit k − 1 set: motor k observable.
+inline constexpr std::uint8_t kAllMotorsObservable = 0x0F;
+
+struct CommandGateConfig {
+  double min_share = 0.3;  // [-] of the mean command (0: every motor always observable, no gating). Measured on the per-vehicle models' healthy calibration flights
+                           //     (docs/decisions.md "Unobservable motors"): 0.1 left a racer's CBF-QP recovery at motors'
+                           //     shares of 0.35–0.5 reading Θ̂ ≈ 0; 0.3 covers it, and no E7 fault's isolation changed
+  int hold = 100;          // [samples] the network's window T (the detector and the streams set it from the model)
+};
+
+class CommandGate {
+ public:
+  explicit CommandGate(const CommandGateConfig& config = {}) : config_(config) { reset(); }
+  // A new flight or a restart: every motor observable (nothing seen yet against it).
+  void reset() { since_low_.fill(config_.hold); }
+  // One model sample's commands [N]; returns the observable mask after it.
+  std::uint8_t step(const std::array<double, kMotors>& u) {
+    if (!(config_.min_share > 0.0)) return kAllMotorsObservable;  // gating off
+    const double mean = 0.25 * (u[0] + u[1] + u[2] + u[3]);
+    std::uint8_t mask = 0;
+    for (int k = 0; k < kMotors; ++k) {
+      long& since = since_low_[static_cast<std::size_t>(k)];
+      if (!(mean > 0.0) || u[static_cast<std::size_t>(k)] < config_.min_share * mean) since = 0;
+      else if (since < config_.hold) ++since;
+      if (since >= config_.hold) mask = static_cast<std::uint8_t>(mask | (1u << k));
+    }
+    return mask;
+  }
+  const CommandGateConfig& config() const { return config_; }
+
+ private:
+  CommandGateConfig config_;
+  std::array<long, kMotors> since_low_{};  // [samples] since the motor's share was last below min_share
+};
+
+}  // namespace quadfdi

@@ -1,0 +1,87 @@
+// The command gate (detection/command_gate.h) and what the sequential rule and the calibration do
+// with its mask, on hand-made commands and Θ̂.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "detection/calibration.h"
+#include "detection/command_gate.h"
+#include "detection/sequential.h"
+
+namespace quadfdi {
+namespace {
+
+CommandGateConfig gateConfig(int hold) {
+  CommandGateConfig c;
+  c.min_share = 0.3;
+  c.hold = hold;
+  return c;
+}
+
+TEST(CommandGate, AMotorBelowItsShareIsHiddenForTheHoldThenSeenAgain) {
+  CommandGate gate(gateConfig(5));
+  EXPECT_EQ(gate.step({1.0, 1.0, 1.0, 1.0}), kAllMotorsObservable);  // nothing seen against any motor
+  // Motor 3 at 0.2 of a mean of 0.8: below 0.3 of it.
+  EXPECT_EQ(gate.step({1.0, 1.0, 0.2, 1.0}), 0x0B);
+  // Back up: hidden while the low sample is inside the last 5, seen from the 5th sample after it.
+  for (int i = 1; i < 5; ++i) EXPECT_EQ(gate.step({1.0, 1.0, 1.0, 1.0}), 0x0B) << i;
+  EXPECT_EQ(gate.step({1.0, 1.0, 1.0, 1.0}), kAllMotorsObservable);
+  // At the share exactly: seen. No thrust at all (on the ground): nothing is observable.
+  EXPECT_EQ(gate.step({0.3 * 0.825, 1.0, 1.0, 1.0}), kAllMotorsObservable);
+  EXPECT_EQ(gate.step({0.0, 0.0, 0.0, 0.0}), 0x00);
+  gate.reset();
+  EXPECT_EQ(gate.step({1.0, 1.0, 1.0, 1.0}), kAllMotorsObservable);
+}
+
+TEST(CommandGate, AZeroShareTurnsItOff) {
+  CommandGateConfig c = gateConfig(5);
+  c.min_share = 0.0;
+  CommandGate gate(c);
+  EXPECT_EQ(gate.step({0.0, 1.0, 0.0, 1.0}), kAllMotorsObservable);
+  EXPECT_EQ(gate.step({0.0, 0.0, 0.0, 0.0}), kAllMotorsObservable);
+}
+
+TEST(CommandGate, AHiddenMotorTakesNoEvidenceButLosesWhatItHad) {
+  SequentialConfig c;
+  c.degraded_below = 0.8;
+  c.degraded_threshold = 2.999;
+  c.failed_threshold = 2.999;
+  SequentialRule gated(c), plain(c);
+  const MotorTheta dip{0.0f, 0.97f, 0.97f, 0.97f};
+  const std::uint8_t motor1_hidden = 0x0E;
+  // Motor 1 reads 0 while it is hidden: no evidence, no alarm, however long.
+  for (int i = 0; i < 50; ++i) EXPECT_EQ(gated.update(dip, 1, motor1_hidden), SequentialStatus::kHealthy);
+  EXPECT_EQ(gated.degradedStatistic(0), 0.0);
+  EXPECT_EQ(gated.failedStatistic(0), 0.0);
+  // Unmasked, the same reading raises an alarm.
+  int raised = 0;
+  for (int i = 1; i <= 10 && !raised; ++i)
+    if (plain.update(dip, 1) == SequentialStatus::kRaised) raised = i;
+  EXPECT_EQ(raised, 4);  // the degraded statistic (0.8 a sample) passes 2.999 first
+  // Evidence gathered while observable still drains while hidden, and does not grow.
+  SequentialRule drain(c);
+  drain.update({0.5f, 0.97f, 0.97f, 0.97f}, 1);  // +0.3 on motor 1
+  drain.update({0.97f, 0.97f, 0.97f, 0.97f}, 1, motor1_hidden);
+  EXPECT_NEAR(drain.degradedStatistic(0), 0.3 - 0.17, 1e-6);  // a healthy reading still counts against it
+  drain.update({0.5f, 0.97f, 0.97f, 0.97f}, 1, motor1_hidden);
+  EXPECT_NEAR(drain.degradedStatistic(0), 0.13, 1e-6);  // hidden: held, not grown
+  drain.update({0.5f, 0.97f, 0.97f, 0.97f}, 1);
+  EXPECT_NEAR(drain.degradedStatistic(0), 0.43, 1e-6);  // seen again: grows
+}
+
+TEST(CommandGate, TheCalibrationCountsNoExcursionOfAHiddenMotor) {
+  // One stream: motor 2 dips to 0.5 for 20 samples; the mask hides it for the first 15 of them.
+  std::vector<std::vector<MotorTheta>> streams(1, std::vector<MotorTheta>(200, MotorTheta{0.97f, 0.97f, 0.97f, 0.97f}));
+  std::vector<std::vector<std::uint8_t>> masks(1, std::vector<std::uint8_t>(200, kAllMotorsObservable));
+  for (int i = 100; i < 120; ++i) streams[0][static_cast<std::size_t>(i)][1] = 0.5f;
+  for (int i = 100; i < 115; ++i) masks[0][static_cast<std::size_t>(i)] = 0x0D;
+  const std::vector<double> plain = excursionMaxima(streams, 0.8, 0);
+  const std::vector<double> gated = excursionMaxima(streams, 0.8, 0, kNoIncrementCap, &masks);
+  ASSERT_EQ(plain.size(), 1U);
+  ASSERT_EQ(gated.size(), 1U);
+  EXPECT_NEAR(plain[0], 20 * 0.3, 1e-5);
+  EXPECT_NEAR(gated[0], 5 * 0.3, 1e-5);
+}
+
+}  // namespace
+}  // namespace quadfdi
