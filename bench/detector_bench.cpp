@@ -80,13 +80,14 @@ class CountingSink : public DetectionSink {
   void warning(const std::string&) override {}
 };
 
-// Args: model (0 LSTM, 1 TCN), faulty motor (0 healthy), stride, stream mode (0/1).
+// Args: model (0 LSTM, 1 TCN), faulty motor (0 healthy), stride, stream mode (0/1), command gate (0 off, 1 the default).
 void detectLog(benchmark::State& state) {
   const TrainedModel& model = shippedModel(static_cast<int>(state.range(0)));
   const int motor = static_cast<int>(state.range(1));
   const std::vector<TelemetrySample> log = flight(motor, motor ? 1000 : 5000);
   DetectorConfig config;
   config.stride = static_cast<int>(state.range(2));
+  if (state.range(4) == 0) config.command_gate.min_share = 0.0;  // its cost: the same run without it
   SessionConfig session;
   session.live = state.range(3) != 0;
   double worst_ms = 0.0;
@@ -99,7 +100,8 @@ void detectLog(benchmark::State& state) {
     runDetection(detector, source, sink, session);
     worst_ms = std::max(worst_ms, source.worst_ms);
     alarms = detector.summary().alarms_raised;
-    label = std::string(toString(model.metadata.architecture)) + " " + detector.kernel() + (session.live ? " stream" : " file");
+    label = std::string(toString(model.metadata.architecture)) + " " + detector.kernel() + (session.live ? " stream" : " file") +
+            (state.range(4) == 0 ? " no gate" : "");
   }
   state.SetItemsProcessed(state.iterations() * static_cast<long>(log.size()));
   state.counters["x_real_time"] = benchmark::Counter(static_cast<double>(state.iterations()) * static_cast<double>(log.size()) * 0.002,
@@ -110,14 +112,15 @@ void detectLog(benchmark::State& state) {
 }
 
 BENCHMARK(detectLog)
-    ->ArgNames({"model", "motor", "stride", "stream"})
-    ->Args({0, 0, 4, 0})
-    ->Args({0, 0, 4, 1})
-    ->Args({0, 1, 4, 0})
-    ->Args({0, 0, 1, 0})
-    ->Args({1, 0, 1, 0})
-    ->Args({1, 0, 1, 1})
-    ->Args({1, 1, 1, 0})
+    ->ArgNames({"model", "motor", "stride", "stream", "gate"})
+    ->Args({0, 0, 4, 0, 1})
+    ->Args({0, 0, 4, 1, 1})
+    ->Args({0, 1, 4, 0, 1})
+    ->Args({0, 0, 1, 0, 1})
+    ->Args({1, 0, 1, 0, 1})
+    ->Args({1, 0, 1, 0, 0})
+    ->Args({1, 0, 1, 1, 1})
+    ->Args({1, 1, 1, 0, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
