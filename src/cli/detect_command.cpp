@@ -192,13 +192,7 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, std::option
   if (!(c.failed.level < c.degraded.level))
     throw ConfigError("--failed-below (" + std::to_string(c.failed.level) + ") must be below --degraded-below (" +
                       std::to_string(c.degraded.level) + ")" + (calibration_file.empty() ? "" : ", the calibration's where not given"));
-  s.config.degraded_below = c.degraded.level;
-  s.config.failed_below = c.failed.level;
-  s.config.degraded_threshold = c.degraded.threshold;
-  s.config.failed_threshold = c.failed.threshold;
-  s.config.degraded_cap = c.degraded.increment_cap;
-  s.config.failed_cap = c.failed.increment_cap;
-  s.config.noise = c.noise;
+  s.config = sequentialConfig(c.degraded, c.failed, c.noise);
   return s;
 }
 

@@ -67,6 +67,18 @@ ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& stream
   return m;
 }
 
+SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelCalibration& failed, const ThetaNoiseModel& noise) {
+  SequentialConfig c;
+  c.degraded_below = degraded.level;
+  c.failed_below = failed.level;
+  c.degraded_threshold = degraded.threshold;
+  c.failed_threshold = failed.threshold;
+  c.degraded_cap = degraded.increment_cap;
+  c.failed_cap = failed.increment_cap;
+  c.noise = noise;
+  return c;
+}
+
 std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip, double cap,
                                     const std::vector<std::vector<std::uint8_t>>* observable) {
   std::vector<double> maxima;

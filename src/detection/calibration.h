@@ -51,6 +51,10 @@ struct DecisionCalibration {
   std::string source;        // provenance: command, model, simulation settings
 };
 
+// The rule for two calibrated levels and a noise model: their levels, thresholds and caps; every
+// other setting (clear_after, estimate_window, interval_level) at its default.
+SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelCalibration& failed, const ThetaNoiseModel& noise);
+
 // The default calibration (no data): the default noise model, thresholds by Siegmund, no caps.
 DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt);
 

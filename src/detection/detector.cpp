@@ -81,7 +81,7 @@ void Detector::appendModelSample(const TelemetrySample& s) {
   for (int i = 0; i < kOutputDim; ++i) outputs_[static_cast<std::size_t>(at * kOutputDim + i)] = static_cast<float>(s.y[static_cast<std::size_t>(i)]);
   for (int i = 0; i < kInputDim; ++i) inputs_[static_cast<std::size_t>(at * kInputDim + i)] = static_cast<float>(s.u[static_cast<std::size_t>(i)]);
   times_[static_cast<std::size_t>(at)] = s.t;
-  observable_[static_cast<std::size_t>(at)] = gate_.step(s.u);
+  observable_[static_cast<std::size_t>(at)] = sequential_ ? gate_.step(s.u) : kAllMotorsObservable;  // only that rule reads it
   ++count_;
   if (streaming_) {  // every sample is evaluated as it arrives
     Output y;

@@ -23,13 +23,7 @@ LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& heal
     c.degraded = calibrateLevel(excursionMaxima(healthy, level, 0, config.cap, healthy_observable), level, config.flight_hours, config.rate_per_hour,
                                 config.noise, config.dt, config.cap);
     SequentialEvaluationConfig e;
-    e.rule.degraded_below = level;
-    e.rule.failed_below = config.failed.level;
-    e.rule.degraded_threshold = c.degraded.threshold;
-    e.rule.failed_threshold = config.failed.threshold;
-    e.rule.degraded_cap = c.degraded.increment_cap;
-    e.rule.failed_cap = config.failed.increment_cap;
-    e.rule.noise = config.noise;
+    e.rule = sequentialConfig(c.degraded, config.failed, config.noise);
     e.dt = config.dt;
     e.isolation_late = config.delay_budget;
     const SequentialEvaluation r = evaluateSequential(scored, e);

@@ -99,15 +99,7 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
   } catch (const nlohmann::json::exception& e) {
     throw fail(std::string("bad calibration: ") + e.what());
   }
-  SequentialConfig check;
-  check.noise = c.noise;
-  check.degraded_below = c.degraded.level;
-  check.failed_below = c.failed.level;
-  check.degraded_threshold = c.degraded.threshold;
-  check.failed_threshold = c.failed.threshold;
-  check.degraded_cap = c.degraded.increment_cap;
-  check.failed_cap = c.failed.increment_cap;
-  if (std::string p = validate(check); !p.empty()) throw fail("bad calibration: " + p);
+  if (std::string p = validate(sequentialConfig(c.degraded, c.failed, c.noise)); !p.empty()) throw fail("bad calibration: " + p);
   if (!(c.target_rate > 0.0) || !(c.dt > 0.0) || !(c.flight_hours >= 0.0)) throw fail("bad calibration: target_rate, dt or flight_hours out of range");
   return c;
 }
