@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quadfdi=${1:-build/release/src/quadfdi}
-hours=${2:-30}
+hours=${2:-40}
 for vehicle in configs/vehicles/*.toml; do
   stem=$(basename "$vehicle" .toml)
   model=models/tcn-$stem.qfdw

@@ -254,7 +254,11 @@ int runCalibrate(const CalibrateOptions& o) {
     }
   }
   c.faulty_flights = o.faulty_flights;
-  if (!est.empty()) c.noise.model_sigma = fitModelSigma(est, truth, noise_var);
+  if (!est.empty()) {
+    const EstimateSpread spread = fitEstimateSpread(est, truth, noise_var, SequentialConfig{}.interval_level);
+    c.noise.noise_scale = spread.noise_scale;
+    c.noise.model_sigma = spread.model_sigma;
+  }
 
   const double per_level = o.false_alarms_per_hour / 2.0;
   const double cap = o.degraded_cap > 0.0 ? o.degraded_cap : kNoIncrementCap;
@@ -296,8 +300,8 @@ int runCalibrate(const CalibrateOptions& o) {
   const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
   writeCalibrationFile(output, c);
   if (!o.quiet) {
-    std::fprintf(stderr, "calibrate: %.3f flight hours healthy: Θ̂ mean %.4f, σ %.4f, φ %.4f at %g Hz; model error σ %.4f (%zu estimates)\n",
-                 c.flight_hours, c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt, c.noise.model_sigma, est.size());
+    std::fprintf(stderr, "calibrate: %.3f flight hours healthy: Θ̂ mean %.4f, σ %.4f, φ %.4f at %g Hz; estimate: noise × %.3f, model error σ %.4f (%zu estimates)\n",
+                 c.flight_hours, c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt, c.noise.noise_scale, c.noise.model_sigma, est.size());
     for (const LevelCalibration* l : {&c.degraded, &c.failed})
       std::fprintf(stderr,
                    "calibrate: level %.2f, cap %g: h = %.3f (%s; %ld excursions), %ld alarms in the data = %.3g/h (95 %% bound %.3g/h)\n",

@@ -83,7 +83,9 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
       .above(0.0, 1.0)
       .defaultText("the calibration's level; 0.3 without one");
   t->add("--false-alarms-per-hour", o.false_alarms_per_hour,
-         "Sequential: target false alarms per flight hour; the CUSUM thresholds are solved for it").above(0.0, 3600.0);
+         "Sequential: target false alarms per flight hour; the CUSUM thresholds are solved for it")
+      .above(0.0, 3600.0)
+      .defaultText("the calibration's target; 0.1 without one");
   t->add("--calibration", o.calibration,
          "Sequential: noise model and threshold data from `quadfdi calibrate` (default: documented defaults)");
   t->add("--stride", o.stride, "Evaluate every N samples while all Θ̂ are above --watch (extra first-look delay ≤ N−1 samples)")
@@ -169,16 +171,17 @@ std::string calibrationSidecarPath(const std::string& model_path) {
 }
 
 SequentialSetup sequentialSetup(const std::string& calibration_file, std::optional<double> degraded_below,
-                                std::optional<double> failed_below, double false_alarms_per_hour, double dt) {
+                                std::optional<double> failed_below, std::optional<double> false_alarms_per_hour, double dt) {
   SequentialSetup s;
   DecisionCalibration& c = s.calibration;
-  const double per_level = false_alarms_per_hour / 2.0;  // the vehicle's budget, split over the two levels
   if (calibration_file.empty()) {
     const SequentialConfig defaults;
     c = defaultCalibration(degraded_below.value_or(defaults.degraded_below), failed_below.value_or(defaults.failed_below),
-                           false_alarms_per_hour, dt);
+                           false_alarms_per_hour.value_or(DecisionCalibration{}.target_rate), dt);
   } else {
     c = readCalibrationFile(calibration_file);
+    const double rate = false_alarms_per_hour.value_or(c.target_rate);
+    const double per_level = rate / 2.0;  // the vehicle's budget, split over the two levels
     if (std::abs(c.dt - dt) > 1e-12 * dt)
       throw ConfigError(calibration_file + ": calibrated at dt = " + std::to_string(c.dt) + " s, the model runs at " + std::to_string(dt) + " s");
     // A level other than the calibrated one has no excursion data: Siegmund on the calibrated noise model.
@@ -187,7 +190,7 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, std::option
       if (std::abs(level->level - below) > 1e-9) *level = calibrateLevel({}, below, 0.0, per_level, c.noise, dt, level->increment_cap);
       else retarget(*level, c.flight_hours, per_level, c.noise, dt);
     }
-    c.target_rate = false_alarms_per_hour;
+    c.target_rate = rate;
   }
   if (!(c.failed.level < c.degraded.level))
     throw ConfigError("--failed-below (" + std::to_string(c.failed.level) + ") must be below --degraded-below (" +

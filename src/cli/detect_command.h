@@ -18,7 +18,8 @@ struct DetectOptions {
   std::optional<double> degraded_below;  // [-] sequential: severity `degraded` below this effectiveness; unset: the
                                          //     calibration's level, else 0.8 (docs/decisions.md: why 0.8)
   std::optional<double> failed_below;    // [-] sequential: `failed` below this; unset: the calibration's, else 0.3
-  double false_alarms_per_hour = 0.1;  // [1/flight hour] sequential: target rate the thresholds are solved for
+  std::optional<double> false_alarms_per_hour;  // [1/flight hour] sequential: target rate the thresholds are solved
+                                                //     for; unset: the calibration's, else 0.1 (issue 14)
   std::string calibration;          // sequential: calibration JSON from `quadfdi calibrate`; empty: defaults
   int stride = 4;              // [samples]
   double watch = 0.9;
@@ -46,7 +47,7 @@ struct SequentialSetup {
   DecisionCalibration calibration;  // as used: thresholds re-solved for the options' target rate
 };
 SequentialSetup sequentialSetup(const std::string& calibration_file, std::optional<double> degraded_below,
-                                std::optional<double> failed_below, double false_alarms_per_hour, double dt);
+                                std::optional<double> failed_below, std::optional<double> false_alarms_per_hour, double dt);
 
 // MODEL.qfdw → MODEL.calibration.json: the calibration detect uses when none is named.
 std::string calibrationSidecarPath(const std::string& model_path);

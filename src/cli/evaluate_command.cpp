@@ -186,7 +186,7 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
     if (std::ifstream(sidecar).good()) calibration = sidecar;
   }
   // The calibration's own levels (their thresholds come from data); defaults without one.
-  const SequentialSetup rule = sequentialSetup(calibration, std::nullopt, std::nullopt, 0.1, model.metadata.dt);
+  const SequentialSetup rule = sequentialSetup(calibration, std::nullopt, std::nullopt, std::nullopt, model.metadata.dt);
   SequentialReportInputs in;
   in.model = &model;
   in.model_path = o.model_free;

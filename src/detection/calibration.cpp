@@ -125,15 +125,26 @@ double siegmundThreshold(const ThetaNoiseModel& noise, double level, double rate
 }
 
 void retarget(LevelCalibration& c, double flight_hours, double rate_per_hour, const ThetaNoiseModel& noise, double dt) {
-  const std::size_t k = c.tail_maxima.size();
-  if (k >= static_cast<std::size_t>(kMinTail) && flight_hours > 0.0 && c.tail_scale > 0.0) {
+  // The exponential is fitted on the maxima at most kTailSpan times as frequent as the target (at
+  // least kMinTail of them): u, the smallest of them, and β, their mean excess. The tail of a
+  // real model's maxima is a mixture (estimator noise in the bulk, a manoeuvre's transient in the
+  // few largest); a fit near the target describes the cause that sets it.
+  std::size_t fitted = 0;
+  if (c.tail_maxima.size() >= static_cast<std::size_t>(kMinTail) && flight_hours > 0.0) {
+    const double wanted = std::min(std::ceil(kTailSpan * rate_per_hour * flight_hours), 1e9);
+    fitted = std::clamp<std::size_t>(static_cast<std::size_t>(wanted), kMinTail, c.tail_maxima.size());
+    c.tail_start = c.tail_maxima[fitted - 1];
+    double excess = 0.0;
+    for (std::size_t i = 0; i < fitted; ++i) excess += c.tail_maxima[i] - c.tail_start;
+    c.tail_scale = excess / static_cast<double>(fitted - 1);
+  }
+  if (fitted > 0 && c.tail_scale > 0.0) {
     c.method = "tail";
-    const double h = c.tail_start + c.tail_scale * std::log(static_cast<double>(k) / (flight_hours * rate_per_hour));
+    const double h = c.tail_start + c.tail_scale * std::log(static_cast<double>(fitted) / (flight_hours * rate_per_hour));
     c.threshold = std::max({kMinThreshold, c.tail_start, h});  // below u the fit says nothing: stay conservative
-    // Fewer than one alarm expected in the data itself: none of its excursions may reach h. The
-    // fit describes the bulk of the tail; the few largest excursions can come from another cause
-    // (a manoeuvre's transient, not the estimator's noise) that it extrapolates too lightly —
-    // measured on the 1.5 kg quad's model: 5 alarms in its 5 calibration hours at the fitted h.
+    // Fewer than one alarm expected in the data itself: none of its excursions may reach h. A fit
+    // on the bulk of the tail extrapolated the few largest excursions (another cause) too lightly —
+    // measured on the 1.5 kg quad's model before kTailSpan: 5 alarms in its 5 calibration hours.
     // (A generalised Pareto fit by probability-weighted moments was tried instead and dropped: on
     // the general model's two-cluster tail it gave ξ = 0.57 and h = 962 against a largest excursion
     // of 29.)
@@ -155,25 +166,29 @@ LevelCalibration calibrateLevel(std::vector<double> maxima, double level, double
   std::sort(maxima.begin(), maxima.end(), std::greater<double>());
   const std::size_t k = std::clamp<std::size_t>(maxima.size() / 5, std::min<std::size_t>(maxima.size(), kMinTail), kMaxTail);
   c.tail_maxima.assign(maxima.begin(), maxima.begin() + static_cast<long>(k));
-  if (k >= static_cast<std::size_t>(kMinTail)) {
-    c.tail_start = c.tail_maxima.back();
-    double excess = 0.0;
-    for (double m : c.tail_maxima) excess += m - c.tail_start;
-    c.tail_scale = excess / static_cast<double>(k - 1);
-  }
   retarget(c, flight_hours, rate_per_hour, noise, dt);
   return c;
 }
 
-double fitModelSigma(const std::vector<double>& estimates, const std::vector<double>& truths,
-                     const std::vector<double>& noise_variances) {
-  if (estimates.empty()) return ThetaNoiseModel{}.model_sigma;
-  double sq = 0.0, noise = 0.0;
+EstimateSpread fitEstimateSpread(const std::vector<double>& estimates, const std::vector<double>& truths,
+                                 const std::vector<double>& noise_variances, double coverage) {
+  if (estimates.empty()) return {ThetaNoiseModel{}.noise_scale, ThetaNoiseModel{}.model_sigma};
+  const double z = normalQuantile(0.5 + 0.5 * coverage);
+  const double rank = std::ceil(static_cast<double>(estimates.size() + 1) * coverage);
+  const std::size_t at = std::min(estimates.size(), static_cast<std::size_t>(std::max(1.0, rank))) - 1;
+  auto quantile = [&](std::vector<double> needs) {
+    std::nth_element(needs.begin(), needs.begin() + static_cast<long>(at), needs.end());
+    return needs[at];
+  };
+  std::vector<double> scale(estimates.size()), additive(estimates.size());
   for (std::size_t i = 0; i < estimates.size(); ++i) {
-    sq += (estimates[i] - truths[i]) * (estimates[i] - truths[i]);
-    noise += noise_variances[i];
+    const double e = std::abs(estimates[i] - truths[i]) / z;
+    scale[i] = noise_variances[i] > 0.0 ? e / std::sqrt(noise_variances[i]) : (e > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+    additive[i] = std::sqrt(std::max(0.0, e * e - noise_variances[i]));
   }
-  return std::sqrt(std::max(0.0, (sq - noise) / static_cast<double>(estimates.size())));
+  const double q = quantile(scale);
+  if (q <= 1.0) return {std::max(q * q, kMinNoiseScale), 0.0};
+  return {1.0, quantile(additive)};
 }
 
 DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt) {

@@ -45,6 +45,7 @@ std::string validate(const SequentialConfig& c) {
   const ThetaNoiseModel& n = c.noise;
   if (!(n.sigma >= 0.0) || !(n.model_sigma >= 0.0) || !std::isfinite(n.sigma) || !std::isfinite(n.model_sigma))
     return "noise sigmas must be finite and non-negative";
+  if (!(n.noise_scale > 0.0) || !std::isfinite(n.noise_scale)) return "noise noise_scale must be finite and positive";
   if (!(n.phi >= 0.0 && n.phi < 1.0)) return "noise phi must lie in [0, 1)";
   if (!std::isfinite(n.healthy_mean)) return "noise healthy_mean must be finite";
   return {};
@@ -55,7 +56,7 @@ SequentialRule::SequentialRule(const SequentialConfig& config) : config_(config)
   z_ = normalQuantile(0.5 + 0.5 * config.interval_level);
   mean_variance_.resize(static_cast<std::size_t>(config.estimate_window) + 1);
   for (int n = 0; n <= config.estimate_window; ++n)
-    mean_variance_[static_cast<std::size_t>(n)] = ar1MeanVariance(config.noise.sigma, config.noise.phi, n);
+    mean_variance_[static_cast<std::size_t>(n)] = config.noise.noise_scale * ar1MeanVariance(config.noise.sigma, config.noise.phi, n);
   window_.assign(static_cast<std::size_t>(kMotors) * static_cast<std::size_t>(config.estimate_window), 1.0f);
   reset();
 }

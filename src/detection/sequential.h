@@ -34,6 +34,9 @@ struct ThetaNoiseModel {
   double sigma = 0.039;         // [-] per-sample standard deviation of Θ̂ on healthy flights
   double phi = 0.84;            // [-] lag-1 autocorrelation of Θ̂ at the model rate (500 Hz)
   double model_sigma = 0.093;   // [-] standard deviation of (mean Θ̂ − Θ) on faulty flights, beyond the noise
+  double noise_scale = 1.0;     // [-] the estimate's noise variance is this times the healthy AR(1) one; below 1
+                                //     where healthy Θ̂ (manoeuvres included) is noisier than a flown-through faulty
+                                //     estimate (fitted on coverage, detection/calibration.h fitEstimateSpread)
 };
 
 struct SequentialConfig {

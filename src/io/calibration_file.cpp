@@ -59,7 +59,7 @@ LevelCalibration levelFromJson(const nlohmann::json& j) {
 std::string calibrationToJson(const DecisionCalibration& c) {
   const nlohmann::json j = {
       {"format", "quadfdi-decision-calibration-1"},
-      {"noise", {{"healthy_mean", c.noise.healthy_mean}, {"sigma", c.noise.sigma}, {"phi", c.noise.phi}, {"model_sigma", c.noise.model_sigma}}},
+      {"noise", {{"healthy_mean", c.noise.healthy_mean}, {"sigma", c.noise.sigma}, {"phi", c.noise.phi}, {"model_sigma", c.noise.model_sigma}, {"noise_scale", c.noise.noise_scale}}},
       {"target_rate_per_hour", c.target_rate},
       {"dt", c.dt},
       {"flights", c.flights},
@@ -88,6 +88,7 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.noise.sigma = n.at("sigma").get<double>();
     c.noise.phi = n.at("phi").get<double>();
     c.noise.model_sigma = n.at("model_sigma").get<double>();
+    c.noise.noise_scale = n.value("noise_scale", 1.0);  // absent in calibrations before 2026-11-25
     c.target_rate = j.at("target_rate_per_hour").get<double>();
     c.dt = j.at("dt").get<double>();
     c.flights = count(j.at("flights"), "flights");

@@ -155,6 +155,24 @@ TEST(DetectCli, CalibrateChoosesALevelThatDetectThenUses) {
   EXPECT_NE(none.out.find("needs --faulty-flights > 0"), std::string::npos) << none.out;
 }
 
+// The calibration's target rate is detect's default, as its levels are: a calibration made for
+// 2000 false alarms an hour at level 0.95 (several in its 12 s of flight, so h comes from its own tail) runs at
+// that rate's thresholds unless --false-alarms-per-hour says otherwise.
+TEST(DetectCli, TheCalibrationsTargetRateIsTheDefault) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw", cal = temp("rate-calibration.json");
+  ASSERT_EQ(run("calibrate -q --model " + model + " --flights 2 --flight-seconds 6 --faulty-flights 4 --degraded-below 0.95 --false-alarms-per-hour 2000 --output " + cal)
+                .exit_code,
+            0);
+  EXPECT_NE(readFile(cal).find("\"target_rate_per_hour\": 2000"), std::string::npos);
+  const std::string mild = temp("rate-mild.csv");
+  ASSERT_EQ(run("simulate --motor 2 --theta 0.6 --fault-step 500 --steps 1200 --seed 5 --output " + mild).exit_code, 0);
+  const std::string base = "detect -q --model " + model + " --calibration " + cal + " --input " + mild + " --output -";
+  const CommandResult by_default = run(base, false);
+  ASSERT_EQ(by_default.exit_code, 0) << by_default.out.substr(0, 400);
+  EXPECT_TRUE(by_default.out == run(base + " --false-alarms-per-hour 2000", false).out);
+  EXPECT_TRUE(by_default.out != run(base + " --false-alarms-per-hour 0.001", false).out);
+}
+
 TEST(DetectCli, APipelineFromSimulateGivesTheFileModeOutput) {
   const CommandResult file = run("detect --input " + faultyCsv(), false);
   const CommandResult pipe =

@@ -289,6 +289,27 @@ TEST(Calibration, NoExcursionOfTheDataReachesTheThresholdWhenNoneIsExpected) {
 }
 
 // The calibration measures the statistic the rule runs: with a cap, the excursion maxima are those
+
+// A mixture like a real model's maxima: a bulk of 10⁵ small excursions (estimator noise) and 50
+// rare large ones (transients, 1 an hour: 1 + Exp(1)) in 50 flight hours. For 0.05 alarms an hour
+// the rare cluster alone sets h: 1 + ln(1/0.05) = 4.0. The fit on the maxima near the target finds
+// it (±0.9: twice the spread of a 50-sample fit's h); one on the 200 largest, mostly bulk, gives
+// about 2.5.
+TEST(Calibration, TheTailIsFittedNearTheTargetNotOnTheBulk) {
+  std::vector<double> maxima = exponentialSample(100000, 0.1, 31);
+  for (double m : exponentialSample(50, 1.0, 32)) maxima.push_back(1.0 + m);
+  const ThetaNoiseModel noise;
+  const LevelCalibration c = calibrateLevel(maxima, 0.9, 50.0, 0.05, noise, 0.002);
+  ASSERT_EQ(c.method, "tail");
+  EXPECT_EQ(c.tail_maxima.size(), static_cast<std::size_t>(kMaxTail));  // the stored tail is longer than the fit
+  EXPECT_GE(c.tail_start, 1.0);                                         // u among the rare cluster
+  EXPECT_NEAR(c.threshold, 4.0, 0.9);
+  // Re-targeting refits: a common target's tail reaches into the bulk, u below the cluster.
+  LevelCalibration common = c;
+  retarget(common, 50.0, 4.0, noise, 0.002);
+  EXPECT_LT(common.tail_start, 1.0);
+  EXPECT_LT(common.threshold, c.threshold);
+}
 // of the capped CUSUM, and a threshold fitted on them is never reached by the data's own capped
 // excursions when none is expected.
 TEST(Calibration, ExcursionsOfTheCappedStatistic) {
@@ -317,6 +338,51 @@ TEST(Calibration, ExcursionsOfTheCappedStatistic) {
   }
 }
 
+// Heavy-tailed estimate errors (95 % within ±0.01, 5 % off by ±0.2), with `noise_sd` the healthy
+// noise model's standard deviation of each estimate.
+struct SpreadCase {
+  std::vector<double> est, truth, var;
+  SpreadCase(int n, double noise_sd, std::uint64_t seed) {
+    Rng rng(seed, 0);
+    for (int i = 0; i < n; ++i) {
+      const double t = rng.uniform(0.2, 0.8);
+      const double e = rng.uniform(0.0, 1.0) < 0.95 ? rng.uniform(-0.01, 0.01) : (rng.uniform(0.0, 1.0) < 0.5 ? -0.2 : 0.2);
+      est.push_back(t + e);
+      truth.push_back(t);
+      var.push_back(noise_sd * noise_sd);
+    }
+  }
+  double coverage(const EstimateSpread& s) const {
+    const double z = normalQuantile(0.95);
+    long covered = 0;
+    for (std::size_t i = 0; i < est.size(); ++i)
+      covered += std::abs(est[i] - truth[i]) <= z * std::sqrt(s.noise_scale * var[i] + s.model_sigma * s.model_sigma);
+    return static_cast<double>(covered) / static_cast<double>(est.size());
+  }
+};
+
+// The fitted intervals hold Θ in 90 % of fresh pairs from the same law, where an RMS fit (σ ≈ 0.045)
+// would hold it in all: a noise model narrower than the errors gets a model error on top …
+TEST(Calibration, TheEstimateSpreadIsFittedOnCoverage) {
+  const SpreadCase fit(2000, 0.001, 41), test(20000, 0.001, 42);
+  const EstimateSpread s = fitEstimateSpread(fit.est, fit.truth, fit.var, 0.9);
+  EXPECT_EQ(s.noise_scale, 1.0);
+  EXPECT_GT(s.model_sigma, 0.0);
+  EXPECT_LT(s.model_sigma, 0.02);
+  EXPECT_NEAR(test.coverage(s), 0.9, 0.01);
+  // … and one wider than them (healthy Θ̂ noisier than a flown-through estimate) is scaled down.
+  const SpreadCase wide_fit(2000, 0.05, 43), wide_test(20000, 0.05, 44);
+  const EstimateSpread w = fitEstimateSpread(wide_fit.est, wide_fit.truth, wide_fit.var, 0.9);
+  EXPECT_LT(w.noise_scale, 0.1);
+  EXPECT_EQ(w.model_sigma, 0.0);
+  EXPECT_NEAR(wide_test.coverage(w), 0.9, 0.01);
+  EXPECT_NEAR(wide_test.coverage(EstimateSpread{1.0, 0.0}), 1.0, 0.06);  // unfitted: far too wide
+  // No faulty data: the default noise model's spread.
+  const EstimateSpread none = fitEstimateSpread({}, {}, {}, 0.9);
+  EXPECT_EQ(none.noise_scale, ThetaNoiseModel{}.noise_scale);
+  EXPECT_EQ(none.model_sigma, ThetaNoiseModel{}.model_sigma);
+}
+
 TEST(Calibration, FallsBackToSiegmundWithoutExcursions) {
   const auto train = ar1Streams(2, 20000, 0.97, 0.02, 0.9, 3);
   const ThetaNoiseModel noise = fitNoiseModel(train);
@@ -335,8 +401,17 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
   c.flight_hours = 100000 * 0.002 / 3600.0;
   c.degraded = calibrateLevel(excursionMaxima(train, 0.9), 0.9, c.flight_hours, 0.05, c.noise, 0.002);
   c.degraded.increment_cap = 0.1;
+  c.noise.noise_scale = 0.25;
   const DecisionCalibration back = calibrationFromJson(calibrationToJson(c), "x.json");
   EXPECT_EQ(calibrationToJson(back), calibrationToJson(c));
+  EXPECT_EQ(back.noise.noise_scale, 0.25);
+  {  // no key (every file before the fitted spread): the healthy noise unscaled
+    std::string json = calibrationToJson(c);
+    const std::size_t at = json.find("\"noise_scale\"");
+    ASSERT_NE(at, std::string::npos);
+    json.replace(at, 13, "\"renamed_key\"");  // an unknown key in its place: ignored
+    EXPECT_EQ(calibrationFromJson(json, "old.json").noise.noise_scale, 1.0);
+  }
   EXPECT_EQ(back.degraded.tail_maxima, c.degraded.tail_maxima);
   EXPECT_EQ(back.degraded.increment_cap, 0.1);
   EXPECT_EQ(back.failed.increment_cap, kNoIncrementCap);  // no key: no cap (every file before the cap)
