@@ -5,7 +5,7 @@ e7.csv, run with the same code), each vehicle's false alarms with the bound its 
 states, detection against Θ. It computes nothing the reports do not already say (the target
 check is e7.csv's targets_met, the bounds are quadfdi's).
 Usage: scripts/summarise-vehicle-results.py [GENERAL_E7_CSV]"""
-import csv, os, re, sys
+import csv, datetime, os, re, sys
 root = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'docs', 'results', 'vehicles')
 general = sys.argv[1] if len(sys.argv) > 1 else None
 vehicles = ['crazyflie2', 'racer250', 'quad450']
@@ -14,13 +14,16 @@ def ms(x): return f"{1000*float(x):.0f}"
 gen = {}
 if general:
     for r in csv.DictReader(open(general)): gen[(r['vehicle'], r['condition'])] = r
+# The command and machine as the first vehicle's report states them; the date of this summary.
+report = open(f"{root}/{vehicles[0]}/REPORT.md").read()
+command = re.search(r"^- command: `(.*)`$", report, re.M).group(1).replace(vehicles[0], "STEM")
+machine = re.search(r"^- machine: (.*)$", report, re.M).group(1)
 out = []
 out.append("# Per-vehicle detectors: E7 and decisions (issues 13 and 14)\n")
 out.append("Each library vehicle flown and scored with its own model `models/tcn-STEM.qfdw` and that model's calibration "
-           "(`scripts/evaluate-vehicle-models.sh`: `quadfdi evaluate -e e7 decisions --model-free models/tcn-STEM.qfdw "
-           "--vehicle configs/vehicles/STEM.toml --flights-per-class 5 --flight-hours 30 --scale default`). "
+           f"(`scripts/evaluate-vehicle-models.sh`: `{command}`). "
            "Full reports: [crazyflie2/](crazyflie2/REPORT.md), [racer250/](racer250/REPORT.md), [quad450/](quad450/REPORT.md). "
-           "Machine: the project's 2-core Intel Xeon VM (2.80 GHz), 2026-11-24.\n")
+           f"Machine: {machine}; summarised {datetime.date.today().isoformat()}.\n")
 out.append("## E7, transfer matrix\n")
 out.append("Per cell 220 flights (20 healthy; 5 per motor and Θ ∈ {0, 0.1, …, 0.9}), estimator errors Gauss–Markov "
            "(training saw white ones); held-out cells fly PID gains ×0.5 / ×2 (training: ×0.7–1.4), figure-eights at 2–3 m/s "

@@ -125,20 +125,10 @@ double siegmundThreshold(const ThetaNoiseModel& noise, double level, double rate
 }
 
 void retarget(LevelCalibration& c, double flight_hours, double rate_per_hour, const ThetaNoiseModel& noise, double dt) {
-  // The exponential is fitted on the maxima at most kTailSpan times as frequent as the target (at
-  // least kMinTail of them): u, the smallest of them, and β, their mean excess. The tail of a
-  // real model's maxima is a mixture (estimator noise in the bulk, a manoeuvre's transient in the
-  // few largest); a fit near the target describes the cause that sets it.
-  std::size_t fitted = 0;
-  if (c.tail_maxima.size() >= static_cast<std::size_t>(kMinTail) && flight_hours > 0.0) {
-    const double wanted = std::min(std::ceil(kTailSpan * rate_per_hour * flight_hours), 1e9);
-    fitted = std::clamp<std::size_t>(static_cast<std::size_t>(wanted), kMinTail, c.tail_maxima.size());
-    c.tail_start = c.tail_maxima[fitted - 1];
-    double excess = 0.0;
-    for (std::size_t i = 0; i < fitted; ++i) excess += c.tail_maxima[i] - c.tail_start;
-    c.tail_scale = excess / static_cast<double>(fitted - 1);
-  }
-  if (fitted > 0 && c.tail_scale > 0.0) {
+  // The stored fit (calibrateLevel's): N_u, the maxima at or above u.
+  const auto fitted = static_cast<std::size_t>(
+      std::count_if(c.tail_maxima.begin(), c.tail_maxima.end(), [&](double m) { return m >= c.tail_start; }));
+  if (fitted >= static_cast<std::size_t>(kMinTail) && flight_hours > 0.0 && c.tail_scale > 0.0) {
     c.method = "tail";
     const double h = c.tail_start + c.tail_scale * std::log(static_cast<double>(fitted) / (flight_hours * rate_per_hour));
     c.threshold = std::max({kMinThreshold, c.tail_start, h});  // below u the fit says nothing: stay conservative
@@ -166,6 +156,19 @@ LevelCalibration calibrateLevel(std::vector<double> maxima, double level, double
   std::sort(maxima.begin(), maxima.end(), std::greater<double>());
   const std::size_t k = std::clamp<std::size_t>(maxima.size() / 5, std::min<std::size_t>(maxima.size(), kMinTail), kMaxTail);
   c.tail_maxima.assign(maxima.begin(), maxima.begin() + static_cast<long>(k));
+  // The exponential is fitted on the maxima at most kTailSpan times as frequent as the target (at
+  // least kMinTail of them): u, the smallest of them, and β, their mean excess. A real model's
+  // maxima are a mixture (estimator noise in the bulk, a manoeuvre's transient in the few
+  // largest); a fit near the target describes the cause that sets it. The fit is kept: retarget
+  // re-solves h on it for another rate, so h falls as the rate rises.
+  if (k >= static_cast<std::size_t>(kMinTail) && flight_hours > 0.0) {
+    const double wanted = std::min(std::ceil(kTailSpan * rate_per_hour * flight_hours), 1e9);
+    const std::size_t fitted = std::clamp<std::size_t>(static_cast<std::size_t>(wanted), kMinTail, k);
+    c.tail_start = c.tail_maxima[fitted - 1];
+    double excess = 0.0;
+    for (std::size_t i = 0; i < fitted; ++i) excess += c.tail_maxima[i] - c.tail_start;
+    c.tail_scale = excess / static_cast<double>(fitted - 1);
+  }
   retarget(c, flight_hours, rate_per_hour, noise, dt);
   return c;
 }

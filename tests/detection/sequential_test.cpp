@@ -304,11 +304,18 @@ TEST(Calibration, TheTailIsFittedNearTheTargetNotOnTheBulk) {
   EXPECT_EQ(c.tail_maxima.size(), static_cast<std::size_t>(kMaxTail));  // the stored tail is longer than the fit
   EXPECT_GE(c.tail_start, 1.0);                                         // u among the rare cluster
   EXPECT_NEAR(c.threshold, 4.0, 0.9);
-  // Re-targeting refits: a common target's tail reaches into the bulk, u below the cluster.
-  LevelCalibration common = c;
-  retarget(common, 50.0, 4.0, noise, 0.002);
-  EXPECT_LT(common.tail_start, 1.0);
-  EXPECT_LT(common.threshold, c.threshold);
+  // Re-targeting keeps the fit and re-solves h on it: lower for a more frequent target, higher for
+  // a rarer one (monotone, as detect --false-alarms-per-hour and the trade-off curve need).
+  for (const auto& [rate, higher] : {std::pair<double, bool>{0.5, false}, {0.01, true}}) {
+    LevelCalibration other = c;
+    retarget(other, 50.0, rate, noise, 0.002);
+    EXPECT_EQ(other.tail_start, c.tail_start);
+    EXPECT_EQ(other.tail_scale, c.tail_scale);
+    EXPECT_EQ(other.threshold > c.threshold, higher) << rate;
+  }
+  LevelCalibration back = c;
+  retarget(back, 50.0, 0.05, noise, 0.002);
+  EXPECT_EQ(back.threshold, c.threshold);
 }
 // of the capped CUSUM, and a threshold fitted on them is never reached by the data's own capped
 // excursions when none is expected.
