@@ -73,6 +73,18 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   t->add("--position-noise", o.position_noise, "Std. dev. of additive noise on logged position [m]").atLeast(0);
   t->add("--attitude-noise", o.attitude_noise, "Std. dev. of additive noise on logged Euler angles [rad]")
       .atLeast(0);
+  t->add("--rotor-drag", o.rotor_drag,
+         "Linear rotor drag per unit mass [1/s] (the plant's linear_drag = this × mass; 0: the parameter set's); "
+         "wind acts through it (docs/model.md#wind: Crazyflie ≈ 0.26, Iris ≈ 0.17)")
+      .atLeast(0);
+  t->add("--wind-speed", o.wind_speed, "Steady horizontal wind [m/s] (needs rotor drag)").atLeast(0);
+  t->add("--wind-direction", o.wind_direction, "World heading the wind blows toward [rad] (0 = +x)");
+  t->add("--turbulence", o.turbulence, "Turbulence: std. dev. of each horizontal wind component [m/s] (vertical 0.51 of it)")
+      .atLeast(0);
+  t->add("--turbulence-tau", o.turbulence_tau, "Turbulence correlation time [s]").above(0.0, 1e6);
+  t->add("--gust-rate", o.gust_rate, "Discrete 1 − cosine gusts per second, Poisson arrivals").atLeast(0);
+  t->add("--gust-peak", o.gust_peak, "Largest gust peak [m/s] (each gust: ½–1 of it, random horizontal direction)").atLeast(0);
+  t->add("--gust-duration", o.gust_duration, "Duration of one gust [s]").above(0.0, 1e6);
   t->add("--cbf-min-altitude", o.cbf_min_altitude, "CBF altitude floor [m] (cbf only)");
   t->add("--cbf-max-tilt", o.cbf_max_tilt, "CBF tilt limit, angle of the body z axis to vertical [rad] "
                                            "(cbf only)")
@@ -102,7 +114,8 @@ std::string vec3(const Vec3& v) {
 
 int runSimulate(const SimulateOptions& o) {
   auto given = [&](const char* key) { return o.given.count(key) > 0; };
-  const VehicleParams plant = loadVehicleParams(o.params);
+  VehicleParams plant = loadVehicleParams(o.params);
+  if (o.rotor_drag > 0.0) plant.linear_drag = o.rotor_drag * plant.mass;
   const VehicleParams design =
       o.controller_params.empty() ? plant : loadVehicleParams(o.controller_params);
 
@@ -120,6 +133,15 @@ int runSimulate(const SimulateOptions& o) {
   settings.noise.position_std = o.position_noise;
   settings.noise.attitude_std = o.attitude_noise;
   settings.noise.seed = o.seed;
+  settings.wind.mean_speed = o.wind_speed;
+  settings.wind.mean_direction = o.wind_direction;
+  settings.wind.turbulence_std = o.turbulence;
+  settings.wind.turbulence_tau = o.turbulence_tau;
+  settings.wind.gust_rate = o.gust_rate;
+  settings.wind.gust_peak = o.gust_peak;
+  settings.wind.gust_duration = o.gust_duration;
+  if (settings.wind.active() && !(plant.linear_drag > 0.0))
+    throw std::runtime_error("--wind-speed, --turbulence and --gust-peak act through rotor drag: give --rotor-drag (or linear_drag in --params)");
   if (o.motor != 0) {
     settings.fault.theta(o.motor - 1) = o.theta;
     settings.fault.fault_step = o.fault_step;

@@ -27,6 +27,14 @@ struct SimulateOptions {
   std::vector<double> start;            // override, 12 state values (SI); empty: sampled
   double position_noise = 0.0;          // std. dev. [m]
   double attitude_noise = 0.0;          // std. dev. [rad]
+  double rotor_drag = 0.0;              // [1/s] linear rotor drag per unit mass; 0: the parameter set's linear_drag
+  double wind_speed = 0.0;              // [m/s] steady wind
+  double wind_direction = 0.0;          // [rad] world heading the wind blows toward
+  double turbulence = 0.0;              // [m/s] horizontal std of the turbulence
+  double turbulence_tau = 1.0;          // [s] its correlation time
+  double gust_rate = 0.0;               // [1/s] discrete gusts per second
+  double gust_peak = 0.0;               // [m/s] largest gust peak
+  double gust_duration = 1.0;           // [s]
   std::string trajectory = "hover";     // hover | point-to-point | circle | figure-eight
   double speed = 1.0;                   // [m/s] trajectory (peak) speed
   double radius = 1.0;                  // [m] circle radius, figure-eight half-length

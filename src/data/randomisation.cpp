@@ -80,6 +80,14 @@ std::string validate(const Randomisation& r) {
   if (!(c.lqr + c.pid + c.cbf > 0.0)) return "randomisation: some controller weight must be > 0";
   if (!validInterval(c.gain_scale) || !(c.gain_scale.lo > 0.0)) return "randomisation: gain scale range must be 0 < lo <= hi";
   if (!validInterval(r.preroll_seconds)) return "randomisation: pre-roll range must be 0 <= lo <= hi";
+  const WindRanges& w = r.wind;
+  for (const Interval* i : {&w.rotor_drag, &w.mean_speed, &w.turbulence_std, &w.turbulence_tau, &w.gust_rate, &w.gust_peak,
+                            &w.gust_duration})
+    if (!validInterval(*i)) return "randomisation: wind ranges must be 0 <= lo <= hi";
+  if (!(w.turbulence_tau.lo > 0.0) || !(w.gust_duration.lo > 0.0))
+    return "randomisation: wind turbulence_tau and gust_duration must be > 0";
+  if (!w.enabled() && (w.mean_speed.hi > 0.0 || w.turbulence_std.hi > 0.0 || w.gust_peak.hi > 0.0))
+    return "randomisation: wind without rotor drag has no effect: set wind.rotor_drag";
   return {};
 }
 
@@ -132,6 +140,20 @@ FlightDraw drawFlight(const Randomisation& r, double dt, Rng& rng) {
     md.size = std::max(md.size, accel_per_v2_over_size * md.speed * md.speed / m.max_lateral_accel);
   }
   d.preroll_steps = static_cast<int>(std::lround(draw(r.preroll_seconds, rng) / dt));
+
+  // The wind's draws come last and only with drag, so that every draw above (and every model
+  // trained before wind existed) is unchanged.
+  const WindRanges& w = r.wind;
+  if (w.enabled()) {
+    p.linear_drag = draw(w.rotor_drag, rng) * p.mass;
+    d.wind.mean_speed = draw(w.mean_speed, rng);
+    d.wind.mean_direction = rng.uniform(-M_PI, M_PI);
+    d.wind.turbulence_std = draw(w.turbulence_std, rng);
+    d.wind.turbulence_tau = draw(w.turbulence_tau, rng);
+    d.wind.gust_rate = draw(w.gust_rate, rng);
+    d.wind.gust_peak = draw(w.gust_peak, rng);
+    d.wind.gust_duration = draw(w.gust_duration, rng);
+  }
   return d;
 }
 

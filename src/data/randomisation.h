@@ -12,6 +12,7 @@
 #include "simulation/rng.h"
 #include "simulation/sampling.h"
 #include "simulation/sensor_model.h"
+#include "simulation/wind.h"
 
 namespace quadfdi {
 
@@ -41,6 +42,20 @@ enum class ManoeuvreKind { kHover, kPointToPoint, kCircle, kFigureEight };
 const char* toString(ManoeuvreKind k);
 bool parseManoeuvreKind(const std::string& text, ManoeuvreKind& kind);
 
+// The air the flight meets (simulation/wind.h, docs/data.md#wind), drawn per flight, and the rotor
+// drag it acts through. All {0, 0}: still air and no drag (the paper's model).
+struct WindRanges {
+  Interval rotor_drag{0.0, 0.0};      // [1/s] linear rotor drag per unit mass: plant linear_drag = this · mass
+  Interval mean_speed{0.0, 0.0};      // [m/s] steady wind, from a uniform direction
+  Interval turbulence_std{0.0, 0.0};  // [m/s] horizontal std of the continuous turbulence
+  Interval turbulence_tau{1.0, 1.0};  // [s] its correlation time (> 0)
+  Interval gust_rate{0.0, 0.0};       // [1/s] discrete gusts per second
+  Interval gust_peak{0.0, 0.0};       // [m/s] largest gust peak
+  Interval gust_duration{1.0, 1.0};   // [s] rise and fall of one gust (> 0)
+
+  bool enabled() const { return rotor_drag.hi > 0.0; }
+};
+
 // Relative weights (≥ 0, not all zero) of what is flown, and its size.
 struct ManoeuvreMix {
   double hover = 1.0, point_to_point = 0.0, circle = 0.0, figure_eight = 0.0;  // [-] weights
@@ -64,6 +79,7 @@ struct Randomisation {
   ManoeuvreMix manoeuvres;
   ControllerMix controllers;
   Interval preroll_seconds{0.0, 0.0};  // [s] healthy flight before the first recorded sample
+  WindRanges wind;
 
   bool enabled() const { return !vehicles.empty(); }
 };
@@ -91,6 +107,7 @@ struct FlightDraw {
   double gain_scale = 1.0;    // [-]
   ManoeuvreDraw manoeuvre;
   int preroll_steps = 0;      // [steps]
+  WindConfig wind;            // the flight's air; its drag is plant.linear_drag
 };
 
 // Draws one flight from `rng` (its own stream: the caller seeds it from (seed, scenario index)).

@@ -9,6 +9,7 @@
 #include "control/pid.h"
 #include "data/residual.h"
 #include "simulation/sensor_model.h"
+#include "simulation/wind.h"
 
 namespace quadfdi {
 namespace {
@@ -32,6 +33,7 @@ constexpr std::uint64_t kDrawSalt = 0xD4A3'5EEDull;
 constexpr std::uint64_t kSensorSalt = 0x5E45'0125ull;
 constexpr std::uint64_t kRedrawSalt = 0x9E37'79B9'7F4A'7C15ull;  // the golden-ratio constant: attempt n's draw stream
 constexpr std::uint64_t kProbeSalt = 0x0B5E'4F1Aull;             // the probe's own sensor noise
+constexpr std::uint64_t kWindSalt = 0x0A1E'2B10ull;              // the wind's turbulence and gusts
 
 // Flyability (docs/data.md#flyability): a randomised draw is flown healthy along its manoeuvre,
 // for its whole length (pre-roll and recorded samples) but at least kMinFlyabilityProbe, before it
@@ -284,6 +286,10 @@ bool RolloutEngine::flyable(const FlightDraw& d, std::uint64_t scenario_index) c
   const TrajectorySpec trajectory = trajectoryFor(d.manoeuvre, sc.goal);
   SensorModel sensors(d.sensors, dt);
   Rng sensor_rng(config_.seed ^ kSensorSalt ^ kProbeSalt, scenario_index);
+  WindModel wind(d.wind, dt);
+  Rng wind_rng(config_.seed ^ kWindSalt ^ kProbeSalt, scenario_index);
+  const bool windy = d.wind.active();
+  if (windy) wind.reset(wind_rng);
   PlantState plant;
   plant.x = sc.initial_state;
   plant.rotor_thrust = Input::Constant(d.plant.hoverThrust());
@@ -297,7 +303,8 @@ bool RolloutEngine::flyable(const FlightDraw& d, std::uint64_t scenario_index) c
   for (int k = 0; k < steps; ++k) {
     controller->setReference(referenceAt(trajectory, static_cast<double>(k) * dt));
     controller->compute(sensors.measure(plant.x, sensor_rng), control);
-    stepPlant(plant_model, config_.integrator, dt, d.plant.motor_time_constant, d.thrust_gain * control.u_cmd, plant);
+    stepPlant(plant_model, config_.integrator, dt, d.plant.motor_time_constant, d.thrust_gain * control.u_cmd, plant,
+              windy ? &wind.step(wind_rng) : nullptr);
     if (checkState(plant.x, StateBounds{}) != StepStatus::kOk) return false;
     if (k >= judged_from && (control.u_cmd.minCoeff() <= low || control.u_cmd.maxCoeff() >= high)) ++saturated;
   }
@@ -332,6 +339,10 @@ void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch&
   const TrajectorySpec trajectory = trajectoryFor(d.manoeuvre, sc.goal);
   SensorModel sensors(d.sensors, dt);
   Rng sensor_rng(config_.seed ^ kSensorSalt, job.scenario_index);
+  WindModel wind(d.wind, dt);
+  Rng wind_rng(config_.seed ^ kWindSalt, job.scenario_index);
+  const bool windy = d.wind.active();
+  if (windy) wind.reset(wind_rng);
 
   Input theta = Input::Ones();
   theta(job.faulty_motor - 1) = job.theta;
@@ -348,7 +359,7 @@ void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch&
     controller->setReference(referenceAt(trajectory, static_cast<double>(step) * dt));
     controller->compute(estimate, control);
     const Input applied = d.thrust_gain * applied_factor.cwiseProduct(control.u_cmd);
-    stepPlant(plant_model, config_.integrator, dt, lag, applied, plant);
+    stepPlant(plant_model, config_.integrator, dt, lag, applied, plant, windy ? &wind.step(wind_rng) : nullptr);
     ++step;
     status = checkState(plant.x, StateBounds{});
   };

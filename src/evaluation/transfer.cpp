@@ -39,6 +39,17 @@ std::vector<TransferCondition> e7Conditions(const SensorRanges& sensors) {
   error.randomisation.parameters.thrust = {0.85, 0.85};
   error.randomisation.parameters.motor_time_constant = {0.05, 0.05};
   c.push_back(error);
+  // Stronger air than training's (≤ 5 m/s, σ ≤ 1.5 m/s, gusts ≤ 3 m/s; configs/randomisation-default.toml).
+  TransferCondition gusty{"PID, point-to-point; wind 6–8 m/s, turbulence 2 m/s, gusts 4–5 m/s", true,
+                          pinned(DrawnController::kPid, 1.0, ManoeuvreKind::kPointToPoint, sensors)};
+  gusty.randomisation.wind.rotor_drag = {0.25, 0.25};
+  gusty.randomisation.wind.mean_speed = {6.0, 8.0};
+  gusty.randomisation.wind.turbulence_std = {2.0, 2.0};
+  gusty.randomisation.wind.turbulence_tau = {1.0, 1.0};
+  gusty.randomisation.wind.gust_rate = {0.5, 0.5};
+  gusty.randomisation.wind.gust_peak = {5.0, 5.0};
+  gusty.randomisation.wind.gust_duration = {1.0, 1.0};
+  c.push_back(gusty);
   return c;
 }
 

@@ -26,7 +26,14 @@ std::vector<std::pair<std::string, Interval*>> intervalFields(Randomisation& r) 
           {"manoeuvres.speed", &r.manoeuvres.speed},
           {"manoeuvres.size", &r.manoeuvres.size},
           {"controllers.gain_scale", &r.controllers.gain_scale},
-          {"preroll_seconds", &r.preroll_seconds}};
+          {"preroll_seconds", &r.preroll_seconds},
+          {"wind.rotor_drag", &r.wind.rotor_drag},
+          {"wind.mean_speed", &r.wind.mean_speed},
+          {"wind.turbulence_std", &r.wind.turbulence_std},
+          {"wind.turbulence_tau", &r.wind.turbulence_tau},
+          {"wind.gust_rate", &r.wind.gust_rate},
+          {"wind.gust_peak", &r.wind.gust_peak},
+          {"wind.gust_duration", &r.wind.gust_duration}};
 }
 
 std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {

@@ -74,7 +74,10 @@ inline Mat3 rotationBodyToWorld(double roll, double pitch, double yaw) {
 }
 
 // ẋ = f(x, u) for the 12-state model of state.h, thrusts f [N] as applied to the rotors.
-inline void stateDerivative(const RigidBodyModel& m, const State& x, const Input& f, State& dx) {
+// `wind_world` [m/s] (world frame; null = still air): the linear drag then acts on the velocity
+// relative to the air, v − Rᵀw (rotor drag, docs/model.md#wind); it has no effect without drag.
+inline void stateDerivative(const RigidBodyModel& m, const State& x, const Input& f, State& dx,
+                            const Vec3* wind_world = nullptr) {
   const double roll = x(idx::kRoll), pitch = x(idx::kPitch), yaw = x(idx::kYaw);
   const double sf = std::sin(roll), cf = std::cos(roll);
   const double st = std::sin(pitch), ct = std::cos(pitch);
@@ -87,11 +90,18 @@ inline void stateDerivative(const RigidBodyModel& m, const State& x, const Input
   dx(idx::kPx) = cs * ct * u + (cs * st * sf - ss * cf) * v + (cs * st * cf + ss * sf) * w;
   dx(idx::kPy) = ss * ct * u + (ss * st * sf + cs * cf) * v + (ss * st * cf - cs * sf) * w;
   dx(idx::kPz) = -st * u + ct * sf * v + ct * cf * w;
-  // v̇ = −ω × v + Rᵀ(0,0,−g) + (0,0,T/m) − (c/m) v
+  // v̇ = −ω × v + Rᵀ(0,0,−g) + (0,0,T/m) − (c/m)(v − Rᵀw)
   const double g = m.gravity, kd = m.linear_drag_per_mass;
-  dx(idx::kVx) = r * v - q * w + g * st - kd * u;
-  dx(idx::kVy) = p * w - r * u - g * ct * sf - kd * v;
-  dx(idx::kVz) = q * u - p * v - g * ct * cf + wr.thrust * m.inv_mass - kd * w;
+  double air_u = u, air_v = v, air_w = w;  // body velocity relative to the air
+  if (wind_world) {
+    const double wx = wind_world->x(), wy = wind_world->y(), wz = wind_world->z();
+    air_u -= cs * ct * wx + ss * ct * wy - st * wz;
+    air_v -= (cs * st * sf - ss * cf) * wx + (ss * st * sf + cs * cf) * wy + ct * sf * wz;
+    air_w -= (cs * st * cf + ss * sf) * wx + (ss * st * cf - cs * sf) * wy + ct * cf * wz;
+  }
+  dx(idx::kVx) = r * v - q * w + g * st - kd * air_u;
+  dx(idx::kVy) = p * w - r * u - g * ct * sf - kd * air_v;
+  dx(idx::kVz) = q * u - p * v - g * ct * cf + wr.thrust * m.inv_mass - kd * air_w;
   // η̇ = W(η) ω
   const double tt = st / ct;
   dx(idx::kRoll) = p + (sf * q + cf * r) * tt;

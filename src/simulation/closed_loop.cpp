@@ -29,6 +29,7 @@ std::string validate(const SimulationSettings& s) {
     return "sensor noise standard deviations must be finite and >= 0";
   if (s.trajectory)
     if (std::string problem = validate(*s.trajectory); !problem.empty()) return problem;
+  if (std::string problem = validate(s.wind); !problem.empty()) return problem;
   return {};
 }
 
@@ -56,6 +57,10 @@ FlightSummary ClosedLoopSimulator::run(Controller& controller, const State& x0, 
 
   const bool noisy = settings_.noise.position_std > 0.0 || settings_.noise.attitude_std > 0.0;
   Rng noise_rng(settings_.noise.seed, 0x5E45);
+  WindModel wind(settings_.wind, settings_.dt);
+  Rng wind_rng(settings_.noise.seed, 0x0A1E);
+  const bool windy = settings_.wind.active();
+  if (windy) wind.reset(wind_rng);
   ControlStep control;
   controller.reset();
   for (int k = 0; k < n; ++k) {
@@ -86,7 +91,8 @@ FlightSummary ClosedLoopSimulator::run(Controller& controller, const State& x0, 
     ++summary.steps_completed;
     summary.final_state = plant.x;
 
-    stepPlant(model_, settings_.integrator, settings_.dt, params_.motor_time_constant, applied, plant);
+    stepPlant(model_, settings_.integrator, settings_.dt, params_.motor_time_constant, applied, plant,
+              windy ? &wind.step(wind_rng) : nullptr);
     summary.end_status = checkState(plant.x, settings_.bounds);
     if (summary.cut()) return summary;
     summary.final_state = plant.x;

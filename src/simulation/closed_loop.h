@@ -11,6 +11,7 @@
 #include "control/reference.h"
 #include "model/integrator.h"
 #include "model/vehicle_params.h"
+#include "simulation/wind.h"
 
 namespace quadfdi {
 
@@ -35,6 +36,9 @@ struct SimulationSettings {
   StateBounds bounds;
   FaultSpec fault;
   SensorNoise noise;
+  // The air (docs/model.md#wind), drawn on the stream of noise.seed; it acts through the plant's
+  // linear_drag only. Still air by default.
+  WindConfig wind;
   // A manoeuvre to fly: before step k the simulator calls controller.setReference(referenceAt(
   // *trajectory, k·dt)). Empty (default): the controller keeps the reference it was given.
   std::optional<TrajectorySpec> trajectory;

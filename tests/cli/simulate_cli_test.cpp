@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -52,7 +53,8 @@ TEST(SimulateCli, HelpDocumentsEveryOption) {
   for (const char* opt : {"--controller", "--controller-config", "--params", "--controller-params", "--lqr-weights", "--motor", "--theta",
                           "--fault-step", "--steps", "--seed", "--integrator", "--output", "--full-state", "--goal",
                           "--start", "--position-noise", "--attitude-noise", "--cbf-min-altitude", "--cbf-max-tilt",
-                          "--quiet", "--trajectory", "--speed", "--radius", "--yaw-mode"})
+                          "--quiet", "--trajectory", "--speed", "--radius", "--yaw-mode", "--rotor-drag", "--wind-speed",
+                          "--wind-direction", "--turbulence", "--turbulence-tau", "--gust-rate", "--gust-peak", "--gust-duration"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
 }
 
@@ -126,6 +128,42 @@ TEST(SimulateCli, PidFliesACircle) {
   const CommandResult bad = run("simulate --controller-config " + cfg + " -o /dev/null");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find(cfg + ":3: 'pid.rate_divisor' must be an integer"), std::string::npos) << bad.out;
+}
+
+// A steady wind toward +x pushes a hovering LQR flight downwind and it leans into it (negative
+// pitch is nose up in FLU, i.e. tilting the thrust toward −x); the same seed with gusts repeats
+// byte for byte; wind without rotor drag is refused in one line.
+TEST(SimulateCli, WindPushesTheFlightAndNeedsRotorDrag) {
+  auto lastRow = [](const std::string& csv) {
+    std::istringstream in(csv);
+    std::string line, last;
+    while (std::getline(in, line))
+      if (!line.empty()) last = line;
+    std::vector<double> v;
+    std::istringstream row(last);
+    for (std::string cell; std::getline(row, cell, ',');) v.push_back(std::stod(cell));
+    return v;
+  };
+  const std::string base = "simulate --start 0 0 1 0 0 0 0 0 0 0 0 0 --goal 0 0 1 --steps 3000 --output - ";
+  const CommandResult still = run(base + "--rotor-drag 0.26", false);
+  const CommandResult windy = run(base + "--rotor-drag 0.26 --wind-speed 4", false);
+  ASSERT_EQ(still.exit_code, 0) << still.out;
+  ASSERT_EQ(windy.exit_code, 0) << windy.out;
+  const std::vector<double> s = lastRow(still.out), w = lastRow(windy.out);
+  ASSERT_EQ(w.size(), 11u);
+  EXPECT_NEAR(s[1], 0.0, 1e-6);
+  EXPECT_GT(w[1], 0.005);  // downwind of the goal: the LQR has no integrator
+  // Steady lean: tan θ = c·|w| / (m g) = 0.26 · 4 / 9.8 (pitch about −0.106 rad for a push toward +x).
+  EXPECT_NEAR(std::abs(w[5]), std::atan(0.26 * 4.0 / 9.8), 0.01);
+  const std::string gusty = base + "--rotor-drag 0.26 --turbulence 1 --gust-rate 1 --gust-peak 3 --seed 3";
+  const CommandResult g1 = run(gusty, false), g2 = run(gusty, false);
+  ASSERT_EQ(g1.exit_code, 0) << g1.out;
+  EXPECT_EQ(g1.out, g2.out);
+  EXPECT_NE(g1.out, windy.out);
+  const CommandResult refused = run("simulate --wind-speed 3 -o /dev/null");
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_EQ(countLines(refused.out), 1) << refused.out;
+  EXPECT_NE(refused.out.find("--rotor-drag"), std::string::npos) << refused.out;
 }
 
 TEST(SimulateCli, BadArgumentsGiveOneLineErrorsAndNonZeroExit) {

@@ -99,5 +99,48 @@ TEST(Randomisation, ValidateNamesTheProblem) {
   EXPECT_NE(validate(r).find("parameter factors"), std::string::npos);
 }
 
+TEST(Randomisation, WindIsDrawnLastSoEveryOtherDrawIsUnchanged) {
+  const Randomisation still = twoVehicles();
+  Randomisation windy = still;
+  windy.wind.rotor_drag = {0.15, 0.35};
+  windy.wind.mean_speed = {0.0, 5.0};
+  windy.wind.turbulence_std = {0.0, 1.5};
+  windy.wind.turbulence_tau = {0.5, 5.0};
+  windy.wind.gust_rate = {0.0, 0.1};
+  windy.wind.gust_peak = {0.0, 3.0};
+  windy.wind.gust_duration = {0.5, 2.0};
+  ASSERT_EQ(validate(windy), "");
+  for (int i = 0; i < 200; ++i) {
+    Rng a(9, static_cast<std::uint64_t>(i)), b(9, static_cast<std::uint64_t>(i));
+    const FlightDraw ds = drawFlight(still, 0.002, a), dw = drawFlight(windy, 0.002, b);
+    ASSERT_EQ(ds.vehicle, dw.vehicle);
+    ASSERT_EQ(ds.plant.mass, dw.plant.mass);
+    ASSERT_EQ(ds.plant.inertia_yy, dw.plant.inertia_yy);
+    ASSERT_EQ(ds.sensors.attitude_std, dw.sensors.attitude_std);
+    ASSERT_EQ(ds.controller, dw.controller);
+    ASSERT_EQ(ds.manoeuvre.size, dw.manoeuvre.size);
+    ASSERT_EQ(ds.preroll_steps, dw.preroll_steps);
+    EXPECT_FALSE(ds.wind.active());
+    EXPECT_EQ(ds.plant.linear_drag, 0.0);
+    // The drag is per unit of the drawn mass.
+    ASSERT_GE(dw.plant.linear_drag, 0.15 * dw.plant.mass * (1 - 1e-12));
+    ASSERT_LE(dw.plant.linear_drag, 0.35 * dw.plant.mass * (1 + 1e-12));
+    ASSERT_LE(dw.wind.mean_speed, 5.0);
+    ASSERT_GE(dw.wind.turbulence_tau, 0.5);
+    ASSERT_LE(dw.wind.gust_duration, 2.0);
+    ASSERT_EQ(validate(dw.wind), "");
+  }
+}
+
+TEST(Randomisation, WindWithoutDragIsRefused) {
+  Randomisation r = twoVehicles();
+  r.wind.mean_speed = {1.0, 3.0};
+  EXPECT_NE(validate(r).find("rotor drag"), std::string::npos);
+  r.wind.rotor_drag = {0.2, 0.3};
+  EXPECT_EQ(validate(r), "");
+  r.wind.turbulence_tau = {0.0, 1.0};
+  EXPECT_NE(validate(r).find("turbulence_tau"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace quadfdi

@@ -71,6 +71,10 @@ TEST(Transfer, ConditionsPinOneControllerAndManoeuvreAndCellsCountTheirFlights) 
     const ControllerMix& m = c.randomisation.controllers;
     EXPECT_EQ((m.lqr > 0) + (m.pid > 0) + (m.cbf > 0), 1) << c.name;
     EXPECT_EQ(m.gain_scale.lo, m.gain_scale.hi) << c.name;
+    Randomisation r = c.randomisation;
+    r.vehicles = {nominalParams()};
+    r.vehicle_names = {"nominal"};
+    EXPECT_EQ(validate(r), "") << c.name;
   }
   EXPECT_GE(held_out, 4);
   TransferConfig config;

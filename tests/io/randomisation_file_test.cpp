@@ -45,6 +45,54 @@ TEST(RandomisationFile, RefusesBadInputWithFileAndLine) {
   EXPECT_EQ(message("[sensors]\ndelay_steps_max = 2\n"), "r.toml: no 'vehicles = [\"FILE\", …]': a randomisation needs at least one vehicle");
 }
 
+TEST(RandomisationFile, WindKeysParseAndWindWithoutDragIsRefusedAtTheFile) {
+  const Randomisation r = randomisationFromText(
+      "vehicles = [\"nominal\"]\n[wind]\nrotor_drag = [0.2, 0.3]\nmean_speed = [1, 4]\nturbulence_std = [0, 1]\n"
+      "turbulence_tau = [0.5, 2]\ngust_rate = [0, 0.1]\ngust_peak = [0, 3]\ngust_duration = [0.5, 1.5]\n",
+      "w.toml");
+  EXPECT_EQ(r.wind.rotor_drag.hi, 0.3);
+  EXPECT_EQ(r.wind.mean_speed.lo, 1.0);
+  EXPECT_EQ(r.wind.gust_duration.hi, 1.5);
+  EXPECT_NE(randomisationToText(r).find("wind.gust_peak = [0, 3]"), std::string::npos);
+  try {
+    randomisationFromText("vehicles = [\"nominal\"]\n[wind]\nmean_speed = [1, 4]\n", "w.toml");
+    ADD_FAILURE() << "wind without drag was taken";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "w.toml: randomisation: wind without rotor drag has no effect: set wind.rotor_drag");
+  }
+}
+
+// The same flights in still air and in the default randomisation's wind: the wind moves the
+// vehicle (its drawn drag and air differ per flight) and nothing else of the draw.
+TEST(RandomisationFile, WindPushesTheFlightsOffTheirStillAirPath) {
+  RolloutConfig windy;
+  windy.randomisation = loadRandomisation(kDefault);
+  ASSERT_TRUE(windy.randomisation.wind.enabled());
+  windy.randomisation.wind.mean_speed = {4.0, 5.0};
+  windy.seed = 5;
+  windy.post_fault_steps = 200;
+  RolloutConfig still = windy;
+  still.randomisation.wind = WindRanges{};
+  const RolloutEngine w(windy), s(still);
+  const std::vector<TrajectoryJob> jobs = algorithm1Jobs(0, 6, {1.0}, {2});
+  TrajectoryBatch bw, bs;
+  ASSERT_TRUE(w.run(jobs, 1, bw));
+  ASSERT_TRUE(s.run(jobs, 1, bs));
+  for (int t = 0; t < bw.count; ++t) {
+    int tries_w = 0, tries_s = 0;
+    const FlightDraw dw = w.flightDraw(static_cast<std::uint64_t>(t), &tries_w), ds = s.flightDraw(static_cast<std::uint64_t>(t), &tries_s);
+    EXPECT_GT(dw.plant.linear_drag, 0.0);
+    if (tries_w == 1 && tries_s == 1) {  // a redraw (unflyable first draw) takes another stream
+      EXPECT_EQ(dw.controller, ds.controller);
+      EXPECT_EQ(dw.manoeuvre.kind, ds.manoeuvre.kind);
+    }
+  }
+  double largest = 0.0;  // position difference over the batch [m]
+  for (std::size_t i = 0; i < bw.outputs.size(); i += kOutputDim)
+    for (int c = 0; c < 3; ++c) largest = std::max(largest, std::abs(double(bw.outputs[i + c]) - double(bs.outputs[i + c])));
+  EXPECT_GT(largest, 0.01);
+}
+
 // Every library vehicle flown by every controller through every manoeuvre, healthy: the flights
 // stay up, and the batch does not depend on the thread count.
 TEST(RandomisationFile, RandomisedHealthyFlightsStayUpAndAreThreadIndependent) {
