@@ -37,13 +37,11 @@ inline StepStatus checkState(const State& x, const StateBounds& bounds) {
   return StepStatus::kOk;
 }
 
-// Advances `plant` by dt under the thrust command `applied` (after the fault), held constant.
-// motor_time_constant > 0: rotor thrust follows f(t) = a + (f0 − a) e^{−t/τ}, evaluated exactly
-// at the RK4 stage times, so the lag costs no extra states. `wind_world` [m/s] (null = still air)
-// is held over the step like the command (zero-order hold).
-inline void stepPlant(const RigidBodyModel& model, Integrator integrator, double dt,
-                      double motor_time_constant, const Input& applied, PlantState& plant,
-                      const Vec3* wind_world = nullptr) {
+// One step for stepPlant below, still air or in the wind (dynamics.h: a template parameter keeps
+// the still-air step free of any test).
+template <bool kWindy>
+inline void stepPlantIn(const RigidBodyModel& model, Integrator integrator, double dt, double motor_time_constant,
+                        const Input& applied, const Vec3& wind_world, PlantState& plant) {
   Input f0 = applied, f_mid = applied, f1 = applied;
   if (motor_time_constant > 0.0) {
     const Input gap = plant.rotor_thrust - applied;
@@ -54,20 +52,33 @@ inline void stepPlant(const RigidBodyModel& model, Integrator integrator, double
   State& x = plant.x;
   if (integrator == Integrator::kEuler) {
     State k1;
-    stateDerivative(model, x, f0, k1, wind_world);
+    stateDerivativeIn<kWindy>(model, x, f0, wind_world, k1);
     x += dt * k1;
   } else {
     State k1, k2, k3, k4, tmp;
-    stateDerivative(model, x, f0, k1, wind_world);
+    stateDerivativeIn<kWindy>(model, x, f0, wind_world, k1);
     tmp = x + (0.5 * dt) * k1;
-    stateDerivative(model, tmp, f_mid, k2, wind_world);
+    stateDerivativeIn<kWindy>(model, tmp, f_mid, wind_world, k2);
     tmp = x + (0.5 * dt) * k2;
-    stateDerivative(model, tmp, f_mid, k3, wind_world);
+    stateDerivativeIn<kWindy>(model, tmp, f_mid, wind_world, k3);
     tmp = x + dt * k3;
-    stateDerivative(model, tmp, f1, k4, wind_world);
+    stateDerivativeIn<kWindy>(model, tmp, f1, wind_world, k4);
     x += (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
   }
   plant.rotor_thrust = f1;
+}
+
+// Advances `plant` by dt under the thrust command `applied` (after the fault), held constant.
+// motor_time_constant > 0: rotor thrust follows f(t) = a + (f0 − a) e^{−t/τ}, evaluated exactly
+// at the RK4 stage times, so the lag costs no extra states. `wind_world` [m/s] (null = still air)
+// is held over the step like the command (zero-order hold).
+inline void stepPlant(const RigidBodyModel& model, Integrator integrator, double dt,
+                      double motor_time_constant, const Input& applied, PlantState& plant,
+                      const Vec3* wind_world = nullptr) {
+  if (wind_world)
+    stepPlantIn<true>(model, integrator, dt, motor_time_constant, applied, *wind_world, plant);
+  else
+    stepPlantIn<false>(model, integrator, dt, motor_time_constant, applied, Vec3::Zero(), plant);
 }
 
 }  // namespace quadfdi
