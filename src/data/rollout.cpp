@@ -288,8 +288,7 @@ bool RolloutEngine::flyable(const FlightDraw& d, std::uint64_t scenario_index) c
   Rng sensor_rng(config_.seed ^ kSensorSalt ^ kProbeSalt, scenario_index);
   WindModel wind(d.wind, dt);
   Rng wind_rng(config_.seed ^ kWindSalt ^ kProbeSalt, scenario_index);
-  const bool windy = d.wind.active();
-  if (windy) wind.reset(wind_rng);
+  wind.reset(wind_rng);
   PlantState plant;
   plant.x = sc.initial_state;
   plant.rotor_thrust = Input::Constant(d.plant.hoverThrust());
@@ -304,7 +303,7 @@ bool RolloutEngine::flyable(const FlightDraw& d, std::uint64_t scenario_index) c
     controller->setReference(referenceAt(trajectory, static_cast<double>(k) * dt));
     controller->compute(sensors.measure(plant.x, sensor_rng), control);
     stepPlant(plant_model, config_.integrator, dt, d.plant.motor_time_constant, d.thrust_gain * control.u_cmd, plant,
-              windy ? &wind.step(wind_rng) : nullptr);
+              wind.advance(wind_rng));
     if (checkState(plant.x, StateBounds{}) != StepStatus::kOk) return false;
     if (k >= judged_from && (control.u_cmd.minCoeff() <= low || control.u_cmd.maxCoeff() >= high)) ++saturated;
   }
@@ -341,8 +340,7 @@ void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch&
   Rng sensor_rng(config_.seed ^ kSensorSalt, job.scenario_index);
   WindModel wind(d.wind, dt);
   Rng wind_rng(config_.seed ^ kWindSalt, job.scenario_index);
-  const bool windy = d.wind.active();
-  if (windy) wind.reset(wind_rng);
+  wind.reset(wind_rng);
 
   Input theta = Input::Ones();
   theta(job.faulty_motor - 1) = job.theta;
@@ -359,7 +357,7 @@ void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch&
     controller->setReference(referenceAt(trajectory, static_cast<double>(step) * dt));
     controller->compute(estimate, control);
     const Input applied = d.thrust_gain * applied_factor.cwiseProduct(control.u_cmd);
-    stepPlant(plant_model, config_.integrator, dt, lag, applied, plant, windy ? &wind.step(wind_rng) : nullptr);
+    stepPlant(plant_model, config_.integrator, dt, lag, applied, plant, wind.advance(wind_rng));
     ++step;
     status = checkState(plant.x, StateBounds{});
   };

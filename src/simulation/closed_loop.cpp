@@ -59,8 +59,7 @@ FlightSummary ClosedLoopSimulator::run(Controller& controller, const State& x0, 
   Rng noise_rng(settings_.noise.seed, 0x5E45);
   WindModel wind(settings_.wind, settings_.dt);
   Rng wind_rng(settings_.noise.seed, 0x0A1E);
-  const bool windy = settings_.wind.active();
-  if (windy) wind.reset(wind_rng);
+  wind.reset(wind_rng);
   ControlStep control;
   controller.reset();
   for (int k = 0; k < n; ++k) {
@@ -92,7 +91,7 @@ FlightSummary ClosedLoopSimulator::run(Controller& controller, const State& x0, 
     summary.final_state = plant.x;
 
     stepPlant(model_, settings_.integrator, settings_.dt, params_.motor_time_constant, applied, plant,
-              windy ? &wind.step(wind_rng) : nullptr);
+              wind.advance(wind_rng));
     summary.end_status = checkState(plant.x, settings_.bounds);
     if (summary.cut()) return summary;
     summary.final_state = plant.x;

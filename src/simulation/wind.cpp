@@ -18,22 +18,23 @@ std::string validate(const WindConfig& c) {
 WindModel::WindModel(const WindConfig& config, double dt)
     : config_(config),
       dt_(dt),
+      std_(config.turbulence_std, config.turbulence_std, kVerticalTurbulenceRatio * config.turbulence_std),
       phi_(std::exp(-dt / config.turbulence_tau)),
       gain_(std::sqrt(1.0 - phi_ * phi_)),
       gust_probability_(1.0 - std::exp(-config.gust_rate * dt)),
       mean_(config.mean_speed * std::cos(config.mean_direction), config.mean_speed * std::sin(config.mean_direction), 0.0) {}
 
 void WindModel::reset(Rng& rng) {
-  const Vec3 stds(config_.turbulence_std, config_.turbulence_std, kVerticalTurbulenceRatio * config_.turbulence_std);
-  for (int i = 0; i < 3; ++i) turbulence_(i) = stds(i) * standardNormal(rng);
+  turbulence_.setZero();
+  if (config_.active())
+    for (int i = 0; i < 3; ++i) turbulence_(i) = std_(i) * standardNormal(rng);
   gust_elapsed_ = -1.0;
   gust_amplitude_ = 0.0;
   velocity_ = mean_ + turbulence_;
 }
 
 const Vec3& WindModel::step(Rng& rng) {
-  const Vec3 stds(config_.turbulence_std, config_.turbulence_std, kVerticalTurbulenceRatio * config_.turbulence_std);
-  for (int i = 0; i < 3; ++i) turbulence_(i) = phi_ * turbulence_(i) + gain_ * stds(i) * standardNormal(rng);
+  for (int i = 0; i < 3; ++i) turbulence_(i) = phi_ * turbulence_(i) + gain_ * std_(i) * standardNormal(rng);
   // Three uniforms every step, used or not, so that the stream does not depend on the gusts' timing.
   const double arrival = rng.uniform(), heading = rng.uniform(-M_PI, M_PI), size = rng.uniform(0.5, 1.0);
   if (gust_elapsed_ >= 0.0) {

@@ -42,17 +42,21 @@ class WindModel {
  public:
   // setup: the per-step factors of the turbulence's exact discretisation at period dt [s].
   WindModel(const WindConfig& config, double dt);
-  // A new flight: turbulence drawn from its stationary law (no start-up transient), no gust.
+  // A new flight: turbulence drawn from its stationary law (no start-up transient), no gust; in
+  // still air (config not active) nothing is drawn.
   void reset(Rng& rng);
   // Advances one period; returns the wind velocity [m/s], world frame, to hold over it. A fixed
   // number of draws per step for a given config. No allocation.
   const Vec3& step(Rng& rng);
+  // What the plant step takes (model/integrator.h): step()'s wind, or null in still air (no draws).
+  const Vec3* advance(Rng& rng) { return config_.active() ? &step(rng) : nullptr; }
   const Vec3& velocity() const { return velocity_; }
   const WindConfig& config() const { return config_; }
 
  private:
   WindConfig config_;
   double dt_ = 0.002;
+  Vec3 std_ = Vec3::Zero();        // [m/s] stationary turbulence std per world axis
   double phi_ = 0.0, gain_ = 0.0;  // [-] AR(1): e^{−dt/τ}, √(1 − φ²)
   double gust_probability_ = 0.0;  // [-] of a gust starting in one period, 1 − e^{−rate·dt}
   Vec3 mean_ = Vec3::Zero();       // [m/s]
