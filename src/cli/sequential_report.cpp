@@ -102,6 +102,15 @@ std::string transferReport(const SequentialReportInputs& in, const ReportProgres
   return md.str();
 }
 
+namespace {
+// "; wind …" with the randomisation's wind ranges, empty in still air.
+std::string windSummary(const WindRanges& w) {
+  if (!w.enabled()) return "";
+  return "; wind " + num(w.mean_speed.lo, 0) + "–" + num(w.mean_speed.hi, 0) + " m/s, turbulence σ ≤ " + num(w.turbulence_std.hi, 1) +
+         " m/s, gusts ≤ " + num(w.gust_peak.hi, 1) + " m/s, rotor drag " + num(w.rotor_drag.lo, 2) + "–" + num(w.rotor_drag.hi, 2) + " /s";
+}
+}  // namespace
+
 std::string decisionsReport(const SequentialReportInputs& in, const ReportProgress& progress) {
   const TrainedModel& model = *in.model;
   RolloutConfig base;
@@ -145,7 +154,8 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   std::ostringstream md, csv;
   md << "### Decisions: severity against Θ, false alarms per flight hour (issue 14)\n\n"
      << "Model `" << in.model_path << "`; " << ruleLine(in) << ". Flights: the randomisation `" << in.randomise_path
-     << "` over " << in.vehicles.size() << " library vehicles (LQR, PID, CBF-QP; hover, point-to-point, circle; estimator noise, lag and delay; plant errors).\n\n"
+     << "` over " << in.vehicles.size() << " library vehicles (LQR, PID, CBF-QP; hover, point-to-point, circle; estimator noise, lag and delay; plant errors"
+     << windSummary(base.randomisation.wind) << ").\n\n"
      << "**False alarms:** " << h.false_alarms << " in " << num(h.healthy_hours, 2) << " healthy flight hours (" << flights
      << " flights of " << num(kFlightSeconds, 0) << " s) = " << num(h.false_alarms_per_hour, 3) << " per flight hour, one-sided 95 % upper bound "
      << num(h.false_alarms_upper_bound, 3) << " per hour (" << num(h.false_alarms_upper_bound / 60.0, 5)

@@ -56,4 +56,26 @@ TEST(EvaluateCli, TinyReportWithTablesFiguresAndSkippedExperiments) {
   EXPECT_NE(code, 0);
 }
 
+// The decisions experiment on a few healthy minutes and one faulty flight per (Θ, motor): every
+// file is written, and the report names the flights' wind (configs/randomisation-default.toml has
+// a [wind] section) and the false-alarm line with its bound.
+TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
+  const std::string dir = ::testing::TempDir() + "quadfdi_eval_decisions";
+  const std::string src = QUADFDI_SOURCE_DIR;
+  int code = 0;
+  const std::string out = run("evaluate -e decisions --model-free " + src + "/models/tcn-crazyflie2.qfdw --vehicle " + src +
+                                  "/configs/vehicles/crazyflie2.toml --randomise " + src +
+                                  "/configs/randomisation-default.toml --flights-per-class 1 --flight-hours 0.02 --scale tiny -q -o " + dir,
+                              &code);
+  ASSERT_EQ(code, 0) << out;
+  const std::string md = slurp(dir + "/decisions.md");
+  EXPECT_NE(md.find("; wind 0–5 m/s, turbulence σ ≤ 1.5 m/s, gusts ≤ 3.0 m/s, rotor drag 0.15–0.35 /s)"), std::string::npos) << md;
+  EXPECT_NE(md.find("healthy flight hours (1 flights of 60 s)"), std::string::npos) << md;
+  EXPECT_NE(md.find("one-sided 95 % upper bound"), std::string::npos) << md;
+  const std::string csv = slurp(dir + "/decisions.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 11);  // header + Θ = 0, 0.1, …, 0.9
+  const std::string tradeoff = slurp(dir + "/tradeoff.csv");
+  EXPECT_EQ(std::count(tradeoff.begin(), tradeoff.end(), '\n'), 9);  // header + eight target rates
+}
+
 }  // namespace
