@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Per-vehicle detector training (issue 13's "training a user can afford") on each device asked
-# for, one training at a time, with the shipped per-vehicle recipe; prints one row per run:
+# for, one training at a time, with the 5-minute CPU recipe (configs/train-tcn-randomised.toml
+# --vehicle); flags after -- change it (docs/networks.md measured the shipped 120-iteration recipe,
+# configs/train-tcn-vehicle.toml, as "-- --max-iterations 120 --min-iterations 120 --lr-decay
+# 0.983"). Prints one row per run:
 # wall seconds, the mean split of an iteration (data / minibatches / held-out) and the final
 # held-out accuracy.
 # Usage: bench/train-devices.sh QUADFDI OUTDIR "cuda:16 cpu:16" [VEHICLE ...] [-- EXTRA TRAIN ARGS]
