@@ -40,6 +40,10 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
       .defaultText("");
   t->add("--flights", o.flights, "Healthy flights").range(1, 100000);
   t->add("--flight-seconds", o.flight_seconds, "Length of each healthy flight [s]").range(1.0, 36000.0);
+  t->add("--settle", o.settle,
+         "Seconds at the start of each healthy flight that are not calibrated on: the recovery from the random initial state "
+         "every simulated flight starts in, which a pilot's flight does not")
+      .atLeast(0.0);
   t->add("--goal-period", o.goal_period, "A new goal this often [s]").range(0.1, 36000.0);
   t->add("--faulty-flights", o.faulty_flights, "Faulty flights (random motor, Θ uniform in [0, 0.9]) for the estimate's model error")
       .range(0, 100000);
@@ -171,6 +175,8 @@ int runCalibrate(const CalibrateOptions& o) {
   const int T = model.metadata.window;
   const int steps = static_cast<int>(std::lround(o.flight_seconds / dt));
   const int goal_steps = std::max(1, static_cast<int>(std::lround(o.goal_period / dt)));
+  const long settle_samples = std::lround(o.settle / dt);  // of each healthy Θ̂ stream
+  require(settle_samples < steps - T, "--settle must leave some of each --flight-seconds flight");
   constexpr std::uint64_t kFirstStream = std::uint64_t{1} << 42;  // disjoint from training (0 …), held-out (2⁴⁰), test (2⁴¹)
 
   std::vector<std::vector<MotorTheta>> healthy;
@@ -197,6 +203,7 @@ int runCalibrate(const CalibrateOptions& o) {
     std::vector<TrajectoryJob> jobs;
     for (int f = 0; f < o.flights; ++f) jobs.push_back({static_cast<std::uint64_t>(f), 2, 1.0});
     for (FlightThetaStream& s : simulateThetaStreams(model, rc, jobs, 0, 16)) {
+      dropLeadingSamples(s, settle_samples);
       samples += static_cast<long>(s.theta.size());
       healthy.push_back(std::move(s.theta));
       healthy_observable.push_back(std::move(s.observable));
@@ -204,6 +211,9 @@ int runCalibrate(const CalibrateOptions& o) {
     const int w = SequentialConfig{}.estimate_window;
     rc.seed = o.seed + kFirstStream + 1;
     rc.post_fault_steps = 2 * T + 4 * w;
+    // Faults come after the initial upset too: the same draws, each pre-roll --settle longer.
+    rc.randomisation.preroll_seconds.lo += o.settle;
+    rc.randomisation.preroll_seconds.hi += o.settle;
     jobs.clear();
     Rng draw(o.seed, kFirstStream - 2);
     for (int f = 0; f < o.faulty_flights; ++f)
@@ -212,9 +222,13 @@ int runCalibrate(const CalibrateOptions& o) {
   } else {
     for (int f = 0; f < o.flights; ++f) {
       const std::vector<TelemetrySample> flight = simulateFlight(o.seed, kFirstStream + static_cast<std::uint64_t>(f), steps, goal_steps, 0, 1.0, 0, o);
-      healthy.push_back(thetaStream(model, flight));
-      healthy_observable.push_back(observableMasks(flight, T));
-      samples += static_cast<long>(healthy.back().size());
+      FlightThetaStream s;
+      s.theta = thetaStream(model, flight);
+      s.observable = observableMasks(flight, T);
+      dropLeadingSamples(s, settle_samples);
+      samples += static_cast<long>(s.theta.size());
+      healthy.push_back(std::move(s.theta));
+      healthy_observable.push_back(std::move(s.observable));
     }
   }
   DecisionCalibration c;
@@ -288,10 +302,10 @@ int runCalibrate(const CalibrateOptions& o) {
     }
     chosen_from = "; degraded level chosen from " + chosen_from;
   }
-  char src[512];
+  char src[768];
   std::snprintf(src, sizeof src,
-                "quadfdi calibrate: model %s; %d healthy flights of %g s, %d faulty flights; %s; seed %llu%s",
-                model_path.c_str(), o.flights, o.flight_seconds, o.faulty_flights,
+                "quadfdi calibrate: model %s; %d healthy flights of %g s, counted from %g s on, %d faulty flights; %s; seed %llu%s",
+                model_path.c_str(), o.flights, o.flight_seconds, o.settle, o.faulty_flights,
                 o.randomise.empty() ? ("LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
                                        std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad").c_str()
                                     : ("randomisation " + o.randomise).c_str(),

@@ -17,6 +17,8 @@ struct CalibrateOptions {
   std::string output;               // calibration JSON (required)
   int flights = 20;                 // [-] healthy flights
   double flight_seconds = 60.0;     // [s] each
+  double settle = 1.0;              // [s] each healthy flight's first seconds are not counted: its recovery from the random
+                                    //     initial state (evaluation/flight_streams.h, kUpsetRecoverySeconds)
   double goal_period = 2.0;         // [s] a new goal from the sampling ranges this often
   int faulty_flights = 40;          // [-] for the model error of the Θ̂ estimate
   unsigned long long seed = 1;      // scenario streams 2⁴² + …, disjoint from training and test sets

@@ -70,4 +70,13 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
   return streams;
 }
 
+void dropLeadingSamples(FlightThetaStream& stream, long samples) {
+  const std::size_t n = std::min(stream.theta.size(), static_cast<std::size_t>(std::max(0L, samples)));
+  stream.theta.erase(stream.theta.begin(), stream.theta.begin() + static_cast<std::ptrdiff_t>(n));
+  if (!stream.observable.empty())
+    stream.observable.erase(stream.observable.begin(), stream.observable.begin() + static_cast<std::ptrdiff_t>(std::min(n, stream.observable.size())));
+  if (stream.truth.fault_sample >= 0) stream.truth.fault_sample = std::max(0L, stream.truth.fault_sample - static_cast<long>(n));
+}
+
 }  // namespace quadfdi
+

@@ -125,6 +125,27 @@ TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
   EXPECT_NE(r.out.find("FAULT in motor 3"), std::string::npos) << r.out;
 }
 
+// --settle: each healthy flight's first seconds (the recovery from its random initial state) are
+// left out of the calibrated flight time; a settle that leaves nothing of a flight is refused.
+TEST(DetectCli, CalibrateCountsHealthyFlightsFromTheSettleTimeOn) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw";
+  auto hours = [&](const std::string& settle) {
+    const std::string cal = temp("settle-" + settle + ".json");
+    const CommandResult c = run("calibrate -q --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 0 --settle " + settle + " --output " + cal);
+    EXPECT_EQ(c.exit_code, 0) << c.out;
+    const std::string json = readFile(cal);
+    EXPECT_NE(json.find("counted from " + settle + " s on"), std::string::npos) << json;
+    const std::size_t at = json.find("\"flight_hours\": ");
+    return at == std::string::npos ? -1.0 : std::stod(json.substr(at + 16));
+  };
+  const double all = hours("0"), settled = hours("1.5");
+  EXPECT_NEAR(all - settled, 2 * 1.5 / 3600.0, 1e-9);  // 1.5 s of each of the 2 flights
+  const CommandResult refused = run("calibrate -q --model " + model + " --flights 2 --flight-seconds 4 --settle 4 --output " + temp("never.json"));
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_EQ(countLines(refused.out), 1) << refused.out;
+  EXPECT_NE(refused.out.find("--settle must leave some of each --flight-seconds flight"), std::string::npos) << refused.out;
+}
+
 // Several degraded levels: each is calibrated and scored on the faulty flights, one is kept, and
 // detect then runs at the calibration's level unless told otherwise.
 TEST(DetectCli, CalibrateChoosesALevelThatDetectThenUses) {

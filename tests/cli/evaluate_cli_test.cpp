@@ -72,6 +72,10 @@ TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
   EXPECT_NE(md.find("; wind 0–5 m/s, turbulence σ ≤ 1.5 m/s, gusts ≤ 3.0 m/s, rotor drag 0.15–0.35 /s)"), std::string::npos) << md;
   EXPECT_NE(md.find("healthy flight hours (1 flights of 60 s)"), std::string::npos) << md;
   EXPECT_NE(md.find("one-sided 95 % upper bound"), std::string::npos) << md;
+  // The rate counts from 1 s into each recording (as the calibration); the rest is reported apart.
+  EXPECT_NE(md.find("counted from 1 s into each recording"), std::string::npos) << md;
+  EXPECT_NE(md.find("alarms there in 1 flights ("), std::string::npos) << md;
+  EXPECT_NE(md.find(" s into the flight, after its initial upset."), std::string::npos) << md;  // faults after it too
   const std::string csv = slurp(dir + "/decisions.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 11);  // header + Θ = 0, 0.1, …, 0.9
   const std::string tradeoff = slurp(dir + "/tradeoff.csv");

@@ -55,6 +55,32 @@ TEST(FlightStreams, OneEstimatePerSampleFromTheFirstFullWindowAndThreadIndepende
   EXPECT_LT(one[1].theta[static_cast<std::size_t>(one[1].truth.fault_sample + 60)][2], 0.5f);
 }
 
+// Healthy flights are counted from kUpsetRecoverySeconds on (calibrate, decisions): the estimates
+// and the gate's masks lose the same leading samples, and a fault keeps its place in the flight.
+TEST(FlightStreams, DroppingLeadingSamplesKeepsMasksAlignedAndTheFaultInPlace) {
+  FlightThetaStream s;
+  for (int i = 0; i < 10; ++i) {
+    s.theta.push_back({static_cast<float>(i), 1.0f, 1.0f, 1.0f});
+    s.observable.push_back(static_cast<std::uint8_t>(i % 16));
+  }
+  s.truth = {2, 0.5, 6};
+  dropLeadingSamples(s, 4);
+  ASSERT_EQ(s.theta.size(), 6u);
+  ASSERT_EQ(s.observable.size(), 6u);
+  EXPECT_EQ(s.theta[0][0], 4.0f);
+  EXPECT_EQ(s.observable[0], 4);
+  EXPECT_EQ(s.truth.fault_sample, 2);  // still flight sample 6
+  dropLeadingSamples(s, 3);            // the fault is now in the dropped part: it starts the stream
+  EXPECT_EQ(s.truth.fault_sample, 0);
+  FlightThetaStream healthy;
+  healthy.theta.resize(3);
+  healthy.truth = {0, 1.0, -1};
+  dropLeadingSamples(healthy, 5);  // more than it holds: empty, and still healthy
+  EXPECT_TRUE(healthy.theta.empty());
+  EXPECT_TRUE(healthy.observable.empty());
+  EXPECT_EQ(healthy.truth.fault_sample, -1);
+}
+
 TEST(FlightStreams, RefusesAModelThatCannotStream) {
   TrainedModel lstm = shippedTcn();
   lstm.metadata.architecture = Architecture::kLstm;
