@@ -75,7 +75,7 @@ out.append("\nThe healthy flights are drawn from `configs/randomisation-default.
 out.append("\nTarget (issue 14): ≤ 0.1 false alarms per flight hour at the one-sided 95 % upper bound (Garwood, as each "
            "vehicle's `decisions.md` computes it); with no alarm that needs ≥ 30 flight hours, which each vehicle flies. "
            "Each vehicle's `decisions.md` has detection against Θ and the trade-off curve.\n")
-out.append("## Detection against Θ (decisions flights: 20 per Θ and vehicle, recorded 0.6 s past the fault; a crash ends a flight early, so a complete fault that crashes the vehicle before +300 ms counts as not isolated there)\n")
+out.append("## Detection against Θ (decisions flights: 20 per Θ and vehicle, the fault 1.4–3.2 s into the flight, after its initial upset, and recorded 0.6 s past it; a crash ends a flight early, so a complete fault that crashes the vehicle before +300 ms counts as not isolated there)\n")
 out.append("| Θ | " + " | ".join(f"{v}: degraded / failed detected, right motor at +50 / +300 ms" for v in vehicles) + " |")
 out.append("|---|" + "---|"*len(vehicles))
 rows = {}
