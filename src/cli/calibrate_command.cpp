@@ -211,9 +211,7 @@ int runCalibrate(const CalibrateOptions& o) {
     const int w = SequentialConfig{}.estimate_window;
     rc.seed = o.seed + kFirstStream + 1;
     rc.post_fault_steps = 2 * T + 4 * w;
-    // Faults come after the initial upset too: the same draws, each pre-roll --settle longer.
-    rc.randomisation.preroll_seconds.lo += o.settle;
-    rc.randomisation.preroll_seconds.hi += o.settle;
+    delayPreroll(rc.randomisation, o.settle);  // faults come after the initial upset too
     jobs.clear();
     Rng draw(o.seed, kFirstStream - 2);
     for (int f = 0; f < o.faulty_flights; ++f)
@@ -302,15 +300,15 @@ int runCalibrate(const CalibrateOptions& o) {
     }
     chosen_from = "; degraded level chosen from " + chosen_from;
   }
-  char src[768];
-  std::snprintf(src, sizeof src,
-                "quadfdi calibrate: model %s; %d healthy flights of %g s, counted from %g s on, %d faulty flights; %s; seed %llu%s",
-                model_path.c_str(), o.flights, o.flight_seconds, o.settle, o.faulty_flights,
-                o.randomise.empty() ? ("LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
-                                       std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad").c_str()
-                                    : ("randomisation " + o.randomise).c_str(),
-                o.seed, chosen_from.c_str());
-  c.source = src;
+  // Numbers formatted in a bounded buffer; the paths and the level choice appended, never cut.
+  char flights[160];
+  std::snprintf(flights, sizeof flights, "%d healthy flights of %g s, counted from %g s on, %d faulty flights", o.flights,
+                o.flight_seconds, o.settle, o.faulty_flights);
+  c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; " +
+             (o.randomise.empty() ? "LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
+                                        std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
+                                  : "randomisation " + o.randomise) +
+             "; seed " + std::to_string(o.seed) + chosen_from;
   const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
   writeCalibrationFile(output, c);
   if (!o.quiet) {

@@ -144,9 +144,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   RolloutConfig faulty = base;
   faulty.seed = in.seed + 202;
   faulty.post_fault_steps = static_cast<int>(0.6 / base.dt + 0.5);
-  // The fault comes after the initial upset (below): the same draws, each pre-roll 1 s longer.
-  faulty.randomisation.preroll_seconds.lo += kUpsetRecoverySeconds;
-  faulty.randomisation.preroll_seconds.hi += kUpsetRecoverySeconds;
+  delayPreroll(faulty.randomisation, kUpsetRecoverySeconds);  // the fault comes after the initial upset (below)
   std::vector<TrajectoryJob> fault_jobs;
   const int per_theta = in.flights_per_class * 4 * static_cast<int>(in.vehicles.size());
   std::uint64_t scenario = 0;

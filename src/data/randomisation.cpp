@@ -54,6 +54,11 @@ const char* toString(DrawnController c) {
   return "?";
 }
 
+void delayPreroll(Randomisation& r, double seconds) {
+  r.preroll_seconds.lo += seconds;
+  r.preroll_seconds.hi += seconds;
+}
+
 std::string validate(const Randomisation& r) {
   if (r.vehicle_names.size() != r.vehicles.size()) return "randomisation: one name per vehicle";
   for (std::size_t i = 0; i < r.vehicles.size(); ++i)

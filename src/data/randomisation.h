@@ -87,6 +87,11 @@ struct Randomisation {
 // Empty when valid, else a one-line description of the first problem.
 std::string validate(const Randomisation& r);
 
+// Every flight's pre-roll `seconds` longer, its other draws unchanged: the pre-roll is one uniform
+// draw of its interval, so shifting both ends keeps each flight's draw stream (the flyability
+// probe, which flies the pre-roll too, may then redraw a marginal flight).
+void delayPreroll(Randomisation& r, double seconds);
+
 enum class DrawnController { kLqr, kPid, kCbfQp };
 const char* toString(DrawnController c);
 

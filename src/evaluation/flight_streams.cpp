@@ -79,4 +79,3 @@ void dropLeadingSamples(FlightThetaStream& stream, long samples) {
 }
 
 }  // namespace quadfdi
-
