@@ -251,13 +251,15 @@ int runCalibrate(const CalibrateOptions& o) {
     faulty.push_back(std::move(s));
   }
 
-  // Model error of the estimate: after the fault has been flown through (T + the estimate window),
-  // the mean of the last estimate_window samples of the true motor against Θ.
+  // Model error of the estimate: from the sample the fault has been flown through (the network's
+  // window T holds only faulty samples; evaluation/sequential_metrics.h flown_through) on, every
+  // half window, the mean of the last estimate_window samples of the true motor against Θ — the
+  // estimate the rule states there. Its first windows still hold Θ̂ of partly healthy inputs.
   const int w = SequentialConfig{}.estimate_window;
   std::vector<double> est, truth, noise_var;
   for (const FlightThetaStream& s : faulty) {
     const int motor = s.truth.motor;
-    for (long end = s.truth.fault_sample + T + w; end <= static_cast<long>(s.theta.size()); end += w) {
+    for (long end = s.truth.fault_sample + T + 1; end <= static_cast<long>(s.theta.size()); end += std::max(1, w / 2)) {
       double sum = 0.0;
       for (long k = end - w; k < end; ++k) sum += static_cast<double>(s.theta[static_cast<std::size_t>(k)][static_cast<std::size_t>(motor - 1)]);
       est.push_back(sum / w);
@@ -270,6 +272,7 @@ int runCalibrate(const CalibrateOptions& o) {
     const EstimateSpread spread = fitEstimateSpread(est, truth, noise_var, SequentialConfig{}.interval_level);
     c.noise.noise_scale = spread.noise_scale;
     c.noise.model_sigma = spread.model_sigma;
+    c.noise.spread_bins = fitBinnedEstimateSpread(est, truth, noise_var, SequentialConfig{}.interval_level);
   }
 
   const double per_level = o.false_alarms_per_hour / 2.0;
@@ -314,6 +317,14 @@ int runCalibrate(const CalibrateOptions& o) {
   if (!o.quiet) {
     std::fprintf(stderr, "calibrate: %.3f flight hours healthy: Θ̂ mean %.4f, σ %.4f, φ %.4f at %g Hz; estimate: noise × %.3f, model error σ %.4f (%zu estimates)\n",
                  c.flight_hours, c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt, c.noise.noise_scale, c.noise.model_sigma, est.size());
+    double from = 0.0;
+    for (const SpreadBin& b : c.noise.spread_bins) {
+      char range[48];
+      if (&b == &c.noise.spread_bins.back()) std::snprintf(range, sizeof range, "from %.2f up", from);
+      else std::snprintf(range, sizeof range, "from %.2f below %.2f", from, b.estimate_below);
+      std::fprintf(stderr, "calibrate: estimates %s: noise × %.3f, model error σ %.4f (%ld estimates)\n", range, b.noise_scale, b.model_sigma, b.pairs);
+      from = b.estimate_below;
+    }
     for (const LevelCalibration* l : {&c.degraded, &c.failed})
       std::fprintf(stderr,
                    "calibrate: level %.2f, cap %g: h = %.3f (%s; %ld excursions), %ld alarms in the data = %.3g/h (95 %% bound %.3g/h)\n",

@@ -46,6 +46,9 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
   t->add("--randomise", o.randomise, "decisions: randomisation FILE of the long healthy flights");
   t->add("--calibration", o.calibration, "E7, decisions: the sequential rule's calibration (default MODEL.calibration.json)");
   t->add("--flights-per-class", o.flights_per_class, "E7, decisions: flights per (motor, Θ) (0: from --scale)").atLeast(0);
+  t->add("--faulty-per-theta", o.faulty_per_theta,
+         "decisions: faulty flights per (vehicle, Θ), one motor after another (0: 4 × --flights-per-class)")
+      .atLeast(0);
   t->add("--flight-hours", o.flight_hours, "decisions: healthy flight time [h] (0: from --scale)").atLeast(0.0);
   t->add("--scale", o.scale, "Test flights per class: tiny (3, tests), quick (25), default (200), paper (2 000)")
       .choices(scaleNames());
@@ -201,6 +204,7 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
   // Flights per class: a tenth of the scale's window-protocol count (each flight here is ~5× longer
   // and is flown for 10 Θ values × 4 motors), at least 2.
   in.flights_per_class = o.flights_per_class > 0 ? o.flights_per_class : std::max(2, scale_flights_per_class / 10);
+  in.faulty_per_theta = o.faulty_per_theta > 0 ? o.faulty_per_theta : 4 * in.flights_per_class;
   in.flight_hours = o.flight_hours > 0.0 ? o.flight_hours : (scale_flights_per_class >= 200 ? 10.0 : 0.05);
   in.randomise_path = o.randomise;
   in.seed = o.seed;

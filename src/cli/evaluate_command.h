@@ -27,6 +27,7 @@ struct EvaluateOptions {
   std::string calibration;      // sequential rule's calibration JSON; default MODEL.calibration.json, else defaults
   int flights_per_class = 0;    // [flights] E7 per (motor, Θ); 0: from --scale
   double flight_hours = 0.0;    // [h] `decisions`: healthy flight time; 0: from --scale
+  int faulty_per_theta = 0;     // [flights] `decisions`: faulty flights per (vehicle, Θ); 0: 4 × flights_per_class
   bool quiet = false;           // no progress
 };
 

@@ -146,7 +146,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   faulty.post_fault_steps = static_cast<int>(0.6 / base.dt + 0.5);
   delayPreroll(faulty.randomisation, kUpsetRecoverySeconds);  // the fault comes after the initial upset (below)
   std::vector<TrajectoryJob> fault_jobs;
-  const int per_theta = in.flights_per_class * 4 * static_cast<int>(in.vehicles.size());
+  const int per_theta = in.faulty_per_theta * static_cast<int>(in.vehicles.size());
   std::uint64_t scenario = 0;
   for (double theta : thetas)
     for (int i = 0; i < per_theta; ++i) fault_jobs.push_back({scenario++, 1 + i % 4, theta});
@@ -176,7 +176,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
      << "| Θ | flights | degraded: detected, delay median / p95 [ms] | failed: detected, delay median / p95 [ms] | right motor at +50 ms | "
         "right motor at +300 ms | right severity at +300 ms | Θ MAE flown through | interval coverage |\n|---|---|---|---|---|---|---|---|---|\n";
   csv << "theta,flights,degraded_detected,degraded_flights,degraded_delay_median_s,degraded_delay_p95_s,failed_detected,failed_flights,"
-         "failed_delay_median_s,isolated_50ms,isolated_300ms,severity_300ms,theta_mae,coverage\n";
+         "failed_delay_median_s,isolated_50ms,isolated_300ms,severity_300ms,theta_mae,coverage,estimate_samples\n";
   for (double theta : thetas) {
     std::vector<FlightThetaStream> part;
     for (const FlightThetaStream& s : fault_streams)
@@ -185,10 +185,12 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
     md << "| " << num(theta, 1) << " | " << part.size() << " | " << e.degraded.detected << "/" << e.degraded.flights << ", "
        << ms(e.degraded.delay_median) << " / " << ms(e.degraded.delay_p95) << " | " << e.failed.detected << "/" << e.failed.flights
        << ", " << ms(e.failed.delay_median) << " / " << ms(e.failed.delay_p95) << " | " << pct(e.isolated_early) << " | "
-       << pct(e.isolated_late) << " | " << pct(e.severity_right_late) << " | " << num(e.theta_mae) << " | " << pct(e.coverage) << " |\n";
+       << pct(e.isolated_late) << " | " << pct(e.severity_right_late) << " | "
+       << (e.estimate_samples > 0 ? num(e.theta_mae) + " | " + pct(e.coverage) : std::string("— | —")) << " |\n";  // no estimate: nothing to score
     csv << theta << ',' << part.size() << ',' << e.degraded.detected << ',' << e.degraded.flights << ',' << e.degraded.delay_median << ','
         << e.degraded.delay_p95 << ',' << e.failed.detected << ',' << e.failed.flights << ',' << e.failed.delay_median << ','
-        << e.isolated_early << ',' << e.isolated_late << ',' << e.severity_right_late << ',' << e.theta_mae << ',' << e.coverage << '\n';
+        << e.isolated_early << ',' << e.isolated_late << ',' << e.severity_right_late << ',' << e.theta_mae << ',' << e.coverage << ','
+        << e.estimate_samples << '\n';
   }
   write(in.output_dir + "/decisions.csv", csv.str());
 

@@ -23,7 +23,8 @@ struct SequentialReportInputs {
   std::vector<VehicleParams> vehicles;
   std::vector<std::string> vehicle_names;
   Randomisation randomisation;  // decisions: the long healthy and the faulty flights (vehicles replaced by the above)
-  int flights_per_class = 5;    // [flights] per (vehicle, motor, Θ) in E7; per (vehicle, Θ) in decisions
+  int flights_per_class = 5;    // [flights] E7: per (vehicle, motor, Θ)
+  int faulty_per_theta = 20;    // [flights] decisions: faulty flights per (vehicle, Θ), motors in turn
   double flight_hours = 10.0;   // [h] decisions: healthy flight time
   std::uint64_t seed = 7;
   int threads = 0;

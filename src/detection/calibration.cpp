@@ -194,6 +194,40 @@ EstimateSpread fitEstimateSpread(const std::vector<double>& estimates, const std
   return {1.0, quantile(additive)};
 }
 
+std::vector<SpreadBin> fitBinnedEstimateSpread(const std::vector<double>& estimates, const std::vector<double>& truths,
+                                               const std::vector<double>& noise_variances, double coverage, const std::vector<double>& edges) {
+  // Ranges [bounds[b − 1], bounds[b]), the last open above; merged until each has enough pairs.
+  std::vector<double> bounds = edges;
+  bounds.push_back(std::numeric_limits<double>::infinity());
+  auto pairsIn = [&](std::size_t b) {
+    const double lo = b == 0 ? -std::numeric_limits<double>::infinity() : bounds[b - 1];
+    return static_cast<long>(std::count_if(estimates.begin(), estimates.end(), [&](double e) { return e >= lo && e < bounds[b]; }));
+  };
+  for (std::size_t b = 0; bounds.size() > 1 && b < bounds.size();) {
+    if (pairsIn(b) >= kMinSpreadPairs) {
+      ++b;
+      continue;
+    }
+    // Too few: drop the bound above (join the next range) or, for the last range, the one below.
+    bounds.erase(bounds.begin() + static_cast<long>(b + 1 < bounds.size() ? b : b - 1));
+    if (b == bounds.size()) --b;
+  }
+  std::vector<SpreadBin> bins;
+  for (std::size_t b = 0; b < bounds.size(); ++b) {
+    const double lo = b == 0 ? -std::numeric_limits<double>::infinity() : bounds[b - 1];
+    std::vector<double> est, truth, var;
+    for (std::size_t i = 0; i < estimates.size(); ++i)
+      if (estimates[i] >= lo && estimates[i] < bounds[b]) {
+        est.push_back(estimates[i]);
+        truth.push_back(truths[i]);
+        var.push_back(noise_variances[i]);
+      }
+    const EstimateSpread s = fitEstimateSpread(est, truth, var, coverage);
+    bins.push_back({b + 1 == bounds.size() ? 1.0 : bounds[b], s.noise_scale, s.model_sigma, static_cast<long>(est.size())});
+  }
+  return bins;
+}
+
 DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt) {
   DecisionCalibration c;
   c.target_rate = target_rate;

@@ -104,6 +104,22 @@ struct EstimateSpread {
 EstimateSpread fitEstimateSpread(const std::vector<double>& estimates, const std::vector<double>& truths,
                                  const std::vector<double>& noise_variances, double coverage);
 
+// [-] Bounds of the estimate's ranges that `calibrate` fits apart (fitBinnedEstimateSpread): the
+// per-vehicle models' pooled fits held Θ in 17–63 % of flown-through estimates at Θ 0–0.1 and
+// 97–100 % at Θ 0.7–0.8 for a nominal 90 % (docs/results/vehicles before 2026-11-26); finer near 0,
+// where the estimate is one-sided.
+inline const std::vector<double> kSpreadBinEdges{0.05, 0.15, 0.3, 0.5, 0.7};
+inline constexpr long kMinSpreadPairs = 60;  // [-] fewest pairs a range is fitted on (≈ 10 faulty flights of 6 windows)
+
+// Mondrian split-conformal (Vovk et al. 2005, "Algorithmic Learning in a Random World", §4.5): the
+// pairs are split by their estimate at `edges` (ascending, inside (0, 1)) and each range is fitted
+// as fitEstimateSpread on its own pairs, so the interval holds Θ at its coverage within every range
+// of the estimate, not only on average. A range with fewer than kMinSpreadPairs pairs joins the
+// next (the last joins the one before); no pairs at all: one range of the default spread.
+std::vector<SpreadBin> fitBinnedEstimateSpread(const std::vector<double>& estimates, const std::vector<double>& truths,
+                                               const std::vector<double>& noise_variances, double coverage,
+                                               const std::vector<double>& edges = kSpreadBinEdges);
+
 // One-sided upper confidence bound of a Poisson mean after `count` events (Garwood 1936:
 // ½ χ²_{2(count+1)}(confidence)), by bisection on the Poisson distribution function.
 double poissonUpperBound(long count, double confidence = 0.95);

@@ -46,6 +46,16 @@ std::string validate(const SequentialConfig& c) {
   if (!(n.sigma >= 0.0) || !(n.model_sigma >= 0.0) || !std::isfinite(n.sigma) || !std::isfinite(n.model_sigma))
     return "noise sigmas must be finite and non-negative";
   if (!(n.noise_scale > 0.0) || !std::isfinite(n.noise_scale)) return "noise noise_scale must be finite and positive";
+  if (n.spread_bins.size() > kMaxSpreadBins) return "noise spread_bins: at most " + std::to_string(kMaxSpreadBins) + " ranges";
+  for (std::size_t b = 0; b < n.spread_bins.size(); ++b) {
+    const SpreadBin& bin = n.spread_bins[b];
+    const std::string at = "noise spread_bins[" + std::to_string(b) + "]: ";
+    if (!(bin.noise_scale > 0.0) || !std::isfinite(bin.noise_scale)) return at + "noise_scale must be finite and positive";
+    if (!(bin.model_sigma >= 0.0) || !std::isfinite(bin.model_sigma)) return at + "model_sigma must be finite and non-negative";
+    if (!std::isfinite(bin.estimate_below) || (b > 0 && !(bin.estimate_below > n.spread_bins[b - 1].estimate_below)))
+      return at + "estimate_below must be finite and ascending";
+  }
+  if (!n.spread_bins.empty() && !(n.spread_bins.back().estimate_below >= 1.0)) return "noise spread_bins: the last range must reach 1";
   if (!(n.phi >= 0.0 && n.phi < 1.0)) return "noise phi must lie in [0, 1)";
   if (!std::isfinite(n.healthy_mean)) return "noise healthy_mean must be finite";
   return {};
@@ -54,9 +64,13 @@ std::string validate(const SequentialConfig& c) {
 SequentialRule::SequentialRule(const SequentialConfig& config) : config_(config) {
   if (std::string p = validate(config); !p.empty()) throw std::invalid_argument("sequential rule: " + p);
   z_ = normalQuantile(0.5 + 0.5 * config.interval_level);
-  mean_variance_.resize(static_cast<std::size_t>(config.estimate_window) + 1);
-  for (int n = 0; n <= config.estimate_window; ++n)
-    mean_variance_[static_cast<std::size_t>(n)] = config.noise.noise_scale * ar1MeanVariance(config.noise.sigma, config.noise.phi, n);
+  bins_ = config.noise.spread_bins;
+  if (bins_.empty()) bins_.push_back({1.0, config.noise.noise_scale, config.noise.model_sigma, 0});
+  const std::size_t per_bin = static_cast<std::size_t>(config.estimate_window) + 1;
+  mean_variance_.resize(bins_.size() * per_bin);
+  for (std::size_t b = 0; b < bins_.size(); ++b)
+    for (int n = 0; n <= config.estimate_window; ++n)
+      mean_variance_[b * per_bin + static_cast<std::size_t>(n)] = bins_[b].noise_scale * ar1MeanVariance(config.noise.sigma, config.noise.phi, n);
   window_.assign(static_cast<std::size_t>(kMotors) * static_cast<std::size_t>(config.estimate_window), 1.0f);
   reset();
 }
@@ -161,7 +175,10 @@ void SequentialRule::estimate(int k) {
     sum += static_cast<double>(ring[at]);
   }
   state_.theta_est = sum / static_cast<double>(n);
-  state_.standard_error = std::sqrt(mean_variance_[static_cast<std::size_t>(n)] + config_.noise.model_sigma * config_.noise.model_sigma);
+  std::size_t b = 0;  // the estimate's range (the last takes everything above)
+  while (b + 1 < bins_.size() && state_.theta_est >= bins_[b].estimate_below) ++b;
+  const double variance = mean_variance_[b * (static_cast<std::size_t>(w) + 1) + static_cast<std::size_t>(n)];
+  state_.standard_error = std::sqrt(variance + bins_[b].model_sigma * bins_[b].model_sigma);
   state_.theta_lo = std::clamp(state_.theta_est - z_ * state_.standard_error, 0.0, 1.0);
   state_.theta_hi = std::clamp(state_.theta_est + z_ * state_.standard_error, 0.0, 1.0);
 }

@@ -25,6 +25,20 @@ const char* toString(Severity s);  // healthy | degraded | failed
 // No cap on a CUSUM's increment (the plain Page CUSUM).
 inline constexpr double kNoIncrementCap = std::numeric_limits<double>::infinity();
 
+// One range of the Θ estimate with its own spread (Mondrian split-conformal,
+// detection/calibration.h fitBinnedEstimateSpread): the network's error is not the same size
+// everywhere — near Θ = 0 its estimate is one-sided (Θ̂ ≥ 0, biased up) — so one spread pooled over
+// Θ covers too little at low Θ and too much at high Θ (docs/decisions.md "The Θ estimate and its
+// interval").
+struct SpreadBin {
+  double estimate_below = 1.0;  // [-] the range holds estimates below this and at or above the previous range's
+                                //     bound; the last range also holds every estimate above (at least 1)
+  double noise_scale = 1.0;     // [-] as ThetaNoiseModel::noise_scale, for this range
+  double model_sigma = 0.0;     // [-] as ThetaNoiseModel::model_sigma, for this range
+  long pairs = 0;               // [-] calibration pairs (estimate, Θ) it was fitted on
+};
+inline constexpr std::size_t kMaxSpreadBins = 16;  // [-] most ranges a noise model holds (a calibration file's bound)
+
 // Θ̂ of one motor on healthy flights as a stationary AR(1) process, plus the systematic error of
 // the network on faulty flights. Defaults: measured on the shipped TCN (models/tcn-model-free.qfdw)
 // by `quadfdi calibrate --flights 40 --flight-seconds 90 --faulty-flights 100` (1.0 simulated
@@ -37,6 +51,8 @@ struct ThetaNoiseModel {
   double noise_scale = 1.0;     // [-] the estimate's noise variance is this times the healthy AR(1) one; below 1
                                 //     where healthy Θ̂ (manoeuvres included) is noisier than a flown-through faulty
                                 //     estimate (fitted on coverage, detection/calibration.h fitEstimateSpread)
+  std::vector<SpreadBin> spread_bins;  // per range of the estimate, ascending; when present they replace
+                                       // noise_scale and model_sigma (the pooled fit) for the interval
 };
 
 struct SequentialConfig {
@@ -108,7 +124,8 @@ class SequentialRule {
 
   SequentialConfig config_;
   double z_ = 1.6449;
-  std::vector<double> mean_variance_;  // [n] noise variance of the mean of n consecutive samples, n = 0 … window
+  std::vector<SpreadBin> bins_;         // the noise model's ranges, or one range of its pooled spread
+  std::vector<double> mean_variance_;  // [bin][n] noise variance of the mean of n consecutive samples, n = 0 … window
   std::array<double, kMotors> degraded_{}, failed_{};
   std::array<long, kMotors> since_change_{};  // samples since the degraded statistic left zero
   std::vector<float> window_;                 // [motor][estimate_window] ring buffers

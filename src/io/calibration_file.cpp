@@ -57,9 +57,17 @@ LevelCalibration levelFromJson(const nlohmann::json& j) {
 }  // namespace
 
 std::string calibrationToJson(const DecisionCalibration& c) {
+  nlohmann::json noise = {
+      {"healthy_mean", c.noise.healthy_mean}, {"sigma", c.noise.sigma}, {"phi", c.noise.phi}, {"model_sigma", c.noise.model_sigma}, {"noise_scale", c.noise.noise_scale}};
+  if (!c.noise.spread_bins.empty()) {
+    noise["spread_bins"] = nlohmann::json::array();
+    for (const SpreadBin& b : c.noise.spread_bins)
+      noise["spread_bins"].push_back(
+          {{"estimate_below", b.estimate_below}, {"noise_scale", b.noise_scale}, {"model_sigma", b.model_sigma}, {"pairs", b.pairs}});
+  }
   const nlohmann::json j = {
       {"format", "quadfdi-decision-calibration-1"},
-      {"noise", {{"healthy_mean", c.noise.healthy_mean}, {"sigma", c.noise.sigma}, {"phi", c.noise.phi}, {"model_sigma", c.noise.model_sigma}, {"noise_scale", c.noise.noise_scale}}},
+      {"noise", noise},
       {"target_rate_per_hour", c.target_rate},
       {"dt", c.dt},
       {"flights", c.flights},
@@ -89,6 +97,14 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.noise.phi = n.at("phi").get<double>();
     c.noise.model_sigma = n.at("model_sigma").get<double>();
     c.noise.noise_scale = n.value("noise_scale", 1.0);  // absent in calibrations before 2026-11-25
+    if (n.contains("spread_bins")) {                     // absent before 2026-11-26: the pooled spread
+      const auto& bins = n.at("spread_bins");
+      if (!bins.is_array() || bins.size() > kMaxSpreadBins)
+        throw fail("bad calibration: noise spread_bins must be an array of at most " + std::to_string(kMaxSpreadBins) + " ranges");
+      for (const auto& b : bins)
+        c.noise.spread_bins.push_back({b.at("estimate_below").get<double>(), b.at("noise_scale").get<double>(), b.at("model_sigma").get<double>(),
+                                       count(b.at("pairs"), "pairs")});
+    }
     c.target_rate = j.at("target_rate_per_hour").get<double>();
     c.dt = j.at("dt").get<double>();
     c.flights = count(j.at("flights"), "flights");

@@ -65,7 +65,7 @@ TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
   int code = 0;
   const std::string out = run("evaluate -e decisions --model-free " + src + "/models/tcn-crazyflie2.qfdw --vehicle " + src +
                                   "/configs/vehicles/crazyflie2.toml --randomise " + src +
-                                  "/configs/randomisation-default.toml --flights-per-class 1 --flight-hours 0.02 --scale tiny -q -o " + dir,
+                                  "/configs/randomisation-default.toml --flights-per-class 1 --faulty-per-theta 2 --flight-hours 0.02 --scale tiny -q -o " + dir,
                               &code);
   ASSERT_EQ(code, 0) << out;
   const std::string md = slurp(dir + "/decisions.md");
@@ -78,6 +78,7 @@ TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
   EXPECT_NE(md.find(" s into the flight, after its initial upset."), std::string::npos) << md;  // faults after it too
   const std::string csv = slurp(dir + "/decisions.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 11);  // header + Θ = 0, 0.1, …, 0.9
+  EXPECT_NE(csv.find("\n0.5,2,"), std::string::npos) << csv;   // --faulty-per-theta flights at each Θ
   const std::string tradeoff = slurp(dir + "/tradeoff.csv");
   EXPECT_EQ(std::count(tradeoff.begin(), tradeoff.end(), '\n'), 9);  // header + eight target rates
 }

@@ -390,6 +390,92 @@ TEST(Calibration, TheEstimateSpreadIsFittedOnCoverage) {
   EXPECT_EQ(none.model_sigma, ThetaNoiseModel{}.model_sigma);
 }
 
+// Pairs whose error depends on where the estimate lies, as the networks' do: one-sided and wide
+// near Θ = 0 (Θ̂ ≥ 0), narrow above.
+struct RangedSpreadCase {
+  std::vector<double> est, truth, var;
+  RangedSpreadCase(int n, std::uint64_t seed) {
+    Rng rng(seed, 0);
+    auto gauss = [&rng] { return std::sqrt(-2.0 * std::log(1.0 - rng.uniform())) * std::cos(2.0 * M_PI * rng.uniform()); };  // Box–Muller
+    for (int i = 0; i < n; ++i) {
+      const double t = rng.uniform(0.0, 0.9);
+      const double e = t < 0.1 ? std::abs(gauss()) * 0.03 : gauss() * 0.004;
+      est.push_back(t + e);
+      truth.push_back(t);
+      var.push_back(0.01 * 0.01);
+    }
+  }
+  // Fraction of the pairs with the estimate in [lo, hi) whose interval (the rule's range lookup)
+  // holds Θ.
+  double coverage(const std::vector<SpreadBin>& bins, double lo, double hi) const {
+    const double z = normalQuantile(0.95);
+    long in = 0, covered = 0;
+    for (std::size_t i = 0; i < est.size(); ++i) {
+      if (est[i] < lo || est[i] >= hi) continue;
+      std::size_t b = 0;
+      while (b + 1 < bins.size() && est[i] >= bins[b].estimate_below) ++b;
+      ++in;
+      covered += std::abs(est[i] - truth[i]) <= z * std::sqrt(bins[b].noise_scale * var[i] + bins[b].model_sigma * bins[b].model_sigma);
+    }
+    return static_cast<double>(covered) / static_cast<double>(in);
+  }
+};
+
+// One spread pooled over Θ covers the wide errors near 0 too rarely and the narrow ones above
+// always; a spread per range of the estimate holds Θ at the nominal 90 % in each.
+TEST(Calibration, TheEstimateSpreadIsFittedPerRangeOfTheEstimate) {
+  const RangedSpreadCase fit(20000, 51), test(60000, 52);
+  const std::vector<SpreadBin> bins = fitBinnedEstimateSpread(fit.est, fit.truth, fit.var, 0.9);
+  ASSERT_EQ(bins.size(), kSpreadBinEdges.size() + 1);
+  for (std::size_t b = 0; b + 1 < bins.size(); ++b) EXPECT_EQ(bins[b].estimate_below, kSpreadBinEdges[b]);
+  EXPECT_EQ(bins.back().estimate_below, 1.0);
+  long pairs = 0;
+  for (const SpreadBin& b : bins) pairs += b.pairs;
+  EXPECT_EQ(pairs, 20000);
+  const EstimateSpread pooled = fitEstimateSpread(fit.est, fit.truth, fit.var, 0.9);
+  const std::vector<SpreadBin> one{{1.0, pooled.noise_scale, pooled.model_sigma, 20000}};
+  EXPECT_LT(test.coverage(one, 0.0, 0.05), 0.8);
+  EXPECT_GT(test.coverage(one, 0.3, 2.0), 0.97);
+  for (std::size_t b = 0; b < bins.size(); ++b) {
+    const double lo = b == 0 ? 0.0 : bins[b - 1].estimate_below, hi = b + 1 == bins.size() ? 2.0 : bins[b].estimate_below;
+    EXPECT_NEAR(test.coverage(bins, lo, hi), 0.9, 0.03) << "estimates " << lo << " … " << hi;
+  }
+  // Ranges with too few pairs join the next, the last the one before; none: the default spread.
+  const std::vector<SpreadBin> merged = fitBinnedEstimateSpread(fit.est, fit.truth, fit.var, 0.9, {0.3, 0.301, 0.95});
+  ASSERT_EQ(merged.size(), 2u);
+  EXPECT_EQ(merged[0].estimate_below, 0.3);  // [0.3, 0.301) holds too few: joined [0.301, 0.95) …
+  EXPECT_EQ(merged[1].estimate_below, 1.0);  // … and [0.95, ∞) none: joined [0.3, 0.95)
+  EXPECT_EQ(merged[0].pairs + merged[1].pairs, 20000);
+  const std::vector<SpreadBin> none = fitBinnedEstimateSpread({}, {}, {}, 0.9);
+  ASSERT_EQ(none.size(), 1u);
+  EXPECT_EQ(none[0].noise_scale, ThetaNoiseModel{}.noise_scale);
+  EXPECT_EQ(none[0].model_sigma, ThetaNoiseModel{}.model_sigma);
+}
+
+// The rule states the interval of the range its estimate lies in.
+TEST(SequentialRule, TheIntervalComesFromTheEstimatesRange) {
+  SequentialConfig c = handConfig();
+  c.noise.phi = 0.0;
+  c.noise.sigma = 0.0;
+  c.noise.spread_bins = {{0.2, 1.0, 0.05, 100}, {1.0, 1.0, 0.01, 100}};
+  for (const auto& [theta, sigma] : {std::pair{0.1f, 0.05}, std::pair{0.6f, 0.01}}) {
+    SequentialRule rule(c);
+    for (int i = 0; i < 100; ++i) rule.update(with(2, theta), 1);
+    ASSERT_EQ(rule.state().motor, 2);
+    EXPECT_NEAR(rule.state().standard_error, sigma, 1e-12);
+    EXPECT_NEAR(rule.state().theta_hi - rule.state().theta_est, rule.z() * sigma, 1e-6);
+  }
+  for (const auto& [bins, problem] :
+       {std::pair{std::vector<SpreadBin>{{0.5, 1.0, 0.0, 0}, {0.4, 1.0, 0.0, 0}}, "estimate_below must be finite and ascending"},
+        std::pair{std::vector<SpreadBin>{{0.5, 1.0, 0.0, 0}, {0.9, 1.0, 0.0, 0}}, "the last range must reach 1"},
+        std::pair{std::vector<SpreadBin>{{1.0, 0.0, 0.0, 0}}, "spread_bins[0]: noise_scale must be finite and positive"},
+        std::pair{std::vector<SpreadBin>{{1.0, 1.0, -0.1, 0}}, "spread_bins[0]: model_sigma must be finite and non-negative"}}) {
+    c.noise.spread_bins = bins;
+    EXPECT_NE(validate(c).find(problem), std::string::npos) << validate(c);
+    EXPECT_THROW(SequentialRule{c}, std::invalid_argument);
+  }
+}
+
 TEST(Calibration, FallsBackToSiegmundWithoutExcursions) {
   const auto train = ar1Streams(2, 20000, 0.97, 0.02, 0.9, 3);
   const ThetaNoiseModel noise = fitNoiseModel(train);
@@ -418,6 +504,26 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
     ASSERT_NE(at, std::string::npos);
     json.replace(at, 13, "\"renamed_key\"");  // an unknown key in its place: ignored
     EXPECT_EQ(calibrationFromJson(json, "old.json").noise.noise_scale, 1.0);
+  }
+  EXPECT_TRUE(back.noise.spread_bins.empty());  // none fitted: none written, the pooled spread holds
+  {                                              // the ranges round-trip; a malformed list names the file
+    DecisionCalibration ranged = c;
+    ranged.noise.spread_bins = {{0.05, 1.0, 0.021, 159}, {1.0, 0.18, 0.0, 3104}};
+    const DecisionCalibration ranged_back = calibrationFromJson(calibrationToJson(ranged), "x.json");
+    ASSERT_EQ(ranged_back.noise.spread_bins.size(), 2u);
+    EXPECT_EQ(ranged_back.noise.spread_bins[0].model_sigma, 0.021);
+    EXPECT_EQ(ranged_back.noise.spread_bins[1].pairs, 3104);
+    EXPECT_EQ(calibrationToJson(ranged_back), calibrationToJson(ranged));
+    std::string json = calibrationToJson(ranged);
+    json.replace(json.find("\"estimate_below\": 0.05"), 22, "\"estimate_below\": 1.05");
+    try {
+      calibrationFromJson(json, "cal.json");
+      ADD_FAILURE();
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("cal.json: bad calibration: noise spread_bins[1]: estimate_below must be finite and ascending"),
+                std::string::npos)
+          << e.what();
+    }
   }
   EXPECT_EQ(back.degraded.tail_maxima, c.degraded.tail_maxima);
   EXPECT_EQ(back.degraded.increment_cap, 0.1);
