@@ -106,7 +106,7 @@ EstimateSpread fitEstimateSpread(const std::vector<double>& estimates, const std
 
 // [-] Bounds of the estimate's ranges that `calibrate` fits apart (fitBinnedEstimateSpread): the
 // per-vehicle models' pooled fits held Θ in 17–63 % of flown-through estimates at Θ 0–0.1 and
-// 97–100 % at Θ 0.7–0.8 for a nominal 90 % (docs/results/vehicles before 2026-11-26); finer near 0,
+// 97–100 % at Θ 0.7–0.8 for a nominal 90 % (docs/results/vehicles until the evening of 2026-11-25); finer near 0,
 // where the estimate is one-sided.
 inline const std::vector<double> kSpreadBinEdges{0.05, 0.15, 0.3, 0.5, 0.7};
 inline constexpr long kMinSpreadPairs = 60;  // [-] fewest pairs a range is fitted on (≈ 10 faulty flights of 6 windows)

@@ -97,7 +97,7 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.noise.phi = n.at("phi").get<double>();
     c.noise.model_sigma = n.at("model_sigma").get<double>();
     c.noise.noise_scale = n.value("noise_scale", 1.0);  // absent in calibrations before 2026-11-25
-    if (n.contains("spread_bins")) {                     // absent before 2026-11-26: the pooled spread
+    if (n.contains("spread_bins")) {                     // absent before the evening of 2026-11-25: the pooled spread
       const auto& bins = n.at("spread_bins");
       if (!bins.is_array() || bins.size() > kMaxSpreadBins)
         throw fail("bad calibration: noise spread_bins must be an array of at most " + std::to_string(kMaxSpreadBins) + " ranges");
