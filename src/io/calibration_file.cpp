@@ -98,9 +98,8 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.noise.model_sigma = n.at("model_sigma").get<double>();
     c.noise.noise_scale = n.value("noise_scale", 1.0);  // absent in calibrations before 2026-11-25
     if (n.contains("spread_bins")) {                     // absent before the evening of 2026-11-25: the pooled spread
-      const auto& bins = n.at("spread_bins");
-      if (!bins.is_array() || bins.size() > kMaxSpreadBins)
-        throw fail("bad calibration: noise spread_bins must be an array of at most " + std::to_string(kMaxSpreadBins) + " ranges");
+      const auto& bins = n.at("spread_bins");  // their count and values: validate() below
+      if (!bins.is_array()) throw fail("bad calibration: noise spread_bins must be an array of ranges");
       for (const auto& b : bins)
         c.noise.spread_bins.push_back({b.at("estimate_below").get<double>(), b.at("noise_scale").get<double>(), b.at("model_sigma").get<double>(),
                                        count(b.at("pairs"), "pairs")});
