@@ -14,7 +14,7 @@ namespace {
 
 using quadfdi::test::CommandResult;
 CommandResult run(const std::string& args, bool merge_stderr = true) { return quadfdi::test::runQuadfdi(args, merge_stderr); }
-std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_detect_" + name; }
+std::string temp(const std::string& name) { return quadfdi::test::scratchPath("detect", name); }
 std::string exe() { return QUADFDI_EXE; }
 int countLines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
@@ -224,7 +224,7 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
   const CommandResult general = run("detect -q --vehicle " + mine + " --input " + csv, false);
   const CommandResult plain = run("detect -q --input " + csv, false);
   ASSERT_EQ(general.exit_code, 0);
-  EXPECT_EQ(general.out, plain.out);  // no tcn-quadfdi_detect_my-racer.qfdw: the general model, the same output
+  EXPECT_EQ(general.out, plain.out);  // no shipped model for that file name: the general model, the same output
   const CommandResult named =
       run("detect -q --model " + src + "/models/tcn-randomised.qfdw --vehicle " + src + "/configs/vehicles/racer250.toml --input " + csv, false);
   EXPECT_EQ(named.out, plain.out);

@@ -24,7 +24,7 @@
 namespace {
 
 using quadfdi::test::CommandResult;
-std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_golden_" + name; }
+std::string temp(const std::string& name) { return quadfdi::test::scratchPath("golden", name); }
 std::string golden(const std::string& name) { return std::string(QUADFDI_SOURCE_DIR) + "/tests/golden/" + name; }
 
 std::string readFile(const std::string& path) {

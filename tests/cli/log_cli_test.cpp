@@ -18,7 +18,7 @@ namespace {
 
 using quadfdi::test::CommandResult;
 CommandResult run(const std::string& args, bool merge_stderr = true) { return quadfdi::test::runQuadfdi(args, merge_stderr); }
-std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_logcli_" + name; }
+std::string temp(const std::string& name) { return quadfdi::test::scratchPath("logcli", name); }
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 int countLines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 const std::string kReal = QUADFDI_SOURCE_DIR "/../shared/logs/";

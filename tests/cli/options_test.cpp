@@ -4,6 +4,7 @@
 #include "cli/options.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
@@ -61,7 +62,7 @@ struct Demo {
 };
 
 std::string writeConfig(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "quadfdi_options_" + name;
+  const std::string path = ::testing::TempDir() + "quadfdi_options_" + std::to_string(::getpid()) + "_" + name;  // per process: ctest runs tests side by side
   std::ofstream(path) << text;
   return path;
 }

@@ -16,7 +16,7 @@ namespace {
 using quadfdi::test::CommandResult;
 CommandResult run(const std::string& args, bool merge_stderr = true) { return quadfdi::test::runQuadfdi(args, merge_stderr); }
 
-std::string tempPath(const std::string& name) { return ::testing::TempDir() + "quadfdi_cli_" + name; }
+std::string tempPath(const std::string& name) { return quadfdi::test::scratchPath("cli", name); }
 
 int countLines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 

@@ -23,7 +23,7 @@ namespace {
 using Result = quadfdi::test::CommandResult;
 Result run(const std::string& args) { return quadfdi::test::runQuadfdi(args); }
 
-std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_train_cli_" + name; }
+std::string temp(const std::string& name) { return quadfdi::test::scratchPath("train_cli", name); }
 bool exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
 const char* kFast = " --scale tiny --batch-size 64 --max-minibatches 2 --threads 2 -q";
 
@@ -150,7 +150,7 @@ TEST(TrainCli, SigintStopsAtASafePointAndResumeFinishes) {
   if (exists(model)) GTEST_SKIP() << "the run finished before the signal arrived";
   EXPECT_EQ(code, 130) << slurp(err);
   EXPECT_NE(slurp(err).find("run again with --resume to continue"), std::string::npos) << slurp(err);
-  EXPECT_EQ(leftoverTemps("quadfdi_train_cli_sigint"), 0);
+  EXPECT_EQ(leftoverTemps(temp("sigint").substr(::testing::TempDir().size())), 0);
   const Result resumed = run(args + " --resume");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.out;
   EXPECT_TRUE(exists(model));
@@ -169,7 +169,7 @@ TEST(GenerateCli, SigtermLeavesNoOutputAndNoTemporaryFile) {
   if (exists(out)) GTEST_SKIP() << "generation finished before the signal arrived";
   EXPECT_EQ(code, 130) << slurp(err);
   EXPECT_NE(slurp(err).find("was not written"), std::string::npos) << slurp(err);
-  EXPECT_EQ(leftoverTemps("quadfdi_train_cli_sigterm"), 0);
+  EXPECT_EQ(leftoverTemps(temp("sigterm").substr(::testing::TempDir().size())), 0);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
@@ -10,7 +11,7 @@
 namespace quadfdi {
 namespace {
 
-std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_h5_" + name; }
+std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_h5_" + std::to_string(::getpid()) + "_" + name; }
 
 std::string bytesOf(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
