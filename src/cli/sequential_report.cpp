@@ -162,13 +162,16 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
      << "**False alarms:** " << h.false_alarms << " in " << num(h.healthy_hours, 2) << " healthy flight hours (" << flights
      << " flights of " << num(kFlightSeconds, 0) << " s) = " << num(h.false_alarms_per_hour, 3) << " per flight hour, one-sided 95 % upper bound "
      << num(h.false_alarms_upper_bound, 3) << " per hour (" << num(h.false_alarms_upper_bound / 60.0, 5)
-     << " per flight-minute), counted from " << num(kUpsetRecoverySeconds, 0) << " s into each recording. Before that, the recording ("
+     << " per flight-minute), counted from " << num(kUpsetRecoverySeconds, 0) << " s into each recording. They came from "
+     << h.flights_with_false_alarm << " of the " << flights << " flights: " << num(h.alarmed_flights_per_hour, 3)
+     << " alarmed flights per flight hour, bound " << num(h.alarmed_flights_upper_bound, 3)
+     << " (alarms cluster in flights at the envelope's edge, so flights are the independent units). Before that, the recording ("
      << "which begins " << num(base.randomisation.preroll_seconds.lo, 1) << "–" << num(base.randomisation.preroll_seconds.hi, 1)
      << " s into the flight) can hold the recovery from the random initial state every simulated flight starts in (±0.3 rad, ±1 rad/s), "
         "which a pilot's flight does not begin with: the rule run over whole recordings raised "
-     << whole.false_alarms_at_start << " alarms there in " << flights << " flights (" << whole.false_alarms
+     << whole.false_alarms_at_start << (whole.false_alarms_at_start == 1 ? " alarm" : " alarms") << " there in " << flights << " flights (" << whole.false_alarms
      << " in all). Target: ≤ 0.1 per hour (1 per 10 flight hours) at the bound.\n\n"
-     << "**Faulty flights:** " << fault_jobs.size() / thetas.size() << " per Θ, a random motor each, recorded "
+     << "**Faulty flights:** " << fault_jobs.size() / thetas.size() << " per Θ, motors 1–4 in turn, recorded "
      << num(faulty.post_fault_steps * base.dt, 1) << " s past the fault, which comes "
      << num(faulty.randomisation.preroll_seconds.lo + (base.window + 1) * base.dt, 1) << "–"
      << num(faulty.randomisation.preroll_seconds.hi + (base.window + 1) * base.dt, 1)

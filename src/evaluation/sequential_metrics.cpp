@@ -36,6 +36,7 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
     r.isolation_flights += faulty;  // every fault is to be isolated, also one at or above the degraded level
     const Severity expected = is_failed ? Severity::kFailed : Severity::kDegraded;
     bool found_degraded = false, found_failed = false;
+    const long false_alarms_before = r.false_alarms;
     for (long k = 0; k < static_cast<long>(f.theta.size()); ++k) {
       const SequentialStatus status = rule.update(
           f.theta[static_cast<std::size_t>(k)], 1, f.observable.empty() ? kAllMotorsObservable : f.observable[static_cast<std::size_t>(k)]);
@@ -70,6 +71,7 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
         covered += s.theta_lo <= truth.theta && truth.theta <= s.theta_hi;
       }
     }
+    r.flights_with_false_alarm += r.false_alarms > false_alarms_before;
   }
   summarise(r.degraded, degraded_delays);
   summarise(r.failed, failed_delays);
@@ -86,6 +88,8 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
   if (r.healthy_hours > 0.0) {
     r.false_alarms_per_hour = static_cast<double>(r.false_alarms) / r.healthy_hours;
     r.false_alarms_upper_bound = poissonUpperBound(r.false_alarms, config.confidence) / r.healthy_hours;
+    r.alarmed_flights_per_hour = r.flights_with_false_alarm / r.healthy_hours;
+    r.alarmed_flights_upper_bound = poissonUpperBound(r.flights_with_false_alarm, config.confidence) / r.healthy_hours;
   }
   return r;
 }

@@ -55,6 +55,11 @@ struct SequentialEvaluation {
   double healthy_hours = 0.0;         // [h] healthy flight time
   double false_alarms_per_hour = 0.0;       // [1/h]
   double false_alarms_upper_bound = 0.0;    // [1/h] one-sided Poisson (Garwood) bound at `confidence`
+  // False alarms cluster by flight (a flight at the envelope's edge can raise several), so the
+  // alarm count's Poisson bound is optimistic; flights, not alarms, are the independent units.
+  int flights_with_false_alarm = 0;         // flights raising at least one false alarm
+  double alarmed_flights_per_hour = 0.0;    // [1/h] of them, per healthy flight hour
+  double alarmed_flights_upper_bound = 0.0; // [1/h] one-sided Poisson bound on that count
 };
 
 SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& flights, const SequentialEvaluationConfig& config);

@@ -64,6 +64,8 @@ TEST(SequentialEvaluation, CountsDelaysIsolationAndFalseAlarmsOnCleanSteps) {
   EXPECT_EQ(evaluateSequential(flights, start).false_alarms_at_start, 0);
   EXPECT_NEAR(r.healthy_hours, (2000 + 800) * c.dt / 3600.0, 1e-12);
   EXPECT_NEAR(r.false_alarms_upper_bound * r.healthy_hours, 4.743864518, 1e-6);
+  EXPECT_EQ(r.flights_with_false_alarm, 1);
+  EXPECT_NEAR(r.alarmed_flights_upper_bound, r.false_alarms_upper_bound, 1e-12);  // one alarm, one flight
   EXPECT_LT(r.theta_max_error, 1e-6);  // noise-free steps: the estimate is exact once flown through
   // A fault at the degraded level itself (Θ̂ = 0.9 = the level never builds evidence) is still a
   // fault to isolate: it counts, unisolated, instead of dropping out of the fraction.
@@ -72,6 +74,31 @@ TEST(SequentialEvaluation, CountsDelaysIsolationAndFalseAlarmsOnCleanSteps) {
   EXPECT_EQ(with_mild.isolation_flights, 3);
   EXPECT_EQ(with_mild.degraded.flights, 2);  // not `degraded` by the rule's own level
   EXPECT_NEAR(with_mild.isolated_late, 2.0 / 3.0, 1e-12);
+}
+
+// Alarms cluster by flight: a flight that dips twice raises two alarms but is one alarmed flight,
+// and the bound on alarmed flights is the Poisson bound on that count, not on the alarms.
+TEST(SequentialEvaluation, FalseAlarmsAreAlsoCountedByFlight) {
+  SequentialEvaluationConfig c;
+  c.rule.degraded_below = 0.9;
+  c.rule.degraded_threshold = c.rule.failed_threshold = 2.999;
+  c.rule.clear_after = 50;
+  Rng rng(2, 0);
+  std::vector<FlightThetaStream> flights;
+  FlightThetaStream twice = flight(2000, 0, 1.0, -1, 0.0, 0.0, rng);
+  for (int i : {100, 1000})
+    for (int k = i; k < i + 20; ++k) twice.theta[static_cast<std::size_t>(k)][0] = 0.5f;
+  flights.push_back(twice);
+  FlightThetaStream once = flight(2000, 0, 1.0, -1, 0.0, 0.0, rng);
+  for (int k = 500; k < 520; ++k) once.theta[static_cast<std::size_t>(k)][2] = 0.5f;
+  flights.push_back(once);
+  flights.push_back(flight(2000, 0, 1.0, -1, 0.0, 0.0, rng));  // clean
+  const SequentialEvaluation r = evaluateSequential(flights, c);
+  EXPECT_EQ(r.false_alarms, 3);
+  EXPECT_EQ(r.flights_with_false_alarm, 2);
+  EXPECT_NEAR(r.alarmed_flights_per_hour * r.healthy_hours, 2.0, 1e-9);
+  EXPECT_NEAR(r.alarmed_flights_upper_bound * r.healthy_hours, 6.295793622, 1e-6);  // χ²(0.95; 6) / 2
+  EXPECT_LT(r.alarmed_flights_upper_bound, r.false_alarms_upper_bound);
 }
 
 TEST(SequentialEvaluation, TheIntervalCoversTheTruthAtItsNominalRate) {
