@@ -33,8 +33,13 @@ command = re.search(r"^- command: `(.*)`$", report, re.M).group(1).replace(vehic
 machine = re.search(r"^- machine: (.*)$", report, re.M).group(1)
 out = []
 out.append("# Per-vehicle detectors: E7 and decisions (issues 13 and 14)\n")
-out.append("Each library vehicle flown and scored with its own model `models/tcn-STEM.qfdw` and that model's calibration "
-           f"(`scripts/evaluate-vehicle-models.sh`: `{command}`). "
+# The model each vehicle's report names (its own, or the general one where it has none).
+def model_of(v):
+    return re.search(r"^  - model-free: `([^`]*)`", open(f"{root}/{v}/REPORT.md").read(), re.M).group(1)
+models = ", ".join(f"{v}: `{model_of(v)}`" for v in vehicles)
+out.append("Each library vehicle flown and scored with the model `detect --vehicle` runs for it — its own "
+           "`models/tcn-STEM.qfdw`, else the general `models/tcn-randomised.qfdw` — and that model's calibration "
+           f"({models}; `scripts/evaluate-vehicle-models.sh`: `{command}`). "
            "Full reports: [crazyflie2/](crazyflie2/REPORT.md), [racer250/](racer250/REPORT.md), [quad450/](quad450/REPORT.md). "
            f"Machine: {machine}; summarised {datetime.date.today().isoformat()}.\n")
 out.append("## E7, transfer matrix\n")
