@@ -212,8 +212,13 @@ int runDetect(const DetectOptions& o) {
   const std::string model_path = detectModelPath(o.model, o.log.vehicle);
   const TrainedModel model = readModelFile(model_path);
   const ModelMetadata& m = model.metadata;
-  if (!o.quiet && o.model.empty() && !o.log.vehicle.empty())
-    std::fprintf(stderr, "detect: model %s (for --vehicle %s)\n", model_path.c_str(), o.log.vehicle.c_str());
+  if (!o.quiet && o.model.empty() && !o.log.vehicle.empty()) {
+    // Say when the vehicle has no model of its own, so a user knows to train one.
+    const bool general = model_path == QUADFDI_DEFAULT_MODEL && environmentModel().empty();
+    const std::string own = "tcn-" + std::filesystem::path(o.log.vehicle).stem().string() + ".qfdw";
+    std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(),
+                 general ? ("the general model: no models/" + own + " for").c_str() : "for", o.log.vehicle.c_str());
+  }
 
   DetectorConfig config;
   config.symmetry = m.symmetry;

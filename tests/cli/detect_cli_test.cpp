@@ -225,6 +225,11 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
   const CommandResult plain = run("detect -q --input " + csv, false);
   ASSERT_EQ(general.exit_code, 0);
   EXPECT_EQ(general.out, plain.out);  // no shipped model for that file name: the general model, the same output
+  const CommandResult told = run("detect --vehicle " + mine + " --input " + csv + " --output -", true);
+  EXPECT_NE(told.out.find("/models/tcn-randomised.qfdw (the general model: no models/tcn-" +
+                             mine.substr(mine.rfind('/') + 1, mine.size() - mine.rfind('/') - 6) + ".qfdw for --vehicle " + mine + ")"),
+            std::string::npos)
+      << told.out.substr(0, 400);
   const CommandResult named =
       run("detect -q --model " + src + "/models/tcn-randomised.qfdw --vehicle " + src + "/configs/vehicles/racer250.toml --input " + csv, false);
   EXPECT_EQ(named.out, plain.out);
