@@ -39,10 +39,13 @@ std::string defaultModelPath() {
   return env.empty() ? std::string(QUADFDI_DEFAULT_MODEL) : env;
 }
 
+std::string vehicleModelName(const std::string& vehicle_file) {
+  return "tcn-" + std::filesystem::path(vehicle_file).stem().string() + ".qfdw";
+}
+
 std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir) {
   if (vehicle_file.empty()) return {};
-  const std::filesystem::path candidate =
-      std::filesystem::path(models_dir) / ("tcn-" + std::filesystem::path(vehicle_file).stem().string() + ".qfdw");
+  const std::filesystem::path candidate = std::filesystem::path(models_dir) / vehicleModelName(vehicle_file);
   std::error_code ec;  // an unreadable directory is "no vehicle model", not an error: the general model serves
   return std::filesystem::is_regular_file(candidate, ec) ? candidate.string() : std::string();
 }
@@ -215,9 +218,9 @@ int runDetect(const DetectOptions& o) {
   if (!o.quiet && o.model.empty() && !o.log.vehicle.empty()) {
     // Say when the vehicle has no model of its own, so a user knows to train one.
     const bool general = model_path == QUADFDI_DEFAULT_MODEL && environmentModel().empty();
-    const std::string own = "tcn-" + std::filesystem::path(o.log.vehicle).stem().string() + ".qfdw";
     std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(),
-                 general ? ("the general model: no models/" + own + " for").c_str() : "for", o.log.vehicle.c_str());
+                 general ? ("the general model: no models/" + vehicleModelName(o.log.vehicle) + " for").c_str() : "for",
+                 o.log.vehicle.c_str());
   }
 
   DetectorConfig config;

@@ -55,8 +55,11 @@ std::string calibrationSidecarPath(const std::string& model_path);
 // The shipped model: $QUADFDI_MODEL if set, else models/tcn-randomised.qfdw of the source tree.
 std::string defaultModelPath();
 
-// A vehicle's own model: MODELS_DIR/tcn-STEM.qfdw for the description FILE STEM.toml (the shipped
-// per-vehicle models are named so, models/README.md), or empty when there is no such file.
+// The file name of a vehicle's own model: tcn-STEM.qfdw for the description FILE STEM.toml (the
+// shipped per-vehicle models are named so, models/README.md).
+std::string vehicleModelName(const std::string& vehicle_file);
+
+// A vehicle's own model: MODELS_DIR/vehicleModelName(FILE), or empty when there is no such file.
 std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir);
 
 // The model detect runs: --model; else $QUADFDI_MODEL; else the --vehicle's own model in the

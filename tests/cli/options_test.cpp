@@ -4,7 +4,6 @@
 #include "cli/options.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
@@ -14,6 +13,7 @@
 #include <vector>
 
 #include "io/key_value.h"
+#include "scratch_path.h"
 
 namespace quadfdi::cli {
 namespace {
@@ -62,7 +62,7 @@ struct Demo {
 };
 
 std::string writeConfig(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "quadfdi_options_" + std::to_string(::getpid()) + "_" + name;  // per process: ctest runs tests side by side
+  const std::string path = quadfdi::test::scratchPath("options", name);
   std::ofstream(path) << text;
   return path;
 }

@@ -1,17 +1,17 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
-#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
 
 #include "data/rollout.h"
 #include "io/hdf5_dataset.h"
+#include "scratch_path.h"
 
 namespace quadfdi {
 namespace {
 
-std::string temp(const std::string& name) { return ::testing::TempDir() + "quadfdi_h5_" + std::to_string(::getpid()) + "_" + name; }
+std::string temp(const std::string& name) { return quadfdi::test::scratchPath("h5", name); }
 
 std::string bytesOf(const std::string& path) {
   std::ifstream f(path, std::ios::binary);

@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -11,13 +10,14 @@
 #include "inference/engine.h"
 #include "networks/model.h"
 #include "networks/trainer.h"
+#include "scratch_path.h"
 
 namespace quadfdi {
 namespace {
 
 // Per process: two builds' suites (test, asan) may run at once.
 std::string temp(const std::string& name) {
-  return ::testing::TempDir() + "quadfdi_nn_" + std::to_string(getpid()) + "_" + name;
+  return quadfdi::test::scratchPath("nn", name);
 }
 
 // A tiny but real Algorithm 1 run: T = 10, hidden 16, 12 trajectories an iteration.
