@@ -34,7 +34,7 @@ bool finiteNonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
 std::string validate(const PidConfig& c) {
   if (c.position_divisor < 1 || c.attitude_divisor < 1 || c.rate_divisor < 1) return "PID loop divisors must be >= 1";
   for (double g : {c.position_gain_xy, c.position_gain_z, c.velocity_gain_xy, c.velocity_integral_xy,
-                   c.velocity_derivative_xy, c.velocity_gain_z, c.velocity_integral_z, c.velocity_derivative_z,
+                   c.velocity_derivative_xy, c.velocity_gain_z, c.velocity_integral_z, c.velocity_derivative_z, c.velocity_derivative_cutoff,
                    c.velocity_integral_limit, c.attitude_gain_rp, c.attitude_gain_yaw, c.rate_gain_rp,
                    c.rate_integral_rp, c.rate_derivative_rp, c.rate_gain_yaw, c.rate_integral_yaw})
     if (!finiteNonNegative(g)) return "PID gains and limits must be finite and >= 0";
@@ -122,6 +122,8 @@ PidController::PidController(const VehicleParams& params, const PidConfig& confi
       max_collective_(4.0 * params.max_thrust),
       allocator_(RigidBodyModel::fromParams(params), params.min_thrust, params.max_thrust) {
   rate_integral_limit_ = config_.rate_integral_limit * allocator_.maxTorque().cwiseQuotient(inertia_);
+  if (config_.velocity_derivative_cutoff > 0.0)
+    velocity_derivative_alpha_ = 1.0 - std::exp(-2.0 * M_PI * config_.velocity_derivative_cutoff * dt_ * config_.position_divisor);
   reset();
 }
 
@@ -130,6 +132,7 @@ void PidController::reset() {
   velocity_integral_.setZero();
   previous_velocity_.setZero();
   have_previous_velocity_ = false;
+  velocity_derivative_.setZero();
   thrust_limited_ = false;
   rate_integral_.setZero();
   previous_rate_.setZero();
@@ -158,8 +161,9 @@ void PidController::positionLoop(const Vec3& p, const Vec3& v) {
   const Vec3 dvdt = have_previous_velocity_ ? Vec3((v - previous_velocity_) / period) : Vec3::Zero();
   previous_velocity_ = v;
   have_previous_velocity_ = true;
+  velocity_derivative_ += velocity_derivative_alpha_ * (dvdt - velocity_derivative_);
   const Vec3 acceleration =
-      ref.acceleration + kv.cwiseProduct(velocity_error) + velocity_integral_ - kd.cwiseProduct(dvdt);
+      ref.acceleration + kv.cwiseProduct(velocity_error) + velocity_integral_ - kd.cwiseProduct(velocity_derivative_);
 
   // Thrust vector F = m·(a + g·e₃), limited like PX4's PositionControl: vertical component at
   // least the minimum collective, tilt at most max_tilt (horizontal part scaled), magnitude at

@@ -46,6 +46,11 @@ struct PidConfig {
   double velocity_integral_z = 2.0;     // [1/s²] PX4 MPC_Z_VEL_I_ACC
   double velocity_derivative_z = 0.0;   // [-] PX4 MPC_Z_VEL_D_ACC
   double velocity_integral_limit = 9.81;  // [m/s²] |I term| per axis; PX4 bounds the vertical one by g
+  // The D term's numerical velocity derivative is low-passed (first order) as PX4's is: raw, a
+  // velocity estimate's noise of ~0.02 m/s differenced at 100 Hz swings the tilt setpoint by ~0.05 rad
+  // every position update, which the attitude and rate loops pass to the motors as commands slammed
+  // between their limits (measured on the 1.5 kg quad, docs/control.md "PID"). 0: no filter.
+  double velocity_derivative_cutoff = 5.0;  // [Hz] PX4 MPC_VELD_LP default
   // Thrust vector limits.
   double max_tilt = 0.7854;  // [rad] angle of the thrust vector to vertical; PX4 MPC_TILTMAX_AIR 45°
   double min_thrust_fraction = 0.12;  // [-] least vertical thrust, of the maximum collective; PX4 MPC_THR_MIN
@@ -140,6 +145,8 @@ class PidController final : public Controller {
   long step_ = 0;
   Vec3 velocity_integral_ = Vec3::Zero();  // [m/s²]
   Vec3 previous_velocity_ = Vec3::Zero();  // [m/s] world, for D on measurement
+  Vec3 velocity_derivative_ = Vec3::Zero();  // [m/s²] low-passed dv/dt
+  double velocity_derivative_alpha_ = 1.0;   // [-] its filter's step gain, 1 − e^{−2π f_c·period}
   bool have_previous_velocity_ = false;
   bool thrust_limited_ = false;            // tilt or thrust limit active at the last position update
   Vec3 rate_integral_ = Vec3::Zero();      // [rad/s²]

@@ -314,6 +314,45 @@ TEST(Pid, EachLoopHoldsItsOutputBetweenUpdates) {
   }
 }
 
+// The D term of the velocity loop acts on the numerical velocity derivative low-passed at
+// velocity_derivative_cutoff (first order, exactly discretised at the position loop's period, as
+// PX4's MPC_VELD_LP): a velocity step of Δv gives α·Δv/period at its update and (1 − α)·α·Δv/period
+// at the next, α = 1 − e^{−2π f_c·period}; with the cutoff at 0 the raw difference passes.
+TEST(Pid, VelocityDerivativeIsLowPassed) {
+  const VehicleParams p = nominalParams();
+  PidConfig only_d;  // every other term of the horizontal acceleration off
+  only_d.position_gain_xy = 0.0;
+  only_d.velocity_gain_xy = 0.0;
+  only_d.velocity_integral_xy = 0.0;
+  const double period = kDt * only_d.position_divisor, dv = 0.1;  // [s], [m/s]
+  const double kd = only_d.velocity_derivative_xy;
+  auto thrustX = [&](const PidConfig& config) {
+    PidController ctrl(p, config, kDt);
+    Reference hover;
+    hover.position = Vec3(0.0, 0.0, 1.0);
+    ctrl.setReference(hover);
+    State x = test::hoverState(hover.position);
+    ControlStep out;
+    std::vector<double> at_updates;
+    for (int k = 0; k <= 2 * config.position_divisor; ++k) {
+      x(idx::kVel) = k >= config.position_divisor ? dv : 0.0;  // body x = world x at zero attitude
+      ctrl.compute(x, out);
+      if (k % config.position_divisor == 0) at_updates.push_back(ctrl.thrustVector().x());
+    }
+    return at_updates;
+  };
+  const double alpha = 1.0 - std::exp(-2.0 * M_PI * only_d.velocity_derivative_cutoff * period);
+  const std::vector<double> filtered = thrustX(only_d);
+  EXPECT_EQ(filtered[0], 0.0);
+  EXPECT_NEAR(filtered[1], -p.mass * kd * alpha * dv / period, 1e-12);
+  EXPECT_NEAR(filtered[2], -p.mass * kd * (1.0 - alpha) * alpha * dv / period, 1e-12);
+  PidConfig raw = only_d;
+  raw.velocity_derivative_cutoff = 0.0;
+  const std::vector<double> unfiltered = thrustX(raw);
+  EXPECT_NEAR(unfiltered[1], -p.mass * kd * dv / period, 1e-12);
+  EXPECT_EQ(unfiltered[2], 0.0);
+}
+
 TEST(Pid, ComputeDoesNotAllocate) {
   const VehicleParams p = nominalParams();
   PidController ctrl(p, PidConfig{}, kDt);

@@ -40,17 +40,20 @@ TEST(ControllerConfig, ShippedExampleEqualsTheDefaults) {
   EXPECT_EQ(c.pid.rate_gain_rp, d.pid.rate_gain_rp);
   EXPECT_EQ(c.pid.max_tilt, d.pid.max_tilt);
   EXPECT_EQ(c.pid.rate_integral_limit, d.pid.rate_integral_limit);
+  EXPECT_EQ(c.pid.velocity_derivative_cutoff, d.pid.velocity_derivative_cutoff);
 }
 
 TEST(ControllerConfig, PidKeys) {
   const ControllerConfig c = controllerConfigFromText(
-      "controller = \"pid\"\n[pid]\nrate_divisor = 2\nattitude_divisor = 4\nrate_gain_rp = 40\nyaw_weight = 0.5\n",
+      "controller = \"pid\"\n[pid]\nrate_divisor = 2\nattitude_divisor = 4\nrate_gain_rp = 40\nyaw_weight = 0.5\n"
+      "velocity_derivative_cutoff = 0\n",
       "c.toml", ControllerConfig{});
   EXPECT_EQ(c.kind, ControllerKind::kPid);
   EXPECT_EQ(c.pid.rate_divisor, 2);
   EXPECT_EQ(c.pid.attitude_divisor, 4);
   EXPECT_EQ(c.pid.rate_gain_rp, 40.0);
   EXPECT_EQ(c.pid.yaw_weight, 0.5);
+  EXPECT_EQ(c.pid.velocity_derivative_cutoff, 0.0);  // 0: the filter off
   EXPECT_EQ(c.pid.position_gain_xy, PidConfig{}.position_gain_xy);
 }
 
