@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -227,7 +228,7 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
   EXPECT_EQ(general.out, plain.out);  // no shipped model for that file name: the general model, the same output
   const CommandResult told = run("detect --vehicle " + mine + " --input " + csv + " --output -", true);
   EXPECT_NE(told.out.find("/models/tcn-randomised.qfdw (the general model: no models/tcn-" +
-                             mine.substr(mine.rfind('/') + 1, mine.size() - mine.rfind('/') - 6) + ".qfdw for --vehicle " + mine + ")"),
+                             std::filesystem::path(mine).stem().string() + ".qfdw for --vehicle " + mine + ")"),
             std::string::npos)
       << told.out.substr(0, 400);
   const CommandResult named =

@@ -67,6 +67,7 @@ TEST(ControllerConfig, BadValuesNameFileAndLine) {
   EXPECT_EQ(errorOf("[pid]\n\nrate_divisor = 0\n"), "c.toml:3: 'pid.rate_divisor' must be an integer in 1 … 1000 (steps)");
   EXPECT_EQ(errorOf("[pid]\nyaw_weight = 2\n"), "c.toml:2: PID yaw_weight must lie in (0, 1]");
   EXPECT_EQ(errorOf("[pid]\nrate_gain_rp = -3\n"), "c.toml:2: PID gains and limits must be finite and >= 0");
+  EXPECT_EQ(errorOf("[pid]\nvelocity_derivative_cutoff = -5\n"), "c.toml:2: PID gains and limits must be finite and >= 0");
   EXPECT_EQ(errorOf("[pid]\nrate_gain = 3\n"), "c.toml:2: unknown key 'pid.rate_gain'");
   EXPECT_EQ(errorOf("controller = \"mpc\"\n"), "c.toml:1: controller must be \"lqr\", \"cbf\" or \"pid\", got 'mpc'");
 }
