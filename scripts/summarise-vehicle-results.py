@@ -1,15 +1,27 @@
 #!/usr/bin/env python3
-"""docs/results/vehicles/README.md from the per-vehicle E7 and decisions outputs that
-scripts/evaluate-vehicle-models.sh writes: the E7 cells with the general model's in brackets (its
-e7.csv, run with the same code), each vehicle's false alarms with the bound its decisions report
-states, detection against Θ. It computes nothing the reports do not already say (the target
-check is e7.csv's targets_met, the bounds are quadfdi's) but the three vehicles' pooled rate and its
-bound, which is the one-sided 95 % Garwood bound each report computes.
-Usage: scripts/summarise-vehicle-results.py [GENERAL_E7_CSV]"""
-import csv, datetime, math, os, re, sys
-root = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'docs', 'results', 'vehicles')
-general = sys.argv[1] if len(sys.argv) > 1 else None
-vehicles = ['crazyflie2', 'racer250', 'quad450']
+"""The summary README.md of per-vehicle E7 and decisions outputs (quadfdi evaluate -e e7 decisions):
+  library (default): docs/results/vehicles/, the three library vehicles that
+    scripts/evaluate-vehicle-models.sh flies, with the general model's E7 cells in brackets (its
+    e7.csv, run with the same code);
+  --held-out: docs/results/held-out-vehicles/, the airframes no shipped model was trained on
+    (configs/vehicles/held-out/), each under the general model with its shipped calibration (STEM/)
+    and, where there is one, with a calibration made for that airframe (STEM-calibrated/).
+It computes nothing the reports do not already say (the target check is e7.csv's targets_met, the
+bounds are quadfdi's) but the pooled rate of all runs and its bound, which is the one-sided 95 %
+Garwood bound each report computes.
+Usage: scripts/summarise-vehicle-results.py [GENERAL_E7_CSV]
+       scripts/summarise-vehicle-results.py --held-out"""
+import csv, datetime, glob, math, os, re, sys
+here = os.path.dirname(os.path.abspath(__file__))
+held_out = len(sys.argv) > 1 and sys.argv[1] == '--held-out'
+general = sys.argv[1] if len(sys.argv) > 1 and not held_out else None
+if held_out:
+    root = os.path.join(here, '..', 'docs', 'results', 'held-out-vehicles')
+    stems = sorted(os.path.basename(f)[:-5] for f in glob.glob(os.path.join(here, '..', 'configs', 'vehicles', 'held-out', '*.toml')))
+    vehicles = [d for s in stems for d in (s, s + '-calibrated') if os.path.isdir(os.path.join(root, d))]
+else:
+    root = os.path.join(here, '..', 'docs', 'results', 'vehicles')
+    vehicles = ['crazyflie2', 'racer250', 'quad450']
 def pct(x): return f"{100*float(x):.1f} %"
 def ms(x): return f"{1000*float(x):.0f}"
 def garwood(n, hours, confidence=0.95):
@@ -32,34 +44,52 @@ report = open(f"{root}/{vehicles[0]}/REPORT.md").read()
 command = re.search(r"^- command: `(.*)`$", report, re.M).group(1).replace(vehicles[0], "STEM")
 machine = re.search(r"^- machine: (.*)$", report, re.M).group(1)
 out = []
-out.append("# Per-vehicle detectors: E7 and decisions (issues 13 and 14)\n")
-# The model each vehicle's report names (its own, or the general one where it has none).
+# The model each vehicle's report names (its own, or the general one where it has none), and its calibration.
 def model_of(v):
     return re.search(r"^  - model-free: `([^`]*)`", open(f"{root}/{v}/REPORT.md").read(), re.M).group(1)
-models = ", ".join(f"{v}: `{model_of(v)}`" for v in vehicles)
-out.append("Each library vehicle flown and scored with the model `detect --vehicle` runs for it — its own "
-           "`models/tcn-STEM.qfdw`, else the general `models/tcn-randomised.qfdw` — and that model's calibration "
-           f"({models}; `scripts/evaluate-vehicle-models.sh`: `{command}`). "
-           "Full reports: [crazyflie2/](crazyflie2/REPORT.md), [racer250/](racer250/REPORT.md), [quad450/](quad450/REPORT.md). "
-           f"Machine: {machine}; summarised {datetime.date.today().isoformat()}.\n")
+def calibration_of(v):
+    return re.search(r"calibration: (\S+?)\.$", open(f"{root}/{v}/e7.md").read(), re.M).group(1)
+reports = ", ".join(f"[{v}/]({v}/REPORT.md)" for v in vehicles)
+if held_out:
+    out.append("# Held-out airframes: the general model on quads it never saw (issues 13 and 14)\n")
+    runs = "; ".join(f"{v}: `{model_of(v)}` with `{calibration_of(v)}`" for v in vehicles)
+    out.append("Airframes described in `configs/vehicles/held-out/` and flown by no training run: the shipped "
+               "models learnt the Crazyflie, the racer and the Iris (`configs/randomisation-default.toml`). Each is flown "
+               "and scored with what `detect --vehicle` runs for it — the general model `models/tcn-randomised.qfdw` with "
+               "its shipped calibration (STEM/) — and, in STEM-calibrated/, the same model with a calibration made for "
+               "that airframe (`quadfdi calibrate --vehicle`, no training; [docs/vehicles.md](../../vehicles.md#held-out-airframes-configsvehiclesheld-out)). "
+               f"Runs: {runs}. Command: `{command}` (STEM-calibrated adds `--calibration FILE`). "
+               f"Full reports: {reports}. Machine: {machine}; summarised {datetime.date.today().isoformat()}.\n")
+else:
+    out.append("# Per-vehicle detectors: E7 and decisions (issues 13 and 14)\n")
+    models = ", ".join(f"{v}: `{model_of(v)}`" for v in vehicles)
+    out.append("Each library vehicle flown and scored with the model `detect --vehicle` runs for it — its own "
+               "`models/tcn-STEM.qfdw`, else the general `models/tcn-randomised.qfdw` — and that model's calibration "
+               f"({models}; `scripts/evaluate-vehicle-models.sh`: `{command}`). "
+               f"Full reports: {reports}. Machine: {machine}; summarised {datetime.date.today().isoformat()}.\n")
 out.append("## E7, transfer matrix\n")
 out.append("Per cell 220 flights (20 healthy; 5 per motor and Θ ∈ {0, 0.1, …, 0.9}), estimator errors Gauss–Markov "
            "(training saw white ones); held-out cells fly PID gains ×0.5 / ×2 (training: ×0.7–1.4), figure-eights at 2–3 m/s "
            "(training: none, ≤ 2 m/s), plant errors beyond the training spreads, or wind stronger than training's (6–8 m/s, "
            "turbulence σ 2 m/s, 4–5 m/s gusts; training: ≤ 5 m/s, σ ≤ 1.5 m/s, gusts ≤ 3 m/s); the other cells fly in still air. "
-           "In brackets: the general model `models/tcn-randomised.qfdw` on the same flights with the same code (no bracket: "
-           "its report has no such cell).\n")
+           + ("In brackets, for a STEM-calibrated run: the same flights with the shipped calibration (STEM)."
+              if held_out else
+              "In brackets: the general model `models/tcn-randomised.qfdw` on the same flights with the same code (no bracket: "
+              "its report has no such cell).") + "\n")
 out.append("| vehicle | condition | held out | complete faults isolated at +50 ms | partial faults (Θ ≤ 0.8) isolated at +300 ms | degraded / failed delay median [ms] | Θ MAE flown through | interval coverage | false alarms | targets |")
 out.append("|---|---|---|---|---|---|---|---|---|---|")
 met = 0; cells = 0
 for v in vehicles:
+    if held_out:  # a calibrated run against the same airframe with the shipped calibration
+        base = v[:-len('-calibrated')] if v.endswith('-calibrated') else None
+        gen = {(r['vehicle'], r['condition']): r for r in csv.DictReader(open(f"{root}/{base}/e7.csv"))} if base in vehicles else {}
     for r in csv.DictReader(open(f"{root}/{v}/e7.csv")):
         g = gen.get((r['vehicle'], r['condition']))
         ok = r['targets_met'] == '1'
         met += ok; cells += 1
         gc = f" ({pct(g['complete_isolated_50ms'])})" if g else ""
         gp = f" ({pct(g['partial_isolated_300ms'])})" if g else ""
-        out.append(f"| {r['vehicle']} | {r['condition']} | {'yes' if r['held_out']=='1' else 'no'} | {pct(r['complete_isolated_50ms'])}{gc} | "
+        out.append(f"| {v if held_out else r['vehicle']} | {r['condition']} | {'yes' if r['held_out']=='1' else 'no'} | {pct(r['complete_isolated_50ms'])}{gc} | "
                    f"{pct(r['partial_isolated_300ms'])}{gp} | {ms(r['degraded_delay_median_s'])} / {ms(r['failed_delay_median_s'])} | "
                    f"{float(r['theta_mae']):.3f} | {pct(r['coverage'])} | {r['false_alarms']} | {'**met**' if ok else 'short'} |")
 out.append(f"\nTargets (issue 13): complete ≥ 99 % at +50 ms, partial ≥ 95 % at +300 ms, Θ MAE ≤ 0.05, no false alarm. **{met} of {cells} cells meet all four.**\n")
@@ -79,8 +109,9 @@ for v in vehicles:
     N += n; S += start; H += h
     out.append(f"| {v} | {h:.2f} | {n} | {rate} | **{bound}** | "
                + (f"{alarmed} ({garwood(alarmed, h):.3f})" if alarmed is not None else "not counted") + f" | {start} in {flights} flights |")
-out.append(f"| all three | {H:.2f} | {N} | {N/H:.3f} | {garwood(N, H):.3f} | "
-           + (f"{A} ({garwood(A, H):.3f})" if A is not None else "not counted") + f" | {S} |")
+if not held_out:  # runs under different calibrations do not pool
+    out.append(f"| all three | {H:.2f} | {N} | {N/H:.3f} | {garwood(N, H):.3f} | "
+               + (f"{A} ({garwood(A, H):.3f})" if A is not None else "not counted") + f" | {S} |")
 out.append("\nThe healthy flights are drawn from `configs/randomisation-default.toml`, wind included (rotor drag 0.15–0.35 /s, "
            "mean wind 0–5 m/s, turbulence σ 0–1.5 m/s, up to one 1 − cosine gust of ≤ 3 m/s every 10 s; docs/model.md#wind).\n")
 out.append("\nTarget (issue 14): ≤ 0.1 false alarms per flight hour at the one-sided 95 % upper bound (Garwood, as each "
@@ -103,13 +134,16 @@ out.append("| Θ | " + " | ".join(vehicles) + " |")
 out.append("|---|" + "---|"*len(vehicles))
 cov = {}
 within = scored = 0
+per_vehicle = []
 for v in vehicles:
+    w0, s0 = within, scored
     for r in csv.DictReader(open(f"{root}/{v}/decisions.csv")):
         n = int(r.get('estimate_samples', 1))
         ok = n > 0 and abs(float(r['coverage']) - 0.9) <= 0.05
         within += ok; scored += n > 0
         cov.setdefault(r['theta'], []).append("—" if n == 0 else (f"**{pct(r['coverage'])}**" if ok else pct(r['coverage'])))
+    per_vehicle.append(f"{v} {within - w0} of {scored - s0}")
 for t, cols in cov.items():
     out.append(f"| {t} | " + " | ".join(cols) + " |")
-out.append(f"\n**{within} of {scored}** scored Θ values within 85–95 % (bold).\n")
+out.append(f"\n**{within} of {scored}** scored Θ values within 85–95 % (bold): " + ", ".join(per_vehicle) + ".\n")
 open(f"{root}/README.md", 'w').write("\n".join(out) + "\n")

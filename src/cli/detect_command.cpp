@@ -50,11 +50,13 @@ std::string vehicleModelPath(const std::string& vehicle_file, const std::string&
   return std::filesystem::is_regular_file(candidate, ec) ? candidate.string() : std::string();
 }
 
-std::string detectModelPath(const std::string& model_option, const std::string& vehicle_file) {
-  if (!model_option.empty()) return model_option;
-  if (const std::string env = environmentModel(); !env.empty()) return env;
+DetectModelChoice detectModelPath(const std::string& model_option, const std::string& vehicle_file) {
+  using Source = DetectModelChoice::Source;
+  if (!model_option.empty()) return {model_option, Source::kOption};
+  if (const std::string env = environmentModel(); !env.empty()) return {env, Source::kEnvironment};
   const std::string own = vehicleModelPath(vehicle_file, std::filesystem::path(QUADFDI_DEFAULT_MODEL).parent_path().string());
-  return own.empty() ? std::string(QUADFDI_DEFAULT_MODEL) : own;
+  if (!own.empty()) return {own, Source::kVehicle};
+  return {QUADFDI_DEFAULT_MODEL, Source::kGeneral};
 }
 
 CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
@@ -212,12 +214,13 @@ int runDetect(const DetectOptions& o) {
   // Checked for every input: with a CSV the description only picks the model, and a missing or
   // broken one must be refused ("FILE:LINE: problem"), not read as "no model of its own".
   if (!o.log.vehicle.empty()) loadVehicleDescription(o.log.vehicle);
-  const std::string model_path = detectModelPath(o.model, o.log.vehicle);
+  const DetectModelChoice choice = detectModelPath(o.model, o.log.vehicle);
+  const std::string& model_path = choice.path;
   const TrainedModel model = readModelFile(model_path);
   const ModelMetadata& m = model.metadata;
   if (!o.quiet && o.model.empty() && !o.log.vehicle.empty()) {
     // Say when the vehicle has no model of its own, so a user knows to train one.
-    const bool general = model_path == QUADFDI_DEFAULT_MODEL && environmentModel().empty();
+    const bool general = choice.source == DetectModelChoice::Source::kGeneral;
     std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(),
                  general ? ("the general model: no models/" + vehicleModelName(o.log.vehicle) + " for").c_str() : "for",
                  o.log.vehicle.c_str());

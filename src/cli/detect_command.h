@@ -62,8 +62,13 @@ std::string vehicleModelName(const std::string& vehicle_file);
 // A vehicle's own model: MODELS_DIR/vehicleModelName(FILE), or empty when there is no such file.
 std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir);
 
-// The model detect runs: --model; else $QUADFDI_MODEL; else the --vehicle's own model in the
-// shipped models folder; else the shipped general model.
-std::string detectModelPath(const std::string& model_option, const std::string& vehicle_file);
+// Which model detect runs, and why: --model; else $QUADFDI_MODEL; else the --vehicle's own model
+// in the shipped models folder; else the shipped general model.
+struct DetectModelChoice {
+  enum class Source { kOption, kEnvironment, kVehicle, kGeneral };
+  std::string path;
+  Source source = Source::kGeneral;
+};
+DetectModelChoice detectModelPath(const std::string& model_option, const std::string& vehicle_file);
 
 }  // namespace quadfdi::cli

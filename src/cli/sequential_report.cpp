@@ -34,6 +34,13 @@ bool meetsTargets(const TransferCell& c) {
          c.all.false_alarms == 0;
 }
 
+// "1 vehicle (x500)", "3 vehicles (crazyflie2, racer250, quad450)": the flown vehicles by name.
+std::string vehicleList(const std::vector<std::string>& names) {
+  std::string s = std::to_string(names.size()) + (names.size() == 1 ? " vehicle (" : " vehicles (");
+  for (std::size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
+  return s + ")";
+}
+
 std::string ruleLine(const SequentialReportInputs& in) {
   const SequentialConfig& r = in.decision.rule;
   std::ostringstream s;
@@ -68,7 +75,7 @@ std::string transferReport(const SequentialReportInputs& in, const ReportProgres
   std::ostringstream csv, md;
   csv << "vehicle,condition,held_out,flights,complete_isolated_50ms,partial_isolated_300ms,degraded_detected,degraded_delay_median_s,"
          "failed_detected,failed_delay_median_s,theta_mae,coverage,false_alarms,healthy_hours,targets_met\n";
-  md << "### E7: transfer matrix — library vehicles × controllers, gains, manoeuvres and plant errors\n\n"
+  md << "### E7: transfer matrix — vehicles × controllers, gains, manoeuvres and plant errors\n\n"
      << "Model: `" << in.model_path << "` (" << toString(in.model->metadata.features) << ", trained with "
      << (in.model->metadata.randomisation.empty() ? "no randomisation" : "randomisation") << "). "
      << "Each cell: " << 4 * config.flights_per_class << " healthy flights and " << config.flights_per_class
@@ -157,7 +164,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   std::ostringstream md, csv;
   md << "### Decisions: severity against Θ, false alarms per flight hour (issue 14)\n\n"
      << "Model `" << in.model_path << "`; " << ruleLine(in) << ". Flights: the randomisation `" << in.randomise_path
-     << "` over " << in.vehicles.size() << " library vehicles (LQR, PID, CBF-QP; hover, point-to-point, circle; estimator noise, lag and delay; plant errors"
+     << "` over " << vehicleList(in.vehicle_names) << " (LQR, PID, CBF-QP; hover, point-to-point, circle; estimator noise, lag and delay; plant errors"
      << windSummary(base.randomisation.wind) << ").\n\n"
      << "**False alarms:** " << h.false_alarms << " in " << num(h.healthy_hours, 2) << " healthy flight hours (" << flights
      << " flights of " << num(kFlightSeconds, 0) << " s) = " << num(h.false_alarms_per_hour, 3) << " per flight hour, one-sided 95 % upper bound "

@@ -4,6 +4,7 @@
 
 #include "data/rollout.h"
 #include "io/key_value.h"
+#include "io/params_file.h"
 #include "io/randomisation_file.h"
 
 namespace quadfdi {
@@ -22,6 +23,25 @@ TEST(RandomisationFile, LoadsTheShippedRandomisationWithItsVehicles) {
   const std::string text = randomisationToText(r);
   EXPECT_NE(text.find("parameters.mass = [0.84999999999999998, 1.1499999999999999]"), std::string::npos) << text;
   EXPECT_NE(text.find("vehicles = [\"crazyflie2\", \"racer250\", \"quad450\"]"), std::string::npos) << text;
+}
+
+// The held-out airframes (configs/vehicles/held-out/, docs/results/held-out-vehicles/) are held
+// out only if the shipped training never flies them: not by name, and no training vehicle is the
+// same airframe under another name (mass or inertia within the randomisation's spread).
+TEST(RandomisationFile, TheShippedTrainingFliesNoHeldOutAirframe) {
+  const Randomisation r = loadRandomisation(kDefault);
+  for (const char* stem : {"x500", "solo"}) {
+    const VehicleParams held_out =
+        loadVehicleParams(std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/held-out/" + stem + ".toml");
+    for (std::size_t i = 0; i < r.vehicles.size(); ++i) {
+      EXPECT_NE(r.vehicle_names[i], stem);
+      const VehicleParams& trained = r.vehicles[i];
+      const bool same_mass = std::abs(held_out.mass / trained.mass - 1.0) <= 0.15;
+      const bool same_roll_inertia = std::abs(held_out.inertia_xx / trained.inertia_xx - 1.0) <= 0.2;
+      const bool same_yaw_moment = std::abs(held_out.yaw_moment_coeff / trained.yaw_moment_coeff - 1.0) <= 0.2;
+      EXPECT_FALSE(same_mass && same_roll_inertia && same_yaw_moment) << stem << " is " << r.vehicle_names[i];
+    }
+  }
 }
 
 TEST(RandomisationFile, RefusesBadInputWithFileAndLine) {

@@ -14,6 +14,11 @@ namespace {
 
 std::string library(const std::string& file) { return std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/" + file; }
 
+// Every described vehicle: the library's three, and the held-out airframes no shipped model was
+// trained on (configs/vehicles/held-out/, docs/results/held-out-vehicles/).
+const char* const kDescribed[] = {"crazyflie2.toml", "racer250.toml", "quad450.toml", "held-out/x500.toml",
+                                  "held-out/solo.toml"};
+
 // A valid description (PX4 numbering, square X) that the refusal tests break one line at a time.
 const char* kValid = R"(name = "test quad"
 source = "unit test"
@@ -63,7 +68,7 @@ std::string refusal(const std::string& text) {
 }
 
 TEST(VehicleFile, LibraryVehiclesLoadValidateAndHoverAtEquilibrium) {
-  for (const char* file : {"crazyflie2.toml", "racer250.toml", "quad450.toml"}) {
+  for (const char* file : kDescribed) {
     const VehicleDescription d = loadVehicleDescription(library(file));
     const VehicleParams& p = d.params;
     EXPECT_EQ(validate(p), "") << file;
@@ -84,7 +89,7 @@ TEST(VehicleFile, LibraryVehiclesLoadValidateAndHoverAtEquilibrium) {
 }
 
 TEST(VehicleFile, LibraryVehiclesHoverUnderLqrFromAnOffset) {
-  for (const char* file : {"crazyflie2.toml", "racer250.toml", "quad450.toml"}) {
+  for (const char* file : kDescribed) {
     const VehicleParams p = loadVehicleDescription(library(file)).params;
     auto lqr = test::makeOrDie(p, ControllerKind::kLqr);
     const Vec3 goal(0.0, 0.0, 1.0);
@@ -122,10 +127,18 @@ TEST(VehicleFile, LibraryGeometryAndMotorNumbering) {
   EXPECT_EQ(iris.quadfdi_motor_of_autopilot_motor, (std::array<int, 4>{1, 3, 4, 2}));
   EXPECT_EQ(iris.autopilot_motor_of_quadfdi_motor, (std::array<int, 4>{1, 4, 2, 3}));
   EXPECT_NEAR(iris.params.rollLever(), 0.21, 1e-15);
+  // The held-out airframes: PX4 numbering too; the x500 a square X, the Solo 1.5 % longer than wide.
+  const VehicleDescription x500 = loadVehicleDescription(library("held-out/x500.toml"));
+  EXPECT_EQ(x500.quadfdi_motor_of_autopilot_motor, (std::array<int, 4>{1, 3, 4, 2}));
+  EXPECT_EQ(x500.params.rollLever(), x500.params.pitchLever());
+  const VehicleDescription solo = loadVehicleDescription(library("held-out/solo.toml"));
+  EXPECT_EQ(solo.quadfdi_motor_of_autopilot_motor, (std::array<int, 4>{1, 3, 4, 2}));
+  EXPECT_EQ(solo.params.pitchLever(), 0.14745);
+  EXPECT_EQ(solo.params.rollLever(), 0.14525);
 }
 
 TEST(VehicleFile, RoundTripThroughText) {
-  for (const char* file : {"crazyflie2.toml", "racer250.toml", "quad450.toml"}) {
+  for (const char* file : kDescribed) {
     const VehicleDescription a = loadVehicleDescription(library(file));
     const std::string text = vehicleDescriptionToText(a);
     const VehicleDescription b = vehicleDescriptionFromText(text, "mem");
