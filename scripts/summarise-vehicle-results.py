@@ -7,8 +7,9 @@
     (configs/vehicles/held-out/), each under the general model with its shipped calibration (STEM/)
     and, where there is one, with a calibration made for that airframe (STEM-calibrated/).
 It computes nothing the reports do not already say (the target check is e7.csv's targets_met, the
-bounds are quadfdi's) but the pooled rate of all runs and its bound, which is the one-sided 95 %
-Garwood bound each report computes.
+bounds are quadfdi's) but, for the library, the three vehicles' pooled rate and its bound, which is
+the one-sided 95 % Garwood bound each report computes (held-out runs fly different calibrations and
+are not pooled), and the count of Θ values whose interval coverage lies within ±5 points.
 Usage: scripts/summarise-vehicle-results.py [GENERAL_E7_CSV]
        scripts/summarise-vehicle-results.py --held-out"""
 import csv, datetime, glob, math, os, re, sys
