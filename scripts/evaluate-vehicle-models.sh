@@ -3,7 +3,9 @@
 #   scripts/evaluate-vehicle-models.sh [QUADFDI] [FLIGHT_HOURS_PER_VEHICLE] [library|held-out]
 # library (default): each library vehicle (configs/vehicles/*.toml) is flown and scored with the
 #   model `detect --vehicle` runs for it — its own models/tcn-STEM.qfdw, else the general
-#   models/tcn-randomised.qfdw — and that model's calibration, into docs/results/vehicles/STEM/; then
+#   models/tcn-randomised.qfdw — and the calibration `detect --vehicle` runs with (the model's for
+#   that vehicle, MODEL.STEM.calibration.json, where one is shipped — `evaluate` with one --vehicle
+#   picks it as detect does — else the model's own), into docs/results/vehicles/STEM/; then
 #   the summary docs/results/vehicles/README.md (scripts/summarise-vehicle-results.py), with the
 #   general model's E7 of docs/results/randomised/e7.csv alongside when it is there.
 # held-out: each airframe of configs/vehicles/held-out/ (no shipped model trained on it) is flown
@@ -49,7 +51,7 @@ case $set_name in
       mkdir -p "$out/$stem-calibrated"
       [[ -f $calibration ]] || "$quadfdi" calibrate --model "$general" --randomise configs/randomisation-default.toml \
         --vehicle "$vehicle" --flights 5400 --flight-seconds 60 --faulty-flights 1200 --seed 11 \
-        --degraded-below 0.8 0.85 0.9 --false-alarms-per-hour 0.03 -o "$calibration" -q
+        --degraded-below 0.8 0.85 0.9 0.95 --false-alarms-per-hour 0.03 -o "$calibration" -q
       evaluate "$general" "$vehicle" "$out/$stem-calibrated" --calibration "$calibration"
     done
     python3 scripts/summarise-vehicle-results.py --held-out

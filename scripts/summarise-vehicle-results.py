@@ -63,9 +63,10 @@ if held_out:
                f"Full reports: {reports}. Machine: {machine}; summarised {datetime.date.today().isoformat()}.\n")
 else:
     out.append("# Per-vehicle detectors: E7 and decisions (issues 13 and 14)\n")
-    models = ", ".join(f"{v}: `{model_of(v)}`" for v in vehicles)
+    models = ", ".join(f"{v}: `{model_of(v)}` with `{calibration_of(v)}`" for v in vehicles)
     out.append("Each library vehicle flown and scored with the model `detect --vehicle` runs for it — its own "
-               "`models/tcn-STEM.qfdw`, else the general `models/tcn-randomised.qfdw` — and that model's calibration "
+               "`models/tcn-STEM.qfdw`, else the general `models/tcn-randomised.qfdw` — and the calibration it runs with: "
+               "the model's for that vehicle (`MODEL.STEM.calibration.json`) where one is shipped, else the model's own "
                f"({models}; `scripts/evaluate-vehicle-models.sh`: `{command}`). "
                f"Full reports: {reports}. Machine: {machine}; summarised {datetime.date.today().isoformat()}.\n")
 out.append("## E7, transfer matrix\n")

@@ -60,6 +60,10 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
          "Most one sample adds to the degraded CUSUM [effectiveness] (a robust CUSUM: a short deep dip of healthy Θ̂ weighs "
          "no more than a mild fault's sustained one; 0: no cap)")
       .atLeast(0.0);
+  t->add("--reference", o.reference,
+         "What the rule reads as a motor's effectiveness: others (its Θ̂ over the median of the other three motors': a dip "
+         "every motor shares cancels) or absolute (Θ̂ as the network gives it, the rule before 2026-11-26)")
+      .choices({"others", "absolute"});
   t->add("--position-noise", o.position_noise, "Sensor noise on position [m]").atLeast(0.0);
   t->add("--attitude-noise", o.attitude_noise, "Sensor noise on Euler angles [rad]").atLeast(0.0);
   t->add("--randomise", o.randomise,
@@ -72,6 +76,13 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
 }
 
 namespace {
+
+// "; vehicles crazyflie2, racer250" for --vehicle FILEs, else nothing (the randomisation file's).
+std::string vehicleNames(const std::vector<std::string>& files) {
+  std::string s;
+  for (const std::string& f : files) s += (s.empty() ? "; vehicles " : ", ") + std::filesystem::path(f).stem().string();
+  return s;
+}
 
 // One flight's telemetry: segments of goal_period toward goals drawn from the sampling ranges,
 // each continuing from the previous segment's final state; a fault (motor 1..4, Θ) from
@@ -230,6 +241,11 @@ int runCalibrate(const CalibrateOptions& o) {
     }
   }
   DecisionCalibration c;
+  parseThetaReference(o.reference, &c.reference);  // CLI11 checked the choice
+  // The noise model and the excursions are of what the rule reads; faulty streams stay the
+  // network's output, which the rule converts itself (chooseDegradedLevel) or below (the spread).
+  for (std::vector<MotorTheta>& stream : healthy)
+    for (MotorTheta& theta : stream) theta = ruleInput(theta, c.reference);
   c.noise = fitNoiseModel(healthy);
   c.dt = dt;
   c.flights = o.flights;
@@ -261,7 +277,8 @@ int runCalibrate(const CalibrateOptions& o) {
     const int motor = s.truth.motor;
     for (long end = s.truth.fault_sample + T + 1; end <= static_cast<long>(s.theta.size()); end += std::max(1, w / 2)) {
       double sum = 0.0;
-      for (long k = end - w; k < end; ++k) sum += static_cast<double>(s.theta[static_cast<std::size_t>(k)][static_cast<std::size_t>(motor - 1)]);
+      for (long k = end - w; k < end; ++k)
+        sum += static_cast<double>(ruleInput(s.theta[static_cast<std::size_t>(k)], c.reference)[static_cast<std::size_t>(motor - 1)]);
       est.push_back(sum / w);
       truth.push_back(s.truth.theta);
       noise_var.push_back(ar1MeanVariance(c.noise.sigma, c.noise.phi, w));
@@ -284,6 +301,7 @@ int runCalibrate(const CalibrateOptions& o) {
   choose.cap = cap;
   choose.failed = c.failed;
   choose.noise = c.noise;
+  choose.reference = c.reference;
   choose.flight_hours = c.flight_hours;
   choose.rate_per_hour = per_level;
   choose.dt = dt;
@@ -307,16 +325,16 @@ int runCalibrate(const CalibrateOptions& o) {
   char flights[160];
   std::snprintf(flights, sizeof flights, "%d healthy flights of %g s, counted from %g s on, %d faulty flights", o.flights,
                 o.flight_seconds, o.settle, o.faulty_flights);
-  c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; " +
+  c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; reference " + o.reference + "; " +
              (o.randomise.empty() ? "LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
                                         std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
-                                  : "randomisation " + o.randomise) +
+                                  : "randomisation " + o.randomise + vehicleNames(o.vehicles)) +
              "; seed " + std::to_string(o.seed) + chosen_from;
   const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
   writeCalibrationFile(output, c);
   if (!o.quiet) {
-    std::fprintf(stderr, "calibrate: %.3f flight hours healthy: Θ̂ mean %.4f, σ %.4f, φ %.4f at %g Hz; estimate: noise × %.3f, model error σ %.4f (%zu estimates)\n",
-                 c.flight_hours, c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt, c.noise.noise_scale, c.noise.model_sigma, est.size());
+    std::fprintf(stderr, "calibrate: %.3f flight hours healthy: Θ̂ (%s) mean %.4f, σ %.4f, φ %.4f at %g Hz; estimate: noise × %.3f, model error σ %.4f (%zu estimates)\n",
+                 c.flight_hours, toString(c.reference), c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt, c.noise.noise_scale, c.noise.model_sigma, est.size());
     double from = 0.0;
     for (const SpreadBin& b : c.noise.spread_bins) {
       char range[48];

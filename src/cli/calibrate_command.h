@@ -28,6 +28,9 @@ struct CalibrateOptions {
   double delay_budget = 0.3;        // [s] level choice: a fault counts when its motor is named this long after it (issue 14)
   double failed_below = 0.3;        // [-]
   double degraded_cap = kDefaultDegradedCap;  // [effectiveness] degraded CUSUM's increment cap per sample (0: none)
+  std::string reference = "others";  // the rule's input (detection/sequential.h ThetaReference): "others" calibrated the
+                                     //     general model's degraded level at 0.9 with h 9.7 where absolute Θ̂ needed 17.8
+                                     //     (docs/decisions.md "Relative evidence")
   double position_noise = 0.0;      // [m] sensor noise on the logged position
   double attitude_noise = 0.0;      // [rad] on the logged Euler angles
   std::string randomise;            // randomisation FILE: fly its vehicles, controllers, manoeuvres and estimator instead

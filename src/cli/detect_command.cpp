@@ -175,6 +175,22 @@ std::string calibrationSidecarPath(const std::string& model_path) {
   return (has ? model_path.substr(0, model_path.size() - ext.size()) : model_path) + ".calibration.json";
 }
 
+std::string vehicleCalibrationPath(const std::string& model_path, const std::string& vehicle_file) {
+  const std::string sidecar = calibrationSidecarPath(model_path);
+  const std::string suffix = ".calibration.json";
+  return sidecar.substr(0, sidecar.size() - suffix.size()) + "." + std::filesystem::path(vehicle_file).stem().string() + suffix;
+}
+
+std::string defaultCalibrationPath(const std::string& model_path, const std::string& vehicle_file) {
+  std::error_code ec;
+  if (!vehicle_file.empty()) {
+    const std::string own = vehicleCalibrationPath(model_path, vehicle_file);
+    if (std::filesystem::is_regular_file(own, ec)) return own;
+  }
+  const std::string sidecar = calibrationSidecarPath(model_path);
+  return std::filesystem::is_regular_file(sidecar, ec) ? sidecar : std::string();
+}
+
 SequentialSetup sequentialSetup(const std::string& calibration_file, std::optional<double> degraded_below,
                                 std::optional<double> failed_below, std::optional<double> false_alarms_per_hour, double dt) {
   SequentialSetup s;
@@ -200,7 +216,7 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, std::option
   if (!(c.failed.level < c.degraded.level))
     throw ConfigError("--failed-below (" + std::to_string(c.failed.level) + ") must be below --degraded-below (" +
                       std::to_string(c.degraded.level) + ")" + (calibration_file.empty() ? "" : ", the calibration's where not given"));
-  s.config = sequentialConfig(c.degraded, c.failed, c.noise);
+  s.config = sequentialConfig(c.degraded, c.failed, c.noise, c.reference);
   return s;
 }
 
@@ -240,14 +256,16 @@ int runDetect(const DetectOptions& o) {
   config.alarm.clear_after = o.clear_after;
   config.rule = sequential ? AlarmRule::kSequential : AlarmRule::kPersistence;
   if (sequential) {
-    // The model's own calibration (MODEL.calibration.json beside MODEL.qfdw) unless one is named.
+    // The model's calibration for the vehicle (MODEL.STEM.calibration.json), else its own
+    // (MODEL.calibration.json beside MODEL.qfdw), unless one is named.
     std::string calibration = o.calibration;
     if (calibration.empty()) {
-      const std::string sidecar = calibrationSidecarPath(model_path);
-      if (std::ifstream(sidecar).good()) calibration = sidecar;
-      else if (!o.quiet)
+      calibration = defaultCalibrationPath(model_path, o.log.vehicle);
+      if (calibration.empty() && !o.quiet)
         std::fprintf(stderr, "detect: warning: no calibration for %s (%s): default noise model, Siegmund thresholds; run quadfdi calibrate\n",
-                     model_path.c_str(), sidecar.c_str());
+                     model_path.c_str(), calibrationSidecarPath(model_path).c_str());
+      else if (!o.quiet && !o.log.vehicle.empty() && calibration == vehicleCalibrationPath(model_path, o.log.vehicle))
+        std::fprintf(stderr, "detect: calibration %s (for --vehicle %s)\n", calibration.c_str(), o.log.vehicle.c_str());
     }
     config.sequential = sequentialSetup(calibration, o.degraded_below, o.failed_below, o.false_alarms_per_hour, m.dt).config;
     config.sequential.clear_after = o.clear_after;

@@ -52,6 +52,14 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, std::option
 // MODEL.qfdw → MODEL.calibration.json: the calibration detect uses when none is named.
 std::string calibrationSidecarPath(const std::string& model_path);
 
+// MODEL.qfdw and the description FILE STEM.toml → MODEL.STEM.calibration.json: the model's
+// calibration for that airframe (`quadfdi calibrate --vehicle FILE -o …`), when one is shipped.
+std::string vehicleCalibrationPath(const std::string& model_path, const std::string& vehicle_file);
+
+// The calibration a model runs with when none is named: with a vehicle, its vehicleCalibrationPath
+// if that file exists; else the sidecar if it exists; else empty (the documented defaults).
+std::string defaultCalibrationPath(const std::string& model_path, const std::string& vehicle_file);
+
 // The shipped model: $QUADFDI_MODEL if set, else models/tcn-randomised.qfdw of the source tree.
 std::string defaultModelPath();
 

@@ -44,7 +44,9 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
   t->add("--experiments,-e", o.experiments, "Experiments to run").choices({"e1", "e2", "e3", "e4", "e5", "e6", "e7", "decisions"});
   t->add("--vehicle", o.vehicles, "E7, decisions: vehicle description FILEs (repeatable)");
   t->add("--randomise", o.randomise, "decisions: randomisation FILE of the long healthy flights");
-  t->add("--calibration", o.calibration, "E7, decisions: the sequential rule's calibration (default MODEL.calibration.json)");
+  t->add("--calibration", o.calibration,
+         "E7, decisions: the sequential rule's calibration (default: with one --vehicle STEM.toml, MODEL.STEM.calibration.json if "
+         "there is one; else MODEL.calibration.json)");
   t->add("--flights-per-class", o.flights_per_class, "E7, decisions: flights per (motor, Θ) (0: from --scale)").atLeast(0);
   t->add("--faulty-per-theta", o.faulty_per_theta,
          "decisions: faulty flights per (vehicle, Θ), one motor after another (0: 4 × --flights-per-class)")
@@ -183,11 +185,9 @@ bool plot(const std::string& dir, const ExperimentResult& e) {
 // E7 and `decisions`: both score the sequential rule on simulated Θ̂ streams of every library vehicle.
 std::string runSequentialExperiment(const std::string& id, const TrainedModel& model, const EvaluateOptions& o,
                                     int scale_flights_per_class) {
-  std::string calibration = o.calibration;
-  if (calibration.empty()) {
-    const std::string sidecar = calibrationSidecarPath(o.model_free);
-    if (std::ifstream(sidecar).good()) calibration = sidecar;
-  }
+  // As detect: with one --vehicle, the model's calibration for it when there is one.
+  const std::string calibration =
+      o.calibration.empty() ? defaultCalibrationPath(o.model_free, o.vehicles.size() == 1 ? o.vehicles.front() : std::string()) : o.calibration;
   // The calibration's own levels (their thresholds come from data); defaults without one.
   const SequentialSetup rule = sequentialSetup(calibration, std::nullopt, std::nullopt, std::nullopt, model.metadata.dt);
   SequentialReportInputs in;

@@ -67,8 +67,10 @@ ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& stream
   return m;
 }
 
-SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelCalibration& failed, const ThetaNoiseModel& noise) {
+SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelCalibration& failed, const ThetaNoiseModel& noise,
+                                  ThetaReference reference) {
   SequentialConfig c;
+  c.reference = reference;
   c.degraded_below = degraded.level;
   c.failed_below = failed.level;
   c.degraded_threshold = degraded.threshold;
@@ -132,14 +134,17 @@ void retarget(LevelCalibration& c, double flight_hours, double rate_per_hour, co
     c.method = "tail";
     const double h = c.tail_start + c.tail_scale * std::log(static_cast<double>(fitted) / (flight_hours * rate_per_hour));
     c.threshold = std::max({kMinThreshold, c.tail_start, h});  // below u the fit says nothing: stay conservative
-    // Fewer than one alarm expected in the data itself: none of its excursions may reach h. A fit
-    // on the bulk of the tail extrapolated the few largest excursions (another cause) too lightly —
-    // measured on the 1.5 kg quad's model before kTailSpan: 5 alarms in its 5 calibration hours.
-    // (A generalised Pareto fit by probability-weighted moments was tried instead and dropped: on
-    // the general model's two-cluster tail it gave ξ = 0.57 and h = 962 against a largest excursion
-    // of 29.)
-    if (flight_hours * rate_per_hour < 1.0)
-      c.threshold = std::max(c.threshold, std::nextafter(c.tail_maxima.front(), std::numeric_limits<double>::infinity()));
+    // No more alarms in the data itself than the target expects of it (⌊target · T⌋; none below
+    // one): h above the next largest excursion. A fit on the bulk of the tail extrapolated the few
+    // largest excursions (another cause) too lightly — measured on the 1.5 kg quad's model before
+    // kTailSpan: 5 alarms in its 5 calibration hours; and with the fit near the target, six of nine
+    // 0.03-an-hour calibrations held more alarms in their own data than expected and measured 2–6
+    // times the target on fresh flights. (A generalised Pareto fit by probability-weighted moments
+    // was tried instead and dropped: on the general model's two-cluster tail it gave ξ = 0.57 and
+    // h = 962 against a largest excursion of 29.)
+    const double expected = std::floor(flight_hours * rate_per_hour);
+    if (expected < static_cast<double>(c.tail_maxima.size()))
+      c.threshold = std::max(c.threshold, std::nextafter(c.tail_maxima[static_cast<std::size_t>(expected)], std::numeric_limits<double>::infinity()));
   } else {
     c.method = "siegmund";
     c.threshold = siegmundThreshold(noise, c.level, rate_per_hour, dt);

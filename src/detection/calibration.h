@@ -11,9 +11,11 @@
 // λ(h) = (N_u / T) · exp(−(h − u) / β), fitted on the N_u largest maxima (u: the smallest of them,
 // β: their mean excess, the exponential's maximum-likelihood scale), those at most kTailSpan times
 // as frequent as the target. h solves λ(h) = target.
-// When the target expects less than one alarm in the calibration data (target · T < 1), h is also
-// kept above the largest excursion in it: the data's own alarms would otherwise already exceed
-// the target.
+// h is also kept above the (⌊target · T⌋ + 1)-th largest excursion of the calibration data, so the
+// data itself holds no more alarms than the target expects of it (none when target · T < 1): the
+// exponential fitted near the target was lighter than the flights' own tail, and six of nine
+// calibrations at 0.03 an hour measured 2–6 times that on fresh flights (models/README.md,
+// "2026-11-26, later").
 // With too few excursions (a level far below healthy Θ̂, such as `failed`) it falls back to
 // Siegmund's approximation of the CUSUM's average run length for the AR(1) noise model, whose
 // long-run variance σ²(1+φ)/(1−φ) accounts for the autocorrelation of Θ̂.
@@ -48,15 +50,19 @@ struct DecisionCalibration {
   long flights = 0;          // [-] healthy flights
   double flight_hours = 0.0; // [h] healthy flight time, per vehicle (not per motor)
   long faulty_flights = 0;   // [-] faulty flights used for noise.model_sigma (0: default kept)
+  ThetaReference reference = ThetaReference::kAbsolute;  // the quantity calibrated (SequentialConfig::reference)
   LevelCalibration degraded, failed;
   std::string source;        // provenance: command, model, simulation settings
 };
 
-// The rule for two calibrated levels and a noise model: their levels, thresholds and caps; every
-// other setting (clear_after, estimate_window, interval_level) at its default.
-SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelCalibration& failed, const ThetaNoiseModel& noise);
+// The rule for two calibrated levels and a noise model of the `reference` quantity: their levels,
+// thresholds and caps; every other setting (clear_after, estimate_window, interval_level) at its
+// default.
+SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelCalibration& failed, const ThetaNoiseModel& noise,
+                                  ThetaReference reference);
 
-// The default calibration (no data): the default noise model, thresholds by Siegmund, no caps.
+// The default calibration (no data): the default noise model (of absolute Θ̂), thresholds by
+// Siegmund, no caps.
 DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt);
 
 // Pooled over motors and flights (each stream's first `skip` samples dropped): mean, standard

@@ -15,6 +15,27 @@ const char* toString(Severity s) {
   return "healthy";
 }
 
+const char* toString(ThetaReference r) { return r == ThetaReference::kOthers ? "others" : "absolute"; }
+
+bool parseThetaReference(const std::string& text, ThetaReference* out) {
+  if (text == "absolute") *out = ThetaReference::kAbsolute;
+  else if (text == "others") *out = ThetaReference::kOthers;
+  else return false;
+  return true;
+}
+
+MotorTheta relativeToOthers(const MotorTheta& theta) {
+  MotorTheta r;
+  for (int k = 0; k < kMotors; ++k) {
+    std::array<float, kMotors - 1> others;
+    for (int j = 0, n = 0; j < kMotors; ++j)
+      if (j != k) others[static_cast<std::size_t>(n++)] = theta[static_cast<std::size_t>(j)];
+    std::sort(others.begin(), others.end());
+    r[static_cast<std::size_t>(k)] = theta[static_cast<std::size_t>(k)] / std::max(kMinOthersMedian, others[1]);
+  }
+  return r;
+}
+
 double normalQuantile(double p) {
   // Φ(x) = erfc(−x/√2)/2 is increasing: bisect on [−40, 40].
   double lo = -40.0, hi = 40.0;
@@ -86,7 +107,8 @@ void SequentialRule::reset() {
   state_ = SequentialState{};
 }
 
-SequentialStatus SequentialRule::update(const MotorTheta& theta, int samples, std::uint8_t observable) {
+SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int samples, std::uint8_t observable) {
+  const MotorTheta theta = ruleInput(network_theta, config_.reference);
   const long n = std::max(1, samples);
   const double dn = static_cast<double>(n);
   const int w = config_.estimate_window;

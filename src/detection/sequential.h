@@ -22,6 +22,32 @@ namespace quadfdi {
 enum class Severity { kHealthy, kDegraded, kFailed };
 const char* toString(Severity s);  // healthy | degraded | failed
 
+// What the rule reads as motor k's effectiveness (docs/decisions.md "Relative evidence").
+enum class ThetaReference {
+  kAbsolute,  // Θ̂_k as the network gives it: the rule of calibrations made before 2026-11-26 (a file without
+              //     the key) and of the paper's reproduction
+  kOthers,    // Θ̂_k over the median of the other three motors' Θ̂ (relativeToOthers)
+};
+const char* toString(ThetaReference r);  // absolute | others
+// false for any other text; *out untouched then.
+bool parseThetaReference(const std::string& text, ThetaReference* out);
+
+// [-] Floor of the reference in relativeToOthers: a median below it means the network calls at
+// least two motors weak at once, outside the single-fault model the isolation relies on; dividing
+// by it would inflate Θ̂_k into false health.
+inline constexpr float kMinOthersMedian = 0.5f;
+
+// Θ̂_k / max(median of the other three Θ̂, kMinOthersMedian), each motor. Under the single-fault
+// model at least two of any motor's three siblings are healthy, so their median is a healthy
+// motor's Θ̂ in the same instant: a dip the network gives every motor at once (a hard manoeuvre, a
+// plant error it reads as weak motors) cancels, and a fault stands out against it. Permuting the
+// motors permutes the result.
+MotorTheta relativeToOthers(const MotorTheta& theta);
+// The rule's input for a network output: `theta` itself (kAbsolute) or relativeToOthers(theta).
+inline MotorTheta ruleInput(const MotorTheta& theta, ThetaReference r) {
+  return r == ThetaReference::kOthers ? relativeToOthers(theta) : theta;
+}
+
 // No cap on a CUSUM's increment (the plain Page CUSUM).
 inline constexpr double kNoIncrementCap = std::numeric_limits<double>::infinity();
 
@@ -74,6 +100,8 @@ struct SequentialConfig {
   int estimate_window = 50;         // [samples] Θ̂ estimate: mean of the last this many samples since the
                                     //     change point (100 ms at 500 Hz: long against φ, short against the fault)
   double interval_level = 0.9;      // [-] two-sided coverage of [theta_lo, theta_hi]
+  ThetaReference reference = ThetaReference::kAbsolute;  // what the statistics, the recovery and the estimate read
+                                                          //     (ruleInput); the noise model is of that quantity
   ThetaNoiseModel noise;
 };
 
@@ -104,7 +132,7 @@ class SequentialRule {
   // per-motor windows and the table of the windowed mean's variance.
   explicit SequentialRule(const SequentialConfig& config);
 
-  // One Θ̂ that stands for `samples` ≥ 1 model samples (the detector's stride holds an estimate
+  // One Θ̂ (the network's output; the rule takes ruleInput of it) that stands for `samples` ≥ 1 model samples (the detector's stride holds an estimate
   // until the next evaluation). A motor whose bit is clear in `observable` (CommandGate) takes no
   // evidence: its statistics may fall, not rise. No allocation.
   SequentialStatus update(const MotorTheta& theta, int samples, std::uint8_t observable = kAllMotorsObservable);

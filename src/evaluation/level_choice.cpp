@@ -23,7 +23,7 @@ LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& heal
     c.degraded = calibrateLevel(excursionMaxima(healthy, level, 0, config.cap, healthy_observable), level, config.flight_hours, config.rate_per_hour,
                                 config.noise, config.dt, config.cap);
     SequentialEvaluationConfig e;
-    e.rule = sequentialConfig(c.degraded, config.failed, config.noise);
+    e.rule = sequentialConfig(c.degraded, config.failed, config.noise, config.reference);
     e.dt = config.dt;
     e.isolation_late = config.delay_budget;
     const SequentialEvaluation r = evaluateSequential(scored, e);

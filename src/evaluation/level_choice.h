@@ -19,6 +19,8 @@ struct LevelChoiceConfig {
   double cap = kNoIncrementCap;    // [effectiveness] degraded increment cap, the same for every candidate
   LevelCalibration failed;         // the failed level's calibration, shared by every candidate
   ThetaNoiseModel noise;           // of the healthy streams (fitNoiseModel, model_sigma from faulty flights)
+  ThetaReference reference = ThetaReference::kAbsolute;  // the rule's input: the healthy streams are of that quantity
+                                                          //     (ruleInput), the faulty ones the network's output
   double flight_hours = 0.0;       // [h] healthy flight time of the streams, per vehicle
   double rate_per_hour = 0.05;     // [1/flight hour] the degraded level's share of the target rate
   double dt = 0.002;               // [s] model sample period

@@ -73,6 +73,7 @@ std::string calibrationToJson(const DecisionCalibration& c) {
       {"flights", c.flights},
       {"flight_hours", c.flight_hours},
       {"faulty_flights", c.faulty_flights},
+      {"reference", toString(c.reference)},
       {"degraded", levelToJson(c.degraded)},
       {"failed", levelToJson(c.failed)},
       {"source", c.source}};
@@ -109,13 +110,15 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.flights = count(j.at("flights"), "flights");
     c.flight_hours = j.at("flight_hours").get<double>();
     c.faulty_flights = count(j.at("faulty_flights"), "faulty_flights");
+    if (j.contains("reference") && !parseThetaReference(j.at("reference").get<std::string>(), &c.reference))  // absent before 2026-11-26
+      throw fail("bad calibration: reference must be \"absolute\" or \"others\"");
     c.degraded = levelFromJson(j.at("degraded"));
     c.failed = levelFromJson(j.at("failed"));
     c.source = j.at("source").get<std::string>();
   } catch (const nlohmann::json::exception& e) {
     throw fail(std::string("bad calibration: ") + e.what());
   }
-  if (std::string p = validate(sequentialConfig(c.degraded, c.failed, c.noise)); !p.empty()) throw fail("bad calibration: " + p);
+  if (std::string p = validate(sequentialConfig(c.degraded, c.failed, c.noise, c.reference)); !p.empty()) throw fail("bad calibration: " + p);
   if (!(c.target_rate > 0.0) || !(c.dt > 0.0) || !(c.flight_hours >= 0.0)) throw fail("bad calibration: target_rate, dt or flight_hours out of range");
   return c;
 }

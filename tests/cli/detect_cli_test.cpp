@@ -120,10 +120,36 @@ TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
   EXPECT_NE(c.out.find("calibrate: level 0.30, cap inf: h = "), std::string::npos) << c.out;
   EXPECT_NE(readFile(cal).find("\"format\": \"quadfdi-decision-calibration-1\""), std::string::npos);
   EXPECT_NE(readFile(cal).find("\"increment_cap\": 0.1"), std::string::npos);  // the cap the thresholds were fitted for
+  EXPECT_NE(readFile(cal).find("\"reference\": \"others\""), std::string::npos);  // the default: each motor against its siblings
+  EXPECT_NE(c.out.find("flight hours healthy: Θ̂ (others) mean "), std::string::npos) << c.out;
   const CommandResult r = run("detect --model " + std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw --calibration " + cal +
                               " --input " + faultyCsv() + " --output " + temp("calibrated.jsonl"));
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("FAULT in motor 3"), std::string::npos) << r.out;
+}
+
+// --reference absolute calibrates Θ̂ as the network gives it (the paper's models); the file says
+// which, detect follows it, and an unknown reference is refused in one line.
+TEST(DetectCli, CalibrateRecordsItsReferenceAndDetectFollowsIt) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw";
+  std::string outputs[2];
+  const char* references[2] = {"absolute", "others"};
+  for (int i = 0; i < 2; ++i) {
+    const std::string cal = temp(std::string("reference-") + references[i] + ".json");
+    const CommandResult c = run("calibrate -q --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 3 --reference " +
+                                references[i] + " --output " + cal);
+    ASSERT_EQ(c.exit_code, 0) << c.out;
+    EXPECT_NE(readFile(cal).find(std::string("\"reference\": \"") + references[i] + "\""), std::string::npos);
+    EXPECT_NE(readFile(cal).find(std::string("reference ") + references[i] + ";"), std::string::npos);  // and in `source`
+    const CommandResult r = run("detect -q --model " + model + " --calibration " + cal + " --input " + faultyCsv() + " --output -", false);
+    ASSERT_EQ(r.exit_code, 0) << r.out.substr(0, 400);
+    outputs[i] = r.out;
+  }
+  EXPECT_TRUE(outputs[0] != outputs[1]);  // the estimates are of different quantities
+  const CommandResult bad = run("calibrate -q --model " + model + " --flights 2 --reference median --output " + temp("never-reference.json"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(countLines(bad.out), 1) << bad.out;
+  EXPECT_NE(bad.out.find("--reference"), std::string::npos) << bad.out;
 }
 
 // --settle: each healthy flight's first seconds (the recovery from its random initial state) are
@@ -247,6 +273,28 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
     EXPECT_EQ(r.out.rfind("quadfdi: error: " + vehicle, 0), 0u) << r.out;
   }
   EXPECT_EQ(readFile(out), "kept\n");
+}
+
+// A model's calibration for one airframe (MODEL.STEM.calibration.json beside MODEL.qfdw) is what
+// detect --vehicle STEM.toml runs with, and says so; without such a file, the model's own sidecar.
+TEST(DetectCli, AVehicleRunsTheModelsCalibrationForIt) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string model = temp("vcal-m.qfdw"), sidecar = temp("vcal-m.calibration.json"), own = temp("vcal-m.racer250.calibration.json");
+  std::filesystem::copy_file(src + "/models/tcn-model-free.qfdw", model, std::filesystem::copy_options::overwrite_existing);
+  const std::string calibration = readFile(src + "/models/tcn-model-free.calibration.json");
+  std::ofstream(sidecar) << calibration;
+  std::string frequent = calibration;  // the same data re-solved for 1000 alarms an hour: other thresholds
+  const std::size_t at = frequent.find("\"target_rate_per_hour\": ") + 24;
+  frequent.replace(at, frequent.find_first_of(",\n", at) - at, "1000");
+  std::ofstream(own) << frequent;
+  const std::string racer = src + "/configs/vehicles/racer250.toml", base = "detect --model " + model + " --input " + faultyCsv() + " --output -";
+  const CommandResult picked = run(base + " --vehicle " + racer, true);
+  ASSERT_EQ(picked.exit_code, 0) << picked.out.substr(0, 400);
+  EXPECT_NE(picked.out.find("detect: calibration " + own + " (for --vehicle " + racer + ")"), std::string::npos) << picked.out.substr(0, 400);
+  EXPECT_TRUE(run(base + " -q --vehicle " + racer, false).out == run(base + " -q --calibration " + own, false).out);
+  const CommandResult other = run(base + " -q --vehicle " + src + "/configs/vehicles/crazyflie2.toml", false);  // no file for it
+  EXPECT_TRUE(other.out == run(base + " -q --calibration " + sidecar, false).out);
+  EXPECT_TRUE(other.out != run(base + " -q --calibration " + own, false).out);
 }
 
 TEST(DetectCli, AHealthyFlightRaisesNoAlarm) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -159,6 +160,56 @@ TEST(SequentialRule, ACappedIncrementWeighsADeepDipNoMoreThanTheCap) {
   EXPECT_NEAR(held.degradedStatistic(1), single.degradedStatistic(1), 1e-12);
 }
 
+TEST(RelativeToOthers, DividesByTheMedianOfTheSiblingsWithAFloor) {
+  const MotorTheta r = relativeToOthers({0.6f, 0.9f, 1.0f, 0.8f});
+  EXPECT_FLOAT_EQ(r[0], 0.6f / 0.9f);  // siblings 0.9, 1.0, 0.8: median 0.9
+  EXPECT_FLOAT_EQ(r[1], 0.9f / 0.8f);  // 0.6, 1.0, 0.8
+  EXPECT_FLOAT_EQ(r[2], 1.0f / 0.8f);  // 0.6, 0.9, 0.8
+  EXPECT_FLOAT_EQ(r[3], 0.8f / 0.9f);  // 0.6, 0.9, 1.0
+  // One faulty sibling does not move the median: a healthy motor stays at 1 beside it.
+  const MotorTheta one_fault = relativeToOthers({0.97f, 0.0f, 0.97f, 0.97f});
+  EXPECT_FLOAT_EQ(one_fault[0], 1.0f);
+  EXPECT_FLOAT_EQ(one_fault[1], 0.0f);
+  // Siblings mostly below the floor (outside the single-fault model): divided by the floor.
+  EXPECT_FLOAT_EQ(relativeToOthers({0.3f, 0.1f, 0.2f, 0.9f})[0], 0.3f / kMinOthersMedian);
+  // A dip every motor shares cancels.
+  for (float x : relativeToOthers({0.8f, 0.8f, 0.8f, 0.8f})) EXPECT_FLOAT_EQ(x, 1.0f);
+}
+
+// Motor relabelling (the symmetry group's action on motor indices) commutes with the reference, exactly.
+TEST(RelativeToOthers, PermutingTheMotorsPermutesTheResult) {
+  Rng rng(17, 0);
+  std::array<int, kMotors> p{0, 1, 2, 3};
+  for (int trial = 0; trial < 50; ++trial) {
+    MotorTheta theta;
+    for (float& x : theta) x = static_cast<float>(rng.uniform(0.0, 1.1));
+    const MotorTheta r = relativeToOthers(theta);
+    std::sort(p.begin(), p.end());
+    do {
+      MotorTheta permuted;
+      for (int k = 0; k < kMotors; ++k) permuted[static_cast<std::size_t>(k)] = theta[static_cast<std::size_t>(p[static_cast<std::size_t>(k)])];
+      const MotorTheta rp = relativeToOthers(permuted);
+      for (int k = 0; k < kMotors; ++k) ASSERT_EQ(rp[static_cast<std::size_t>(k)], r[static_cast<std::size_t>(p[static_cast<std::size_t>(k)])]);
+    } while (std::next_permutation(p.begin(), p.end()));
+  }
+}
+
+TEST(SequentialRule, AgainstTheOthersADipEveryMotorSharesRaisesNothing) {
+  SequentialConfig others = handConfig();
+  others.reference = ThetaReference::kOthers;
+  SequentialRule absolute_rule(handConfig()), others_rule(others);
+  const MotorTheta shared{0.8f, 0.8f, 0.8f, 0.8f};  // below the 0.9 level on every motor
+  EXPECT_EQ(updatesUntil(absolute_rule, shared, SequentialStatus::kRaised, 1000), 30);  // 0.1 a sample, tie: motor 1
+  EXPECT_EQ(updatesUntil(others_rule, shared, SequentialStatus::kRaised, 1000), -1);
+  // One motor at 0.7 beside siblings at 0.97 reads 0.7 / 0.97 = 0.7216: deficit 0.1784 a sample,
+  // h = 2.999 on the 17th (16.8 samples).
+  SequentialRule fresh(others);
+  EXPECT_EQ(updatesUntil(fresh, with(2, 0.7f), SequentialStatus::kRaised), 17);
+  EXPECT_EQ(fresh.state().motor, 2);
+  for (int i = 0; i < 100; ++i) fresh.update(with(2, 0.7f), 1);
+  EXPECT_NEAR(fresh.state().theta_est, 0.7 / 0.97, 1e-6);  // the estimate is of the same quantity
+}
+
 TEST(SequentialRule, RefusesBadConfigs) {
   SequentialConfig c;
   c.failed_below = 0.95;
@@ -286,6 +337,21 @@ TEST(Calibration, NoExcursionOfTheDataReachesTheThresholdWhenNoneIsExpected) {
   const LevelCalibration common = calibrateLevel(maxima, 0.8, 5.0, 2.0, noise, 0.002);  // 10 expected
   EXPECT_LT(common.threshold, 200.0);
   EXPECT_GE(common.alarms_at_threshold, 1);
+}
+
+// Expected alarms ≥ 1 (2.5 here): the data may hold at most ⌊2.5⌋ = 2 alarms at h, however light
+// the fitted tail says its largest excursions are. Five outliers far above an exponential bulk.
+TEST(Calibration, TheDataHoldsNoMoreAlarmsThanTheTargetExpects) {
+  std::vector<double> maxima = exponentialSample(20000, 1.0, 9);
+  for (double outlier : {200.0, 201.0, 202.0, 203.0, 204.0}) maxima.push_back(outlier);
+  const ThetaNoiseModel noise;
+  const LevelCalibration c = calibrateLevel(maxima, 0.8, 50.0, 0.05, noise, 0.002);
+  EXPECT_EQ(c.alarms_at_threshold, 2);
+  EXPECT_GT(c.threshold, 202.0);
+  EXPECT_LT(c.threshold, 203.0);
+  LevelCalibration tenfold = c;  // 25 expected: the fit decides again
+  retarget(tenfold, 50.0, 0.5, noise, 0.002);
+  EXPECT_LT(tenfold.threshold, 200.0);
 }
 
 // The calibration measures the statistic the rule runs: with a cap, the excursion maxima are those
@@ -534,6 +600,19 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
     for (std::size_t b = 0; b <= kMaxSpreadBins; ++b) ranged.noise.spread_bins.push_back({1.0 + static_cast<double>(b), 1.0, 0.0, 100});
     const std::string too_many = rejection(calibrationToJson(ranged));
     EXPECT_NE(too_many.find("cal.json: bad calibration: noise spread_bins: at most 16 ranges"), std::string::npos) << too_many;
+  }
+  {  // the reference round-trips; absent (every file before 2026-11-26): absolute; unknown: refused
+    DecisionCalibration relative = c;
+    relative.reference = ThetaReference::kOthers;
+    const std::string json = calibrationToJson(relative);
+    EXPECT_EQ(calibrationFromJson(json, "x.json").reference, ThetaReference::kOthers);
+    std::string old = json;
+    old.replace(old.find("\"reference\""), 11, "\"renamed_k\"");
+    EXPECT_EQ(calibrationFromJson(old, "old.json").reference, ThetaReference::kAbsolute);
+    std::string bad = json;
+    bad.replace(bad.find("\"others\""), 8, "\"median\"");
+    const std::string error = rejection(bad);
+    EXPECT_NE(error.find("cal.json: bad calibration: reference must be \"absolute\" or \"others\""), std::string::npos) << error;
   }
   EXPECT_EQ(back.degraded.tail_maxima, c.degraded.tail_maxima);
   EXPECT_EQ(back.degraded.increment_cap, 0.1);
