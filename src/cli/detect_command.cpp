@@ -181,14 +181,14 @@ std::string vehicleCalibrationPath(const std::string& model_path, const std::str
   return sidecar.substr(0, sidecar.size() - suffix.size()) + "." + std::filesystem::path(vehicle_file).stem().string() + suffix;
 }
 
-std::string defaultCalibrationPath(const std::string& model_path, const std::string& vehicle_file) {
+CalibrationChoice defaultCalibrationPath(const std::string& model_path, const std::string& vehicle_file) {
   std::error_code ec;
   if (!vehicle_file.empty()) {
     const std::string own = vehicleCalibrationPath(model_path, vehicle_file);
-    if (std::filesystem::is_regular_file(own, ec)) return own;
+    if (std::filesystem::is_regular_file(own, ec)) return {own, true};
   }
   const std::string sidecar = calibrationSidecarPath(model_path);
-  return std::filesystem::is_regular_file(sidecar, ec) ? sidecar : std::string();
+  return {std::filesystem::is_regular_file(sidecar, ec) ? sidecar : std::string(), false};
 }
 
 SequentialSetup sequentialSetup(const std::string& calibration_file, std::optional<double> degraded_below,
@@ -260,11 +260,12 @@ int runDetect(const DetectOptions& o) {
     // (MODEL.calibration.json beside MODEL.qfdw), unless one is named.
     std::string calibration = o.calibration;
     if (calibration.empty()) {
-      calibration = defaultCalibrationPath(model_path, o.log.vehicle);
+      const CalibrationChoice chosen = defaultCalibrationPath(model_path, o.log.vehicle);
+      calibration = chosen.path;
       if (calibration.empty() && !o.quiet)
         std::fprintf(stderr, "detect: warning: no calibration for %s (%s): default noise model, Siegmund thresholds; run quadfdi calibrate\n",
                      model_path.c_str(), calibrationSidecarPath(model_path).c_str());
-      else if (!o.quiet && !o.log.vehicle.empty() && calibration == vehicleCalibrationPath(model_path, o.log.vehicle))
+      else if (!o.quiet && chosen.for_vehicle)
         std::fprintf(stderr, "detect: calibration %s (for --vehicle %s)\n", calibration.c_str(), o.log.vehicle.c_str());
     }
     config.sequential = sequentialSetup(calibration, o.degraded_below, o.failed_below, o.false_alarms_per_hour, m.dt).config;

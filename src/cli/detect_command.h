@@ -56,9 +56,14 @@ std::string calibrationSidecarPath(const std::string& model_path);
 // calibration for that airframe (`quadfdi calibrate --vehicle FILE -o …`), when one is shipped.
 std::string vehicleCalibrationPath(const std::string& model_path, const std::string& vehicle_file);
 
-// The calibration a model runs with when none is named: with a vehicle, its vehicleCalibrationPath
-// if that file exists; else the sidecar if it exists; else empty (the documented defaults).
-std::string defaultCalibrationPath(const std::string& model_path, const std::string& vehicle_file);
+// The calibration a model runs with when none is named, and why: with a vehicle, its
+// vehicleCalibrationPath if that file exists; else the sidecar if it exists; else an empty path
+// (the documented defaults).
+struct CalibrationChoice {
+  std::string path;
+  bool for_vehicle = false;  // the model's calibration for the vehicle, not its own
+};
+CalibrationChoice defaultCalibrationPath(const std::string& model_path, const std::string& vehicle_file);
 
 // The shipped model: $QUADFDI_MODEL if set, else models/tcn-randomised.qfdw of the source tree.
 std::string defaultModelPath();

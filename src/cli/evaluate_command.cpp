@@ -187,7 +187,7 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
                                     int scale_flights_per_class) {
   // As detect: with one --vehicle, the model's calibration for it when there is one.
   const std::string calibration =
-      o.calibration.empty() ? defaultCalibrationPath(o.model_free, o.vehicles.size() == 1 ? o.vehicles.front() : std::string()) : o.calibration;
+      o.calibration.empty() ? defaultCalibrationPath(o.model_free, o.vehicles.size() == 1 ? o.vehicles.front() : std::string()).path : o.calibration;
   // The calibration's own levels (their thresholds come from data); defaults without one.
   const SequentialSetup rule = sequentialSetup(calibration, std::nullopt, std::nullopt, std::nullopt, model.metadata.dt);
   SequentialReportInputs in;
