@@ -120,13 +120,14 @@ out.append("\nTarget (issue 14): ≤ 0.1 false alarms per flight hour at the one
            "vehicle's `decisions.md` computes it); with no alarm that needs ≥ 30 flight hours, which each vehicle flies. "
            "Each vehicle's `decisions.md` has detection against Θ and the trade-off curve.\n")
 per_theta = {r['theta']: r['flights'] for r in csv.DictReader(open(f"{root}/{vehicles[0]}/decisions.csv"))}.get('0.5', '?')
-out.append(f"## Detection against Θ (decisions flights: {per_theta} per Θ and vehicle, the fault 1.4–3.2 s into the flight, after its initial upset, and recorded 0.6 s past it; a crash ends a flight early, so a complete fault that crashes the vehicle before +300 ms counts as not isolated there)\n")
+out.append(f"## Detection against Θ (decisions flights: {per_theta} per Θ and vehicle, the fault 1.4–3.2 s into the flight, after its initial upset, and recorded 0.6 s past it; a crash ends a flight early, so the right motor is scored on the flights still flying at each check: 'of N' where a crash had ended some)\n")
 out.append("| Θ | " + " | ".join(f"{v}: degraded / failed detected, right motor at +50 / +300 ms" for v in vehicles) + " |")
 out.append("|---|" + "---|"*len(vehicles))
 rows = {}
 for v in vehicles:
     for r in csv.DictReader(open(f"{root}/{v}/decisions.csv")):
-        rows.setdefault(r['theta'], []).append(f"{r['degraded_detected']}/{r['degraded_flights']}, {r['failed_detected']}/{r['failed_flights']}; {pct(r['isolated_50ms'])} / {pct(r['isolated_300ms'])}")
+        late = pct(r['isolated_300ms']) + (f" of {r['recorded_300ms']}" if int(r['recorded_300ms']) < int(r['flights']) else "")
+        rows.setdefault(r['theta'], []).append(f"{r['degraded_detected']}/{r['degraded_flights']}, {r['failed_detected']}/{r['failed_flights']}; {pct(r['isolated_50ms'])} / {late}")
 for t, cols in rows.items():
     out.append(f"| {t} | " + " | ".join(cols) + " |")
 # The interval's coverage per Θ: samples from the fault flown through (T) on with the alarm on the

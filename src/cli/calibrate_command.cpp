@@ -64,6 +64,9 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
          "What the rule reads as a motor's effectiveness: others (its Θ̂ over the median of the other three motors': a dip "
          "every motor shares cancels) or absolute (Θ̂ as the network gives it, the rule before 2026-11-26)")
       .choices({"others", "absolute"});
+  t->add("--estimate-reference", o.estimate_reference,
+         "What the Θ estimate and its interval read: absolute (the network's Θ̂ of the flagged motor) or others (as --reference)")
+      .choices({"others", "absolute"});
   t->add("--position-noise", o.position_noise, "Sensor noise on position [m]").atLeast(0.0);
   t->add("--attitude-noise", o.attitude_noise, "Sensor noise on Euler angles [rad]").atLeast(0.0);
   t->add("--randomise", o.randomise,
@@ -241,12 +244,17 @@ int runCalibrate(const CalibrateOptions& o) {
     }
   }
   DecisionCalibration c;
-  parseThetaReference(o.reference, &c.reference);  // CLI11 checked the choice
-  // The noise model and the excursions are of what the rule reads; faulty streams stay the
-  // network's output, which the rule converts itself (chooseDegradedLevel) or below (the spread).
+  parseThetaReference(o.reference, &c.reference);  // CLI11 checked the choices
+  parseThetaReference(o.estimate_reference, &c.estimate_reference);
+  const bool own_estimate_noise = c.estimate_reference != c.reference;
+  // The noise model and the excursions are of what the rule reads, the estimate's noise model of
+  // what the estimate reads; faulty streams stay the network's output, which the rule converts
+  // itself (chooseDegradedLevel) or below (the spread).
+  if (own_estimate_noise) c.estimate_noise = fitNoiseModel(healthy, 0, c.estimate_reference);
   for (std::vector<MotorTheta>& stream : healthy)
     for (MotorTheta& theta : stream) theta = ruleInput(theta, c.reference);
   c.noise = fitNoiseModel(healthy);
+  ThetaNoiseModel& interval_noise = own_estimate_noise ? c.estimate_noise : c.noise;
   c.dt = dt;
   c.flights = o.flights;
   c.flight_hours = static_cast<double>(samples) * dt / 3600.0;
@@ -278,18 +286,18 @@ int runCalibrate(const CalibrateOptions& o) {
     for (long end = s.truth.fault_sample + T + 1; end <= static_cast<long>(s.theta.size()); end += std::max(1, w / 2)) {
       double sum = 0.0;
       for (long k = end - w; k < end; ++k)
-        sum += static_cast<double>(ruleInput(s.theta[static_cast<std::size_t>(k)], c.reference)[static_cast<std::size_t>(motor - 1)]);
+        sum += static_cast<double>(ruleInput(s.theta[static_cast<std::size_t>(k)], c.estimate_reference)[static_cast<std::size_t>(motor - 1)]);
       est.push_back(sum / w);
       truth.push_back(s.truth.theta);
-      noise_var.push_back(ar1MeanVariance(c.noise.sigma, c.noise.phi, w));
+      noise_var.push_back(ar1MeanVariance(interval_noise.sigma, interval_noise.phi, w));
     }
   }
   c.faulty_flights = o.faulty_flights;
   if (!est.empty()) {
     const EstimateSpread spread = fitEstimateSpread(est, truth, noise_var, SequentialConfig{}.interval_level);
-    c.noise.noise_scale = spread.noise_scale;
-    c.noise.model_sigma = spread.model_sigma;
-    c.noise.spread_bins = fitBinnedEstimateSpread(est, truth, noise_var, SequentialConfig{}.interval_level);
+    interval_noise.noise_scale = spread.noise_scale;
+    interval_noise.model_sigma = spread.model_sigma;
+    interval_noise.spread_bins = fitBinnedEstimateSpread(est, truth, noise_var, SequentialConfig{}.interval_level);
   }
 
   const double per_level = o.false_alarms_per_hour / 2.0;
@@ -325,7 +333,7 @@ int runCalibrate(const CalibrateOptions& o) {
   char flights[160];
   std::snprintf(flights, sizeof flights, "%d healthy flights of %g s, counted from %g s on, %d faulty flights", o.flights,
                 o.flight_seconds, o.settle, o.faulty_flights);
-  c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; reference " + o.reference + "; " +
+  c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; reference " + o.reference + ", estimate " + o.estimate_reference + "; " +
              (o.randomise.empty() ? "LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
                                         std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
                                   : "randomisation " + o.randomise + vehicleNames(o.vehicles)) +
@@ -333,12 +341,15 @@ int runCalibrate(const CalibrateOptions& o) {
   const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
   writeCalibrationFile(output, c);
   if (!o.quiet) {
-    std::fprintf(stderr, "calibrate: %.3f flight hours healthy: Θ̂ (%s) mean %.4f, σ %.4f, φ %.4f at %g Hz; estimate: noise × %.3f, model error σ %.4f (%zu estimates)\n",
-                 c.flight_hours, toString(c.reference), c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt, c.noise.noise_scale, c.noise.model_sigma, est.size());
+    std::fprintf(stderr, "calibrate: %.3f flight hours healthy: Θ̂ (%s) mean %.4f, σ %.4f, φ %.4f at %g Hz\n", c.flight_hours,
+                 toString(c.reference), c.noise.healthy_mean, c.noise.sigma, c.noise.phi, 1.0 / dt);
+    std::fprintf(stderr, "calibrate: estimate (%s): σ %.4f, φ %.4f; noise × %.3f, model error σ %.4f (%zu estimates)\n",
+                 toString(c.estimate_reference), interval_noise.sigma, interval_noise.phi, interval_noise.noise_scale, interval_noise.model_sigma,
+                 est.size());
     double from = 0.0;
-    for (const SpreadBin& b : c.noise.spread_bins) {
+    for (const SpreadBin& b : interval_noise.spread_bins) {
       char range[48];
-      if (&b == &c.noise.spread_bins.back()) std::snprintf(range, sizeof range, "from %.2f up", from);
+      if (&b == &interval_noise.spread_bins.back()) std::snprintf(range, sizeof range, "from %.2f up", from);
       else std::snprintf(range, sizeof range, "from %.2f below %.2f", from, b.estimate_below);
       std::fprintf(stderr, "calibrate: estimates %s: noise × %.3f, model error σ %.4f (%ld estimates)\n", range, b.noise_scale, b.model_sigma, b.pairs);
       from = b.estimate_below;

@@ -31,6 +31,8 @@ struct CalibrateOptions {
   std::string reference = "others";  // the rule's input (detection/sequential.h ThetaReference): "others" calibrated the
                                      //     general model's degraded level at 0.9 with h 9.7 where absolute Θ̂ needed 17.8
                                      //     (docs/decisions.md "Relative evidence")
+  std::string estimate_reference = "absolute";  // what the estimate reads: the relative estimate carried the siblings'
+                                                //     errors (racer MAE at Θ 0.3–0.5 0.008 → 0.03–0.04, docs/decisions.md)
   double position_noise = 0.0;      // [m] sensor noise on the logged position
   double attitude_noise = 0.0;      // [rad] on the logged Euler angles
   std::string randomise;            // randomisation FILE: fly its vehicles, controllers, manoeuvres and estimator instead

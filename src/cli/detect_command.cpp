@@ -216,7 +216,7 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, std::option
   if (!(c.failed.level < c.degraded.level))
     throw ConfigError("--failed-below (" + std::to_string(c.failed.level) + ") must be below --degraded-below (" +
                       std::to_string(c.degraded.level) + ")" + (calibration_file.empty() ? "" : ", the calibration's where not given"));
-  s.config = sequentialConfig(c.degraded, c.failed, c.noise, c.reference);
+  s.config = sequentialConfig(c);
   return s;
 }
 

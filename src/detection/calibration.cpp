@@ -42,25 +42,30 @@ double poissonUpperBound(long count, double confidence) {
   return 0.5 * (lo + hi);
 }
 
-ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& streams, long skip) {
+ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& streams, long skip, ThetaReference of) {
   double n = 0.0, sum = 0.0;
   for (const auto& s : streams)
     for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i)
-      for (float x : s[i]) sum += static_cast<double>(x), n += 1.0;
+      for (float x : ruleInput(s[i], of)) sum += static_cast<double>(x), n += 1.0;
   ThetaNoiseModel m;
   if (n < 2.0) return m;
   const double mean = sum / n;
   double var = 0.0, cov = 0.0, pairs = 0.0;
-  for (const auto& s : streams)
-    for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i)
+  for (const auto& s : streams) {
+    MotorTheta previous{};
+    for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i) {
+      const MotorTheta x = ruleInput(s[i], of);
       for (int k = 0; k < kMotors; ++k) {
-        const double d = static_cast<double>(s[i][static_cast<std::size_t>(k)]) - mean;
+        const double d = static_cast<double>(x[static_cast<std::size_t>(k)]) - mean;
         var += d * d;
         if (i > static_cast<std::size_t>(std::max(0L, skip))) {
-          cov += d * (static_cast<double>(s[i - 1][static_cast<std::size_t>(k)]) - mean);
+          cov += d * (static_cast<double>(previous[static_cast<std::size_t>(k)]) - mean);
           pairs += 1.0;
         }
       }
+      previous = x;
+    }
+  }
   m.healthy_mean = mean;
   m.sigma = std::sqrt(var / (n - 1.0));
   m.phi = (var > 0.0 && pairs > 0.0) ? std::clamp((cov / pairs) / (var / n), 0.0, 0.999) : 0.0;
@@ -71,6 +76,7 @@ SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelC
                                   ThetaReference reference) {
   SequentialConfig c;
   c.reference = reference;
+  c.estimate_reference = reference;
   c.degraded_below = degraded.level;
   c.failed_below = failed.level;
   c.degraded_threshold = degraded.threshold;
@@ -79,6 +85,13 @@ SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelC
   c.failed_cap = failed.increment_cap;
   c.noise = noise;
   return c;
+}
+
+SequentialConfig sequentialConfig(const DecisionCalibration& c) {
+  SequentialConfig config = sequentialConfig(c.degraded, c.failed, c.noise, c.reference);
+  config.estimate_reference = c.estimate_reference;
+  if (c.estimate_reference != c.reference) config.noise = c.estimate_noise;
+  return config;
 }
 
 std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip, double cap,

@@ -44,30 +44,39 @@ struct LevelCalibration {
 };
 
 struct DecisionCalibration {
-  ThetaNoiseModel noise;
+  ThetaNoiseModel noise;     // of the `reference` quantity: the thresholds' fallback (Siegmund) and, when the estimate
+                             // reads the same quantity, the interval
   double target_rate = 0.1;  // [false alarms / flight hour] of the whole vehicle, split evenly over the two levels
   double dt = 0.002;         // [s] model sample period of the data
   long flights = 0;          // [-] healthy flights
   double flight_hours = 0.0; // [h] healthy flight time, per vehicle (not per motor)
   long faulty_flights = 0;   // [-] faulty flights used for noise.model_sigma (0: default kept)
   ThetaReference reference = ThetaReference::kAbsolute;  // the quantity calibrated (SequentialConfig::reference)
+  ThetaReference estimate_reference = ThetaReference::kAbsolute;  // what the estimate reads (SequentialConfig::estimate_reference)
+  ThetaNoiseModel estimate_noise;  // of the estimate_reference quantity, for the interval; used only where it differs
+                                   // from `reference`
   LevelCalibration degraded, failed;
   std::string source;        // provenance: command, model, simulation settings
 };
 
 // The rule for two calibrated levels and a noise model of the `reference` quantity: their levels,
-// thresholds and caps; every other setting (clear_after, estimate_window, interval_level) at its
-// default.
+// thresholds and caps; the estimate reads the same quantity; every other setting (clear_after,
+// estimate_window, interval_level) at its default.
 SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelCalibration& failed, const ThetaNoiseModel& noise,
                                   ThetaReference reference);
+
+// The rule a calibration describes: sequentialConfig of its levels, its estimate's reference and
+// the noise model of that quantity.
+SequentialConfig sequentialConfig(const DecisionCalibration& c);
 
 // The default calibration (no data): the default noise model (of absolute Θ̂), thresholds by
 // Siegmund, no caps.
 DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt);
 
 // Pooled over motors and flights (each stream's first `skip` samples dropped): mean, standard
-// deviation and lag-1 autocorrelation of Θ̂. model_sigma is left at the default.
-ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& streams, long skip = 0);
+// deviation and lag-1 autocorrelation of ruleInput(Θ̂, of). model_sigma is left at the default.
+ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& streams, long skip = 0,
+                              ThetaReference of = ThetaReference::kAbsolute);
 
 // Every excursion maximum of the CUSUM S_k = max(0, S_{k−1} + min(level − Θ̂_k, cap)) of every
 // motor of every stream (unsorted). With `observable` (per stream, per sample, CommandGate masks;

@@ -109,6 +109,7 @@ void SequentialRule::reset() {
 
 SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int samples, std::uint8_t observable) {
   const MotorTheta theta = ruleInput(network_theta, config_.reference);
+  const MotorTheta estimated = config_.estimate_reference == config_.reference ? theta : ruleInput(network_theta, config_.estimate_reference);
   const long n = std::max(1, samples);
   const double dn = static_cast<double>(n);
   const int w = config_.estimate_window;
@@ -130,7 +131,7 @@ SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int sam
     if (degraded_[static_cast<std::size_t>(k)] <= 0.0) since = 0;
     else since = (before <= 0.0) ? n : since + n;
     float* ring = &window_[static_cast<std::size_t>(k) * static_cast<std::size_t>(w)];
-    for (long i = 0, at = window_at_; i < pushes; ++i, at = (at + 1 == w) ? 0 : at + 1) ring[at] = theta[static_cast<std::size_t>(k)];
+    for (long i = 0, at = window_at_; i < pushes; ++i, at = (at + 1 == w) ? 0 : at + 1) ring[at] = estimated[static_cast<std::size_t>(k)];
   }
   window_at_ = static_cast<int>((window_at_ + pushes) % w);
   filled_ += n;

@@ -100,9 +100,11 @@ struct SequentialConfig {
   int estimate_window = 50;         // [samples] Θ̂ estimate: mean of the last this many samples since the
                                     //     change point (100 ms at 500 Hz: long against φ, short against the fault)
   double interval_level = 0.9;      // [-] two-sided coverage of [theta_lo, theta_hi]
-  ThetaReference reference = ThetaReference::kAbsolute;  // what the statistics, the recovery and the estimate read
-                                                          //     (ruleInput); the noise model is of that quantity
-  ThetaNoiseModel noise;
+  ThetaReference reference = ThetaReference::kAbsolute;           // what the statistics and the recovery read (ruleInput)
+  ThetaReference estimate_reference = ThetaReference::kAbsolute;  // what the estimate and its interval read: the network's
+                                                                   //     own Θ̂ keeps the siblings' errors out of the estimate
+                                                                   //     (docs/decisions.md "Relative evidence")
+  ThetaNoiseModel noise;  // of the estimate_reference quantity: the interval is its only use here
 };
 
 // Empty when valid, else a one-line description of the first problem.
@@ -132,8 +134,9 @@ class SequentialRule {
   // per-motor windows and the table of the windowed mean's variance.
   explicit SequentialRule(const SequentialConfig& config);
 
-  // One Θ̂ (the network's output; the rule takes ruleInput of it) that stands for `samples` ≥ 1 model samples (the detector's stride holds an estimate
-  // until the next evaluation). A motor whose bit is clear in `observable` (CommandGate) takes no
+  // One Θ̂ (the network's output; the statistics take ruleInput of it by `reference`, the estimate by
+  // `estimate_reference`) that stands for `samples` ≥ 1 model samples (the detector's stride holds an
+  // estimate until the next evaluation). A motor whose bit is clear in `observable` (CommandGate) takes no
   // evidence: its statistics may fall, not rise. No allocation.
   SequentialStatus update(const MotorTheta& theta, int samples, std::uint8_t observable = kAllMotorsObservable);
   const SequentialState& state() const { return state_; }

@@ -28,7 +28,7 @@ LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& heal
     e.isolation_late = config.delay_budget;
     const SequentialEvaluation r = evaluateSequential(scored, e);
     c.faults = r.isolation_flights;
-    c.isolated = static_cast<int>(r.isolated_late * r.isolation_flights + 0.5);
+    c.isolated = r.named_late;
     choice.candidates.push_back(c);
   }
   for (std::size_t i = 0; i < choice.candidates.size(); ++i) {

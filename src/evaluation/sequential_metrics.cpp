@@ -23,7 +23,7 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
   SequentialEvaluation r;
   SequentialRule rule(config.rule);
   std::vector<double> degraded_delays, failed_delays;
-  long healthy_samples = 0, covered = 0, early = 0, late = 0, severity_late = 0;
+  long healthy_samples = 0, covered = 0;
   double abs_error = 0.0;
   const double degraded_below = config.rule.degraded_below, failed_below = config.rule.failed_below;
   for (const FlightThetaStream& f : flights) {
@@ -58,10 +58,14 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
         found_failed = true;
         failed_delays.push_back(static_cast<double>(since) * config.dt);
       }
-      if (since == config.isolation_early) early += right;
+      if (since == config.isolation_early) {
+        ++r.recorded_early;
+        r.named_early += right;
+      }
       if (since == config.isolation_late) {
-        late += right;
-        severity_late += right && s.severity == expected;
+        ++r.recorded_late;
+        r.named_late += right;
+        r.severity_named_late += right && s.severity == expected;
       }
       if (right && since >= config.flown_through) {
         ++r.estimate_samples;
@@ -75,10 +79,10 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
   }
   summarise(r.degraded, degraded_delays);
   summarise(r.failed, failed_delays);
-  if (r.isolation_flights > 0) {
-    r.isolated_early = static_cast<double>(early) / r.isolation_flights;
-    r.isolated_late = static_cast<double>(late) / r.isolation_flights;
-    r.severity_right_late = static_cast<double>(severity_late) / r.isolation_flights;
+  if (r.recorded_early > 0) r.isolated_early = static_cast<double>(r.named_early) / r.recorded_early;
+  if (r.recorded_late > 0) {
+    r.isolated_late = static_cast<double>(r.named_late) / r.recorded_late;
+    r.severity_right_late = static_cast<double>(r.severity_named_late) / r.recorded_late;
   }
   if (r.estimate_samples > 0) {
     r.theta_mae = abs_error / static_cast<double>(r.estimate_samples);

@@ -43,9 +43,18 @@ struct SeverityDetection {
 struct SequentialEvaluation {
   SeverityDetection degraded, failed;
   int isolation_flights = 0;          // faulty flights, whatever their Θ (issue 13 scores Θ ≤ 0.8 at the 0.8 level too)
-  double isolated_early = 0.0;        // [-] fraction naming the true motor (any severity) at fault + isolation_early
-  double isolated_late = 0.0;         // [-] … at fault + isolation_late
-  double severity_right_late = 0.0;   // [-] … with the right severity for the true Θ
+  // A simulated flight's recording ends where the vehicle leaves the state bounds (model/integrator.h
+  // StateBounds: tilt past 1.5 rad, the ground): a complete fault on a small vehicle often ends it
+  // within 300 ms, and there is no decision left to score. The fractions are of the flights still
+  // recorded at the check.
+  int recorded_early = 0;             // faulty flights recorded at fault + isolation_early
+  int recorded_late = 0;              // … at fault + isolation_late
+  int named_early = 0;                // … of them, naming the true motor (any severity) there
+  int named_late = 0;                 // … at fault + isolation_late
+  int severity_named_late = 0;        // … with the right severity for the true Θ
+  double isolated_early = 0.0;        // [-] named_early / recorded_early (0 when none)
+  double isolated_late = 0.0;         // [-] named_late / recorded_late
+  double severity_right_late = 0.0;   // [-] severity_named_late / recorded_late
   long estimate_samples = 0;          // samples after flown_through with the alarm on the true motor
   double theta_mae = 0.0;             // [-] mean |theta_est − Θ| over them
   double theta_max_error = 0.0;       // [-] largest

@@ -54,29 +54,52 @@ LevelCalibration levelFromJson(const nlohmann::json& j) {
   return c;
 }
 
-}  // namespace
-
-std::string calibrationToJson(const DecisionCalibration& c) {
+nlohmann::json noiseToJson(const ThetaNoiseModel& m) {
   nlohmann::json noise = {
-      {"healthy_mean", c.noise.healthy_mean}, {"sigma", c.noise.sigma}, {"phi", c.noise.phi}, {"model_sigma", c.noise.model_sigma}, {"noise_scale", c.noise.noise_scale}};
-  if (!c.noise.spread_bins.empty()) {
+      {"healthy_mean", m.healthy_mean}, {"sigma", m.sigma}, {"phi", m.phi}, {"model_sigma", m.model_sigma}, {"noise_scale", m.noise_scale}};
+  if (!m.spread_bins.empty()) {
     noise["spread_bins"] = nlohmann::json::array();
-    for (const SpreadBin& b : c.noise.spread_bins)
+    for (const SpreadBin& b : m.spread_bins)
       noise["spread_bins"].push_back(
           {{"estimate_below", b.estimate_below}, {"noise_scale", b.noise_scale}, {"model_sigma", b.model_sigma}, {"pairs", b.pairs}});
   }
-  const nlohmann::json j = {
+  return noise;
+}
+
+ThetaNoiseModel noiseFromJson(const nlohmann::json& n, const std::string& where, const char* key) {
+  ThetaNoiseModel m;
+  m.healthy_mean = n.at("healthy_mean").get<double>();
+  m.sigma = n.at("sigma").get<double>();
+  m.phi = n.at("phi").get<double>();
+  m.model_sigma = n.at("model_sigma").get<double>();
+  m.noise_scale = n.value("noise_scale", 1.0);  // absent in calibrations before 2026-11-25
+  if (n.contains("spread_bins")) {                // absent before the evening of 2026-11-25: the pooled spread
+    const auto& bins = n.at("spread_bins");  // their count and values: validate()
+    if (!bins.is_array()) throw ConfigError(where + ": bad calibration: " + key + " spread_bins must be an array of ranges");
+    for (const auto& b : bins)
+      m.spread_bins.push_back({b.at("estimate_below").get<double>(), b.at("noise_scale").get<double>(), b.at("model_sigma").get<double>(),
+                               count(b.at("pairs"), "pairs")});
+  }
+  return m;
+}
+
+}  // namespace
+
+std::string calibrationToJson(const DecisionCalibration& c) {
+  nlohmann::json j = {
       {"format", "quadfdi-decision-calibration-1"},
-      {"noise", noise},
+      {"noise", noiseToJson(c.noise)},
       {"target_rate_per_hour", c.target_rate},
       {"dt", c.dt},
       {"flights", c.flights},
       {"flight_hours", c.flight_hours},
       {"faulty_flights", c.faulty_flights},
       {"reference", toString(c.reference)},
+      {"estimate_reference", toString(c.estimate_reference)},
       {"degraded", levelToJson(c.degraded)},
       {"failed", levelToJson(c.failed)},
       {"source", c.source}};
+  if (c.estimate_reference != c.reference) j["estimate_noise"] = noiseToJson(c.estimate_noise);
   return j.dump(2) + "\n";
 }
 
@@ -92,19 +115,7 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
   try {
     if (!j.is_object() || !j.contains("format") || j.at("format") != "quadfdi-decision-calibration-1")
       throw fail("not a quadfdi decision calibration (format quadfdi-decision-calibration-1)");
-    const auto& n = j.at("noise");
-    c.noise.healthy_mean = n.at("healthy_mean").get<double>();
-    c.noise.sigma = n.at("sigma").get<double>();
-    c.noise.phi = n.at("phi").get<double>();
-    c.noise.model_sigma = n.at("model_sigma").get<double>();
-    c.noise.noise_scale = n.value("noise_scale", 1.0);  // absent in calibrations before 2026-11-25
-    if (n.contains("spread_bins")) {                     // absent before the evening of 2026-11-25: the pooled spread
-      const auto& bins = n.at("spread_bins");  // their count and values: validate() below
-      if (!bins.is_array()) throw fail("bad calibration: noise spread_bins must be an array of ranges");
-      for (const auto& b : bins)
-        c.noise.spread_bins.push_back({b.at("estimate_below").get<double>(), b.at("noise_scale").get<double>(), b.at("model_sigma").get<double>(),
-                                       count(b.at("pairs"), "pairs")});
-    }
+    c.noise = noiseFromJson(j.at("noise"), where, "noise");
     c.target_rate = j.at("target_rate_per_hour").get<double>();
     c.dt = j.at("dt").get<double>();
     c.flights = count(j.at("flights"), "flights");
@@ -112,6 +123,13 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.faulty_flights = count(j.at("faulty_flights"), "faulty_flights");
     if (j.contains("reference") && !parseThetaReference(j.at("reference").get<std::string>(), &c.reference))  // absent before 2026-11-26
       throw fail("bad calibration: reference must be \"absolute\" or \"others\"");
+    c.estimate_reference = c.reference;  // absent before 2026-11-26, afternoon: the estimate read what the rule read
+    if (j.contains("estimate_reference") && !parseThetaReference(j.at("estimate_reference").get<std::string>(), &c.estimate_reference))
+      throw fail("bad calibration: estimate_reference must be \"absolute\" or \"others\"");
+    if (c.estimate_reference != c.reference) {
+      if (!j.contains("estimate_noise")) throw fail("bad calibration: estimate_reference differs from reference but there is no estimate_noise");
+      c.estimate_noise = noiseFromJson(j.at("estimate_noise"), where, "estimate_noise");
+    }
     c.degraded = levelFromJson(j.at("degraded"));
     c.failed = levelFromJson(j.at("failed"));
     c.source = j.at("source").get<std::string>();
@@ -119,6 +137,7 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     throw fail(std::string("bad calibration: ") + e.what());
   }
   if (std::string p = validate(sequentialConfig(c.degraded, c.failed, c.noise, c.reference)); !p.empty()) throw fail("bad calibration: " + p);
+  if (std::string p = validate(sequentialConfig(c)); !p.empty()) throw fail("bad calibration: estimate_" + p);
   if (!(c.target_rate > 0.0) || !(c.dt > 0.0) || !(c.flight_hours >= 0.0)) throw fail("bad calibration: target_rate, dt or flight_hours out of range");
   return c;
 }

@@ -129,27 +129,48 @@ TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
 }
 
 // --reference absolute calibrates Θ̂ as the network gives it (the paper's models); the file says
-// which, detect follows it, and an unknown reference is refused in one line.
-TEST(DetectCli, CalibrateRecordsItsReferenceAndDetectFollowsIt) {
+// which, detect follows it, and an unknown reference is refused in one line. --estimate-reference
+// changes what the estimate reads and nothing the statistics decide.
+TEST(DetectCli, CalibrateRecordsItsReferencesAndDetectFollowsThem) {
   const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw";
-  std::string outputs[2];
-  const char* references[2] = {"absolute", "others"};
-  for (int i = 0; i < 2; ++i) {
-    const std::string cal = temp(std::string("reference-") + references[i] + ".json");
-    const CommandResult c = run("calibrate -q --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 3 --reference " +
-                                references[i] + " --output " + cal);
+  const char* references[3][2] = {{"absolute", "absolute"}, {"others", "others"}, {"others", "absolute"}};
+  std::string outputs[3];
+  for (int i = 0; i < 3; ++i) {
+    const std::string rule = references[i][0], estimate = references[i][1];
+    const std::string cal = temp("reference-" + rule + "-" + estimate + ".json");
+    const CommandResult c = run("calibrate -q --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 3 --reference " + rule +
+                                " --estimate-reference " + estimate + " --output " + cal);
     ASSERT_EQ(c.exit_code, 0) << c.out;
-    EXPECT_NE(readFile(cal).find(std::string("\"reference\": \"") + references[i] + "\""), std::string::npos);
-    EXPECT_NE(readFile(cal).find(std::string("reference ") + references[i] + ";"), std::string::npos);  // and in `source`
+    const std::string file = readFile(cal);
+    EXPECT_NE(file.find("\"reference\": \"" + rule + "\""), std::string::npos);
+    EXPECT_NE(file.find("\"estimate_reference\": \"" + estimate + "\""), std::string::npos);
+    EXPECT_EQ(file.find("\"estimate_noise\"") != std::string::npos, rule != estimate);
+    EXPECT_NE(file.find("reference " + rule + ", estimate " + estimate + ";"), std::string::npos);  // and in `source`
     const CommandResult r = run("detect -q --model " + model + " --calibration " + cal + " --input " + faultyCsv() + " --output -", false);
     ASSERT_EQ(r.exit_code, 0) << r.out.substr(0, 400);
     outputs[i] = r.out;
   }
   EXPECT_TRUE(outputs[0] != outputs[1]);  // the estimates are of different quantities
-  const CommandResult bad = run("calibrate -q --model " + model + " --flights 2 --reference median --output " + temp("never-reference.json"));
-  EXPECT_NE(bad.exit_code, 0);
-  EXPECT_EQ(countLines(bad.out), 1) << bad.out;
-  EXPECT_NE(bad.out.find("--reference"), std::string::npos) << bad.out;
+  // Same statistics, thresholds and data: every line's decision is the same, the estimate not.
+  const std::vector<std::string> relative = lines(outputs[1]), split = lines(outputs[2]);
+  ASSERT_EQ(relative.size(), split.size());
+  int estimates_differ = 0, alarmed = 0;
+  for (std::size_t i = 0; i < relative.size(); ++i) {
+    const std::size_t at = relative[i].find("\"theta_est\"");
+    ASSERT_NE(at, std::string::npos) << relative[i];
+    ASSERT_EQ(relative[i].substr(0, at), split[i].substr(0, at)) << i;
+    estimates_differ += relative[i].substr(at) != split[i].substr(at);
+    alarmed += relative[i].find("\"alarm\": true") != std::string::npos;
+  }
+  EXPECT_GT(alarmed, 0);
+  EXPECT_GT(estimates_differ, 0);
+  for (const char* option : {"--reference", "--estimate-reference"}) {
+    const CommandResult bad =
+        run("calibrate -q --model " + model + " --flights 2 " + option + " median --output " + temp("never-reference.json"));
+    EXPECT_NE(bad.exit_code, 0);
+    EXPECT_EQ(countLines(bad.out), 1) << bad.out;
+    EXPECT_NE(bad.out.find(option), std::string::npos) << bad.out;
+  }
 }
 
 // --settle: each healthy flight's first seconds (the recovery from its random initial state) are

@@ -197,6 +197,7 @@ TEST(RelativeToOthers, PermutingTheMotorsPermutesTheResult) {
 TEST(SequentialRule, AgainstTheOthersADipEveryMotorSharesRaisesNothing) {
   SequentialConfig others = handConfig();
   others.reference = ThetaReference::kOthers;
+  others.estimate_reference = ThetaReference::kOthers;
   SequentialRule absolute_rule(handConfig()), others_rule(others);
   const MotorTheta shared{0.8f, 0.8f, 0.8f, 0.8f};  // below the 0.9 level on every motor
   EXPECT_EQ(updatesUntil(absolute_rule, shared, SequentialStatus::kRaised, 1000), 30);  // 0.1 a sample, tie: motor 1
@@ -208,6 +209,22 @@ TEST(SequentialRule, AgainstTheOthersADipEveryMotorSharesRaisesNothing) {
   EXPECT_EQ(fresh.state().motor, 2);
   for (int i = 0; i < 100; ++i) fresh.update(with(2, 0.7f), 1);
   EXPECT_NEAR(fresh.state().theta_est, 0.7 / 0.97, 1e-6);  // the estimate is of the same quantity
+}
+
+TEST(SequentialRule, TheEstimateCanReadTheNetworksOwnThetaWhileTheStatisticsReadTheOthers) {
+  SequentialConfig split = handConfig();
+  split.reference = ThetaReference::kOthers;
+  split.estimate_reference = ThetaReference::kAbsolute;
+  SequentialRule rule(split);
+  EXPECT_EQ(updatesUntil(rule, with(2, 0.7f), SequentialStatus::kRaised), 17);  // the statistics as above
+  EXPECT_EQ(rule.state().motor, 2);
+  for (int i = 0; i < 100; ++i) rule.update(with(2, 0.7f), 1);
+  EXPECT_NEAR(rule.state().theta_est, 0.7, 1e-6);  // not 0.7 / 0.97
+  // A shared dip under the fault: the statistics hold the alarm (0.6 / 0.8 = 0.75 < 0.9), the
+  // estimate follows the network's own Θ̂ of the motor.
+  MotorTheta dip{0.8f, 0.6f, 0.8f, 0.8f};
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(rule.update(dip, 1), SequentialStatus::kActive);
+  EXPECT_NEAR(rule.state().theta_est, 0.6, 1e-6);
 }
 
 TEST(SequentialRule, RefusesBadConfigs) {
@@ -613,6 +630,37 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
     bad.replace(bad.find("\"others\""), 8, "\"median\"");
     const std::string error = rejection(bad);
     EXPECT_NE(error.find("cal.json: bad calibration: reference must be \"absolute\" or \"others\""), std::string::npos) << error;
+  }
+  {  // the estimate's reference and its own noise model round-trip; absent: the estimate reads what
+     // the rule reads; differing without a noise model of its own, or with a bad one: refused
+    DecisionCalibration split = c;
+    split.reference = ThetaReference::kOthers;
+    split.estimate_reference = ThetaReference::kAbsolute;
+    split.estimate_noise.sigma = 0.031;
+    split.estimate_noise.spread_bins = {{0.5, 0.8, 0.012, 700}, {1.0, 1.3, 0.004, 2100}};
+    const std::string json = calibrationToJson(split);
+    const DecisionCalibration split_back = calibrationFromJson(json, "x.json");
+    EXPECT_EQ(split_back.estimate_reference, ThetaReference::kAbsolute);
+    EXPECT_EQ(calibrationToJson(split_back), json);
+    const SequentialConfig rule = sequentialConfig(split_back);
+    EXPECT_EQ(rule.reference, ThetaReference::kOthers);
+    EXPECT_EQ(rule.estimate_reference, ThetaReference::kAbsolute);
+    EXPECT_EQ(rule.noise.sigma, 0.031);  // the interval's noise is the estimate's
+    ASSERT_EQ(rule.noise.spread_bins.size(), 2u);
+    EXPECT_EQ(rule.noise.spread_bins[0].model_sigma, 0.012);
+    std::string before = json;  // a file of the morning of 2026-11-26: no estimate_reference
+    before.replace(before.find("\"estimate_reference\""), 20, "\"renamed_estimate_r\"");
+    const DecisionCalibration follows = calibrationFromJson(before, "old.json");
+    EXPECT_EQ(follows.estimate_reference, ThetaReference::kOthers);
+    EXPECT_EQ(sequentialConfig(follows).noise.sigma, split.noise.sigma);
+    std::string missing = json;
+    missing.replace(missing.find("\"estimate_noise\""), 16, "\"estimate_nois_\"");
+    const std::string error = rejection(missing);
+    EXPECT_NE(error.find("cal.json: bad calibration: estimate_reference differs from reference but there is no estimate_noise"),
+              std::string::npos) << error;
+    split.estimate_noise.phi = 1.5;
+    const std::string bad_phi = rejection(calibrationToJson(split));
+    EXPECT_NE(bad_phi.find("cal.json: bad calibration: estimate_noise phi must lie in [0, 1)"), std::string::npos) << bad_phi;
   }
   EXPECT_EQ(back.degraded.tail_maxima, c.degraded.tail_maxima);
   EXPECT_EQ(back.degraded.increment_cap, 0.1);

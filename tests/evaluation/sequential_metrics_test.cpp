@@ -76,6 +76,38 @@ TEST(SequentialEvaluation, CountsDelaysIsolationAndFalseAlarmsOnCleanSteps) {
   EXPECT_NEAR(with_mild.isolated_late, 2.0 / 3.0, 1e-12);
 }
 
+// A flight whose recording ends between the checks (the vehicle crashed) is scored at +50 ms and
+// not at +300 ms: the late fractions are of the flights still flying, and the counts say so.
+TEST(SequentialEvaluation, IsolationIsScoredOnTheFlightsStillRecordedAtEachCheck) {
+  SequentialEvaluationConfig c;
+  c.rule.degraded_below = 0.9;
+  c.rule.degraded_threshold = c.rule.failed_threshold = 2.999;
+  Rng rng(3, 0);
+  std::vector<FlightThetaStream> flights;
+  flights.push_back(flight(1000, 1, 0.0, 400, 0.0, 0.0, rng));  // failed after 4 samples, flies on
+  FlightThetaStream crashed = flight(1000, 2, 0.0, 400, 0.0, 0.0, rng);
+  crashed.theta.resize(400 + 100);  // ends 100 samples after the fault: after +25, before +150
+  flights.push_back(crashed);
+  FlightThetaStream wrong = flight(1000, 3, 0.0, 400, 0.0, 0.0, rng);
+  wrong.truth.motor = 4;  // the rule names motor 3: wrong at both checks
+  flights.push_back(wrong);
+  const SequentialEvaluation r = evaluateSequential(flights, c);
+  EXPECT_EQ(r.isolation_flights, 3);
+  EXPECT_EQ(r.recorded_early, 3);
+  EXPECT_EQ(r.named_early, 2);
+  EXPECT_NEAR(r.isolated_early, 2.0 / 3.0, 1e-12);
+  EXPECT_EQ(r.recorded_late, 2);
+  EXPECT_EQ(r.named_late, 1);
+  EXPECT_EQ(r.severity_named_late, 1);
+  EXPECT_NEAR(r.isolated_late, 0.5, 1e-12);
+  EXPECT_NEAR(r.severity_right_late, 0.5, 1e-12);
+  // None recorded that late: the fraction is 0, not a division by zero.
+  c.isolation_late = 5000;
+  const SequentialEvaluation none = evaluateSequential(flights, c);
+  EXPECT_EQ(none.recorded_late, 0);
+  EXPECT_EQ(none.isolated_late, 0.0);
+}
+
 // Alarms cluster by flight: a flight that dips twice raises two alarms but is one alarmed flight,
 // and the bound on alarmed flights is the Poisson bound on that count, not on the alarms.
 TEST(SequentialEvaluation, FalseAlarmsAreAlsoCountedByFlight) {
