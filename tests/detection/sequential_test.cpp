@@ -658,6 +658,11 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
     const std::string error = rejection(missing);
     EXPECT_NE(error.find("cal.json: bad calibration: estimate_reference differs from reference but there is no estimate_noise"),
               std::string::npos) << error;
+    std::string unknown = json;
+    unknown.replace(unknown.find("\"estimate_reference\": \"absolute\""), 32, "\"estimate_reference\": \"median\"");
+    const std::string unknown_error = rejection(unknown);
+    EXPECT_NE(unknown_error.find("cal.json: bad calibration: estimate_reference must be \"absolute\" or \"others\""), std::string::npos)
+        << unknown_error;
     split.estimate_noise.phi = 1.5;
     const std::string bad_phi = rejection(calibrationToJson(split));
     EXPECT_NE(bad_phi.find("cal.json: bad calibration: estimate_noise phi must lie in [0, 1)"), std::string::npos) << bad_phi;
