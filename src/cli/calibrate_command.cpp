@@ -246,15 +246,14 @@ int runCalibrate(const CalibrateOptions& o) {
   DecisionCalibration c;
   parseThetaReference(o.reference, &c.reference);  // CLI11 checked the choices
   parseThetaReference(o.estimate_reference, &c.estimate_reference);
-  const bool own_estimate_noise = c.estimate_reference != c.reference;
   // The noise model and the excursions are of what the rule reads, the estimate's noise model of
   // what the estimate reads; faulty streams stay the network's output, which the rule converts
   // itself (chooseDegradedLevel) or below (the spread).
-  if (own_estimate_noise) c.estimate_noise = fitNoiseModel(healthy, 0, c.estimate_reference);
+  if (ownEstimateNoise(c)) c.estimate_noise = fitNoiseModel(healthy, 0, c.estimate_reference);
   for (std::vector<MotorTheta>& stream : healthy)
     for (MotorTheta& theta : stream) theta = ruleInput(theta, c.reference);
   c.noise = fitNoiseModel(healthy);
-  ThetaNoiseModel& interval_noise = own_estimate_noise ? c.estimate_noise : c.noise;
+  ThetaNoiseModel& interval_noise = estimateNoise(c);
   c.dt = dt;
   c.flights = o.flights;
   c.flight_hours = static_cast<double>(samples) * dt / 3600.0;

@@ -65,6 +65,13 @@ struct DecisionCalibration {
 SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelCalibration& failed, const ThetaNoiseModel& noise,
                                   ThetaReference reference);
 
+// Whether the estimate reads another quantity than the statistics, so that its interval has a
+// noise model of its own (estimate_noise).
+inline bool ownEstimateNoise(const DecisionCalibration& c) { return c.estimate_reference != c.reference; }
+// The noise model of what the estimate reads: estimate_noise where it is its own, else noise.
+inline const ThetaNoiseModel& estimateNoise(const DecisionCalibration& c) { return ownEstimateNoise(c) ? c.estimate_noise : c.noise; }
+inline ThetaNoiseModel& estimateNoise(DecisionCalibration& c) { return ownEstimateNoise(c) ? c.estimate_noise : c.noise; }
+
 // The rule a calibration describes: sequentialConfig of its levels, its estimate's reference and
 // the noise model of that quantity.
 SequentialConfig sequentialConfig(const DecisionCalibration& c);

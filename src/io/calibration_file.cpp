@@ -99,7 +99,7 @@ std::string calibrationToJson(const DecisionCalibration& c) {
       {"degraded", levelToJson(c.degraded)},
       {"failed", levelToJson(c.failed)},
       {"source", c.source}};
-  if (c.estimate_reference != c.reference) j["estimate_noise"] = noiseToJson(c.estimate_noise);
+  if (ownEstimateNoise(c)) j["estimate_noise"] = noiseToJson(c.estimate_noise);
   return j.dump(2) + "\n";
 }
 
@@ -126,7 +126,7 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.estimate_reference = c.reference;  // absent before 2026-11-26, afternoon: the estimate read what the rule read
     if (j.contains("estimate_reference") && !parseThetaReference(j.at("estimate_reference").get<std::string>(), &c.estimate_reference))
       throw fail("bad calibration: estimate_reference must be \"absolute\" or \"others\"");
-    if (c.estimate_reference != c.reference) {
+    if (ownEstimateNoise(c)) {
       if (!j.contains("estimate_noise")) throw fail("bad calibration: estimate_reference differs from reference but there is no estimate_noise");
       c.estimate_noise = noiseFromJson(j.at("estimate_noise"), where, "estimate_noise");
     }
@@ -137,7 +137,8 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     throw fail(std::string("bad calibration: ") + e.what());
   }
   if (std::string p = validate(sequentialConfig(c.degraded, c.failed, c.noise, c.reference)); !p.empty()) throw fail("bad calibration: " + p);
-  if (std::string p = validate(sequentialConfig(c)); !p.empty()) throw fail("bad calibration: estimate_" + p);
+  if (ownEstimateNoise(c))  // the same config as above otherwise; only its noise model differs
+    if (std::string p = validate(sequentialConfig(c)); !p.empty()) throw fail("bad calibration: estimate_" + p);
   if (!(c.target_rate > 0.0) || !(c.dt > 0.0) || !(c.flight_hours >= 0.0)) throw fail("bad calibration: target_rate, dt or flight_hours out of range");
   return c;
 }
