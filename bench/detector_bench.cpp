@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "control/controller_factory.h"
+#include "detection/sequential.h"
+#include "io/calibration_file.h"
 #include "detection/session.h"
 #include "io/model_file.h"
 #include "simulation/closed_loop.h"
@@ -123,6 +125,26 @@ BENCHMARK(detectLog)
     ->Args({1, 1, 1, 0, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The sequential rule alone, one update with an alarm held (the estimate and its interval are
+// stated every update then). Arg: the interval (0 the spread per range, 1 the confidence belt
+// inverted on its 0.001 grid), from the racer's shipped calibration.
+void sequentialUpdateWithAlarm(benchmark::State& state) {
+  static const DecisionCalibration racer = readCalibrationFile(QUADFDI_SOURCE_DIR "/models/tcn-racer250.calibration.json");
+  SequentialConfig config = sequentialConfig(racer);
+  if (state.range(0) == 0) config.noise.belt.clear();
+  SequentialRule rule(config);
+  MotorTheta theta{1.0f, 0.42f, 1.0f, 1.0f};
+  while (!rule.active()) rule.update(theta, 1);
+  for (auto _ : state) {
+    theta[1] = theta[1] == 0.42f ? 0.43f : 0.42f;  // the estimate moves
+    benchmark::DoNotOptimize(rule.update(theta, 1));
+    benchmark::DoNotOptimize(rule.state().theta_lo);
+  }
+  state.SetLabel(state.range(0) ? "belt" : "spread");
+}
+
+BENCHMARK(sequentialUpdateWithAlarm)->ArgNames({"belt"})->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace quadfdi

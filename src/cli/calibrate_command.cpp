@@ -56,6 +56,14 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
   t->add("--delay-budget", o.delay_budget, "Choosing among several --degraded-below: the delay a fault must be reported within [s]")
       .above(0.0, 60.0);
   t->add("--failed-below", o.failed_below, "Failed level").above(0.0, 1.0);
+  t->add("--interval", o.interval,
+         "The Θ estimate's interval: spread (a spread fitted per range of the estimate) or belt (a confidence belt fitted per "
+         "true Θ and inverted: it holds Θ at its level for each Θ; docs/decisions.md)")
+      .choices({"spread", "belt"});
+  t->add("--refit-interval", o.refit_interval,
+         "Refit only the Θ interval of this calibration FILE (by --interval) on the faulty flights — give the --randomise, "
+         "--vehicle, --seed and --faulty-flights that made it — keeping its noise model, levels and thresholds; no healthy flight "
+         "is flown. Writes -o, else FILE itself");
   t->add("--degraded-cap", o.degraded_cap,
          "Most one sample adds to the degraded CUSUM [effectiveness] (a robust CUSUM: a short deep dip of healthy Θ̂ weighs "
          "no more than a mild fault's sustained one; 0: no cap)")
@@ -178,6 +186,11 @@ std::vector<std::uint8_t> observableMasks(const std::vector<TelemetrySample>& fl
   return masks;
 }
 
+// Complete failures flown for the belt's node at Θ = 0 (--interval belt): a tenth of the faulty
+// flights, at least 60. The faulty flights' uniform Θ puts almost none there, and at the boundary
+// the estimate cannot be moved from a neighbouring Θ (fitThetaBelt).
+int beltBoundaryFlights(int faulty_flights) { return faulty_flights > 0 ? std::max(60, faulty_flights / 10) : 0; }
+
 }  // namespace
 
 int runCalibrate(const CalibrateOptions& o) {
@@ -190,6 +203,15 @@ int runCalibrate(const CalibrateOptions& o) {
   const int steps = static_cast<int>(std::lround(o.flight_seconds / dt));
   const int goal_steps = std::max(1, static_cast<int>(std::lround(o.goal_period / dt)));
   const long settle_samples = std::lround(o.settle / dt);  // of each healthy Θ̂ stream
+  const bool refit = !o.refit_interval.empty();
+  const int healthy_flights = refit ? 0 : o.flights;  // a refit flies only faulty flights
+  DecisionCalibration c;
+  if (refit) {
+    c = readCalibrationFile(o.refit_interval);
+    require(std::abs(c.dt - dt) <= 1e-12 * dt, o.refit_interval + ": calibrated at dt = " + std::to_string(c.dt) + " s, the model runs at " +
+                                                   std::to_string(dt) + " s");
+    require(o.faulty_flights > 0, "--refit-interval needs --faulty-flights > 0");
+  }
   require(settle_samples < steps - T, "--settle must leave some of each --flight-seconds flight");
   constexpr std::uint64_t kFirstStream = std::uint64_t{1} << 42;  // disjoint from training (0 …), held-out (2⁴⁰), test (2⁴¹)
 
@@ -197,7 +219,7 @@ int runCalibrate(const CalibrateOptions& o) {
   std::vector<std::vector<std::uint8_t>> healthy_observable;  // the command gate's masks (detection/command_gate.h)
   long samples = 0;
   // Randomised flights (--randomise): every library vehicle, controller, manoeuvre and estimator.
-  std::vector<FlightThetaStream> faulty;
+  std::vector<FlightThetaStream> faulty, boundary;  // boundary: complete failures for the belt (--interval belt)
   if (!o.randomise.empty()) {
     RolloutConfig rc;
     rc.window = T;
@@ -215,7 +237,7 @@ int runCalibrate(const CalibrateOptions& o) {
     rc.seed = o.seed + kFirstStream;
     rc.post_fault_steps = std::max(1, steps - T);
     std::vector<TrajectoryJob> jobs;
-    for (int f = 0; f < o.flights; ++f) jobs.push_back({static_cast<std::uint64_t>(f), 2, 1.0});
+    for (int f = 0; f < healthy_flights; ++f) jobs.push_back({static_cast<std::uint64_t>(f), 2, 1.0});
     for (FlightThetaStream& s : simulateThetaStreams(model, rc, jobs, 0, 16)) {
       dropLeadingSamples(s, settle_samples);
       samples += static_cast<long>(s.theta.size());
@@ -231,8 +253,15 @@ int runCalibrate(const CalibrateOptions& o) {
     for (int f = 0; f < o.faulty_flights; ++f)
       jobs.push_back({static_cast<std::uint64_t>(f), 1 + static_cast<int>(draw.next() % 4), draw.uniform(0.0, 0.9)});
     faulty = simulateThetaStreams(model, rc, jobs, 0, 16);
+    if (o.interval == "belt") {  // complete failures for the belt's node at Θ = 0, after the faulty flights
+      jobs.clear();
+      Rng motors(o.seed, kFirstStream - 3);
+      for (int f = 0; f < beltBoundaryFlights(o.faulty_flights); ++f)
+        jobs.push_back({static_cast<std::uint64_t>(o.faulty_flights + f), 1 + static_cast<int>(motors.next() % 4), 0.0});
+      boundary = simulateThetaStreams(model, rc, jobs, 0, 16);
+    }
   } else {
-    for (int f = 0; f < o.flights; ++f) {
+    for (int f = 0; f < healthy_flights; ++f) {
       const std::vector<TelemetrySample> flight = simulateFlight(o.seed, kFirstStream + static_cast<std::uint64_t>(f), steps, goal_steps, 0, 1.0, 0, o);
       FlightThetaStream s;
       s.theta = thetaStream(model, flight);
@@ -243,21 +272,22 @@ int runCalibrate(const CalibrateOptions& o) {
       healthy_observable.push_back(std::move(s.observable));
     }
   }
-  DecisionCalibration c;
-  parseThetaReference(o.reference, &c.reference);  // CLI11 checked the choices
-  parseThetaReference(o.estimate_reference, &c.estimate_reference);
-  // The noise model and the excursions are of what the rule reads, the estimate's noise model of
-  // what the estimate reads; faulty streams stay the network's output, which the rule converts
-  // itself (chooseDegradedLevel) or below (the spread).
-  if (ownEstimateNoise(c)) c.estimate_noise = fitNoiseModel(healthy, 0, c.estimate_reference);
-  for (std::vector<MotorTheta>& stream : healthy)
-    for (MotorTheta& theta : stream) theta = ruleInput(theta, c.reference);
-  c.noise = fitNoiseModel(healthy);
+  if (!refit) {
+    parseThetaReference(o.reference, &c.reference);  // CLI11 checked the choices
+    parseThetaReference(o.estimate_reference, &c.estimate_reference);
+    // The noise model and the excursions are of what the rule reads, the estimate's noise model of
+    // what the estimate reads; faulty streams stay the network's output, which the rule converts
+    // itself (chooseDegradedLevel) or below (the spread).
+    if (ownEstimateNoise(c)) c.estimate_noise = fitNoiseModel(healthy, 0, c.estimate_reference);
+    for (std::vector<MotorTheta>& stream : healthy)
+      for (MotorTheta& theta : stream) theta = ruleInput(theta, c.reference);
+    c.noise = fitNoiseModel(healthy);
+    c.dt = dt;
+    c.flights = o.flights;
+    c.flight_hours = static_cast<double>(samples) * dt / 3600.0;
+    c.target_rate = o.false_alarms_per_hour;
+  }
   ThetaNoiseModel& interval_noise = estimateNoise(c);
-  c.dt = dt;
-  c.flights = o.flights;
-  c.flight_hours = static_cast<double>(samples) * dt / 3600.0;
-  c.target_rate = o.false_alarms_per_hour;
 
   // Faulty flights of the default path (nominal Crazyflie under LQR): fault at step 500.
   Rng draw(o.seed, kFirstStream - 1);
@@ -273,6 +303,19 @@ int runCalibrate(const CalibrateOptions& o) {
     s.truth.fault_sample = fault_step - (T - 1);  // stream index of the fault's sample
     faulty.push_back(std::move(s));
   }
+  Rng motors(o.seed, kFirstStream - 3);
+  for (int f = 0; o.randomise.empty() && o.interval == "belt" && f < beltBoundaryFlights(o.faulty_flights); ++f) {
+    FlightThetaStream s;
+    s.truth.motor = 1 + static_cast<int>(motors.next() % 4);
+    s.truth.theta = 0.0;
+    const int fault_step = 500, flight_steps = fault_step + 2 * T + 4 * SequentialConfig{}.estimate_window;
+    const std::vector<TelemetrySample> flight =
+        simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(o.faulty_flights + f), flight_steps,
+                       flight_steps, s.truth.motor, 0.0, fault_step, o);
+    s.theta = thetaStream(model, flight);
+    s.truth.fault_sample = fault_step - (T - 1);
+    boundary.push_back(std::move(s));
+  }
 
   // Model error of the estimate: from the sample the fault has been flown through (the network's
   // window T holds only faulty samples; evaluation/sequential_metrics.h flown_through) on, every
@@ -280,23 +323,43 @@ int runCalibrate(const CalibrateOptions& o) {
   // estimate the rule states there. Its first windows still hold Θ̂ of partly healthy inputs.
   const int w = SequentialConfig{}.estimate_window;
   std::vector<double> est, truth, noise_var;
-  for (const FlightThetaStream& s : faulty) {
-    const int motor = s.truth.motor;
-    for (long end = s.truth.fault_sample + T + 1; end <= static_cast<long>(s.theta.size()); end += std::max(1, w / 2)) {
-      double sum = 0.0;
-      for (long k = end - w; k < end; ++k)
-        sum += static_cast<double>(ruleInput(s.theta[static_cast<std::size_t>(k)], c.estimate_reference)[static_cast<std::size_t>(motor - 1)]);
-      est.push_back(sum / w);
-      truth.push_back(s.truth.theta);
-      noise_var.push_back(ar1MeanVariance(interval_noise.sigma, interval_noise.phi, w));
+  auto addPairs = [&](const std::vector<FlightThetaStream>& flights) {
+    for (const FlightThetaStream& s : flights) {
+      const int motor = s.truth.motor;
+      for (long end = s.truth.fault_sample + T + 1; end <= static_cast<long>(s.theta.size()); end += std::max(1, w / 2)) {
+        double sum = 0.0;
+        for (long k = end - w; k < end; ++k)
+          sum += static_cast<double>(ruleInput(s.theta[static_cast<std::size_t>(k)], c.estimate_reference)[static_cast<std::size_t>(motor - 1)]);
+        est.push_back(sum / w);
+        truth.push_back(s.truth.theta);
+        noise_var.push_back(ar1MeanVariance(interval_noise.sigma, interval_noise.phi, w));
+      }
     }
-  }
+  };
+  addPairs(faulty);
   c.faulty_flights = o.faulty_flights;
   if (!est.empty()) {
     const EstimateSpread spread = fitEstimateSpread(est, truth, noise_var, SequentialConfig{}.interval_level);
     interval_noise.noise_scale = spread.noise_scale;
     interval_noise.model_sigma = spread.model_sigma;
     interval_noise.spread_bins = fitBinnedEstimateSpread(est, truth, noise_var, SequentialConfig{}.interval_level);
+    interval_noise.belt.clear();
+    if (o.interval == "belt") {
+      addPairs(boundary);  // the belt's only: the spread keeps the faulty flights' draw of Θ
+      interval_noise.belt = fitThetaBelt(est, truth, SequentialConfig{}.interval_level);
+    }
+  }
+  if (refit) {
+    char what[160];
+    std::snprintf(what, sizeof what, "; interval refitted (%s) on %d faulty flights%s", o.interval.c_str(), o.faulty_flights,
+                  boundary.empty() ? "" : (" and " + std::to_string(boundary.size()) + " complete failures").c_str());
+    c.source += what + std::string(", seed ") + std::to_string(o.seed);
+    const std::string output = o.output.empty() ? o.refit_interval : o.output;
+    writeCalibrationFile(output, c);
+    if (!o.quiet)
+      std::fprintf(stderr, "calibrate: interval of %s refitted (%s, %zu estimates); wrote %s\n", o.refit_interval.c_str(), o.interval.c_str(),
+                   est.size(), output.c_str());
+    return 0;
   }
 
   const double per_level = o.false_alarms_per_hour / 2.0;
@@ -332,7 +395,7 @@ int runCalibrate(const CalibrateOptions& o) {
   char flights[160];
   std::snprintf(flights, sizeof flights, "%d healthy flights of %g s, counted from %g s on, %d faulty flights", o.flights,
                 o.flight_seconds, o.settle, o.faulty_flights);
-  c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; reference " + o.reference + ", estimate " + o.estimate_reference + "; " +
+  c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; reference " + o.reference + ", estimate " + o.estimate_reference + (o.interval == "belt" ? ", interval belt" : "") + "; " +
              (o.randomise.empty() ? "LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
                                         std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
                                   : "randomisation " + o.randomise + vehicleNames(o.vehicles)) +

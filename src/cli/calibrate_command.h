@@ -27,6 +27,9 @@ struct CalibrateOptions {
                                            //     (evaluation/level_choice.h); 0.8 as detect's default (docs/decisions.md)
   double delay_budget = 0.3;        // [s] level choice: a fault counts when its motor is named this long after it (issue 14)
   double failed_below = 0.3;        // [-]
+  std::string refit_interval;       // a calibration FILE: refit only its interval on the faulty flights, keeping the rest
+  std::string interval = "spread";  // the Θ interval: spread (per range of the estimate) or belt (Neyman's, per Θ;
+                                    //     detection/calibration.h fitThetaBelt)
   double degraded_cap = kDefaultDegradedCap;  // [effectiveness] degraded CUSUM's increment cap per sample (0: none)
   std::string reference = "others";  // the rule's input (detection/sequential.h ThetaReference): "others" calibrated the
                                      //     general model's degraded level at 0.9 with h 9.7 where absolute Θ̂ needed 17.8

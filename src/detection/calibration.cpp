@@ -246,6 +246,39 @@ std::vector<SpreadBin> fitBinnedEstimateSpread(const std::vector<double>& estima
   return bins;
 }
 
+std::vector<BeltNode> fitThetaBelt(const std::vector<double>& estimates, const std::vector<double>& truths, double coverage,
+                                   const std::vector<double>& nodes, double half_width) {
+  std::vector<BeltNode> belt;
+  const double alpha = 1.0 - coverage;
+  std::vector<double> moved;
+  for (double g : nodes) {
+    moved.clear();
+    // At the boundary the estimate is clipped, not shifted, as Θ moves: Θ = 0.04 errs downward where
+    // Θ = 0 cannot, so the node takes complete failures only (measured: truths up to 0.02 with them
+    // put the racer's Θ = 0 at 97 % for a nominal 90 %).
+    const bool boundary = g <= 0.0;
+    for (std::size_t i = 0; i < estimates.size() && i < truths.size(); ++i)
+      if (boundary ? truths[i] <= kBeltBoundaryWidth : std::abs(truths[i] - g) <= half_width)
+        moved.push_back(boundary ? estimates[i] : g + estimates[i] - truths[i]);
+    if (moved.size() < static_cast<std::size_t>(kMinSpreadPairs)) continue;
+    std::sort(moved.begin(), moved.end());
+    const double n = static_cast<double>(moved.size());
+    auto rank = [&](double r) { return moved[static_cast<std::size_t>(std::clamp(r, 1.0, n)) - 1]; };  // 1-based
+    BeltNode node;
+    node.theta = g;
+    node.pairs = static_cast<long>(moved.size());
+    if (g <= 0.0) {
+      node.accept_lo = std::min(0.0, moved.front());
+      node.accept_hi = rank(std::ceil((n + 1.0) * coverage));
+    } else {
+      node.accept_lo = rank(std::floor((n + 1.0) * alpha / 2.0));
+      node.accept_hi = rank(std::ceil((n + 1.0) * (1.0 - alpha / 2.0)));
+    }
+    belt.push_back(node);
+  }
+  return belt;
+}
+
 DecisionCalibration defaultCalibration(double degraded_below, double failed_below, double target_rate, double dt) {
   DecisionCalibration c;
   c.target_rate = target_rate;

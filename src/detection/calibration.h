@@ -142,6 +142,23 @@ std::vector<SpreadBin> fitBinnedEstimateSpread(const std::vector<double>& estima
                                                const std::vector<double>& noise_variances, double coverage,
                                                const std::vector<double>& edges = kSpreadBinEdges);
 
+// [-] The belt's nodes that `calibrate --interval belt` fits (its faulty flights draw Θ uniformly
+// from [0, 0.9]), and the half-width of the truths each node pools.
+inline const std::vector<double> kBeltNodes{0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
+inline constexpr double kBeltHalfWidth = 0.05;
+inline constexpr double kBeltBoundaryWidth = 1e-9;  // [-] the node at Θ = 0 takes the complete failures only, unshifted
+
+// A confidence belt (Neyman 1937) at `coverage`: per node g, the pairs whose truth lies within
+// `half_width` of g, each moved to g (g + estimate − Θ), give the acceptance region — their
+// central `coverage` range (split-conformal ranks ⌊(n + 1)α/2⌋ and ⌈(n + 1)(1 − α/2)⌉), except at
+// g = 0, the physical boundary, where the estimate can only err upward: there every estimate up to
+// the ⌈(n + 1)·coverage⌉-th smallest is accepted. Inverting it (SequentialRule) gives an interval
+// that holds Θ at `coverage` for each Θ, where a spread per range of the estimate holds it only on
+// average over the Θ that produce that range (docs/decisions.md "The confidence belt"). A node
+// with fewer than kMinSpreadPairs pairs is left out.
+std::vector<BeltNode> fitThetaBelt(const std::vector<double>& estimates, const std::vector<double>& truths, double coverage,
+                                   const std::vector<double>& nodes = kBeltNodes, double half_width = kBeltHalfWidth);
+
 // One-sided upper confidence bound of a Poisson mean after `count` events (Garwood 1936:
 // ½ χ²_{2(count+1)}(confidence)), by bisection on the Poisson distribution function.
 double poissonUpperBound(long count, double confidence = 0.95);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace quadfdi {
@@ -34,6 +35,46 @@ MotorTheta relativeToOthers(const MotorTheta& theta) {
     r[static_cast<std::size_t>(k)] = theta[static_cast<std::size_t>(k)] / std::max(kMinOthersMedian, others[1]);
   }
   return r;
+}
+
+void beltAcceptance(const std::vector<BeltNode>& belt, double theta, double* lo, double* hi) {
+  const BeltNode* below = &belt.front();
+  const BeltNode* above = &belt.back();
+  if (theta <= below->theta) above = below;
+  else if (theta >= above->theta) below = above;
+  else {
+    const auto it = std::upper_bound(belt.begin(), belt.end(), theta, [](double t, const BeltNode& n) { return t < n.theta; });
+    above = &*it;
+    below = &*(it - 1);
+  }
+  if (below == above) {  // outside the nodes: the end node's region moved with Θ
+    *lo = below->accept_lo + (theta - below->theta);
+    *hi = below->accept_hi + (theta - below->theta);
+    return;
+  }
+  const double f = (theta - below->theta) / (above->theta - below->theta);
+  *lo = below->accept_lo + f * (above->accept_lo - below->accept_lo);
+  *hi = below->accept_hi + f * (above->accept_hi - below->accept_hi);
+}
+
+void invertBelt(const std::vector<BeltNode>& belt, double estimate, double widen, double* lo, double* hi) {
+  double first = 2.0, last = -1.0, nearest = 0.0, nearest_gap = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= kBeltGrid; ++i) {
+    const double theta = static_cast<double>(i) / kBeltGrid;
+    double a_lo, a_hi;
+    beltAcceptance(belt, theta, &a_lo, &a_hi);
+    const double gap = std::max({0.0, a_lo - widen - estimate, estimate - a_hi - widen});
+    if (gap == 0.0) {
+      first = std::min(first, theta);
+      last = std::max(last, theta);
+    } else if (gap < nearest_gap) {
+      nearest_gap = gap;
+      nearest = theta;
+    }
+  }
+  if (last < first) first = last = nearest;
+  *lo = first;
+  *hi = last;
 }
 
 double normalQuantile(double p) {
@@ -77,6 +118,15 @@ std::string validate(const SequentialConfig& c) {
       return at + "estimate_below must be finite and ascending";
   }
   if (!n.spread_bins.empty() && !(n.spread_bins.back().estimate_below >= 1.0)) return "noise spread_bins: the last range must reach 1";
+  if (n.belt.size() > kMaxBeltNodes) return "noise belt: at most " + std::to_string(kMaxBeltNodes) + " nodes";
+  for (std::size_t b = 0; b < n.belt.size(); ++b) {
+    const BeltNode& node = n.belt[b];
+    const std::string at = "noise belt[" + std::to_string(b) + "]: ";
+    if (!std::isfinite(node.theta) || node.theta < 0.0 || node.theta > 1.0 || (b > 0 && !(node.theta > n.belt[b - 1].theta)))
+      return at + "theta must lie in [0, 1] and ascend";
+    if (!std::isfinite(node.accept_lo) || !std::isfinite(node.accept_hi) || !(node.accept_lo <= node.accept_hi))
+      return at + "accept_lo and accept_hi must be finite with accept_lo <= accept_hi";
+  }
   if (!(n.phi >= 0.0 && n.phi < 1.0)) return "noise phi must lie in [0, 1)";
   if (!std::isfinite(n.healthy_mean)) return "noise healthy_mean must be finite";
   return {};
@@ -202,8 +252,18 @@ void SequentialRule::estimate(int k) {
   while (b + 1 < bins_.size() && state_.theta_est >= bins_[b].estimate_below) ++b;
   const double variance = mean_variance_[b * (static_cast<std::size_t>(w) + 1) + static_cast<std::size_t>(n)];
   state_.standard_error = std::sqrt(variance + bins_[b].model_sigma * bins_[b].model_sigma);
-  state_.theta_lo = std::clamp(state_.theta_est - z_ * state_.standard_error, 0.0, 1.0);
-  state_.theta_hi = std::clamp(state_.theta_est + z_ * state_.standard_error, 0.0, 1.0);
+  const std::vector<BeltNode>& belt = config_.noise.belt;
+  if (belt.empty()) {
+    state_.theta_lo = std::clamp(state_.theta_est - z_ * state_.standard_error, 0.0, 1.0);
+    state_.theta_hi = std::clamp(state_.theta_est + z_ * state_.standard_error, 0.0, 1.0);
+    return;
+  }
+  // The belt is fitted on full windows: a mean of fewer samples has more noise, which widens
+  // every acceptance region by z times the extra standard deviation.
+  const double full = mean_variance_[b * (static_cast<std::size_t>(w) + 1) + static_cast<std::size_t>(w)];
+  const double widen = z_ * std::sqrt(std::max(0.0, variance - full));
+  invertBelt(belt, state_.theta_est, widen, &state_.theta_lo, &state_.theta_hi);
 }
+
 
 }  // namespace quadfdi

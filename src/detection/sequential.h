@@ -65,6 +65,20 @@ struct SpreadBin {
 };
 inline constexpr std::size_t kMaxSpreadBins = 16;  // [-] most ranges a noise model holds (a calibration file's bound)
 
+// One node of a confidence belt (Neyman 1937): at true effectiveness `theta`, the flown-through
+// estimate falls in [accept_lo, accept_hi] with the interval's probability. The interval for an
+// estimate is then every Θ whose acceptance region holds it, so it holds the truth at its level
+// for every Θ, not only on average over a range of the estimate (detection/calibration.h
+// fitThetaBelt, docs/decisions.md "The confidence belt").
+struct BeltNode {
+  double theta = 0.0;      // [-] true effectiveness of the node
+  double accept_lo = 0.0;  // [-] lowest estimate accepted at `theta`
+  double accept_hi = 1.0;  // [-] highest estimate accepted at `theta`
+  long pairs = 0;          // [-] calibration pairs (estimate, Θ) it was fitted on
+};
+inline constexpr int kBeltGrid = 1000;  // [-] the belt is inverted on Θ = 0, 1/kBeltGrid, …, 1
+inline constexpr std::size_t kMaxBeltNodes = 64;  // [-] most nodes a noise model holds (a calibration file's bound)
+
 // Θ̂ of one motor on healthy flights as a stationary AR(1) process, plus the systematic error of
 // the network on faulty flights. Defaults: measured on the shipped TCN (models/tcn-model-free.qfdw)
 // by `quadfdi calibrate --flights 40 --flight-seconds 90 --faulty-flights 100` (1.0 simulated
@@ -79,6 +93,8 @@ struct ThetaNoiseModel {
                                 //     estimate (fitted on coverage, detection/calibration.h fitEstimateSpread)
   std::vector<SpreadBin> spread_bins;  // per range of the estimate, ascending; when present they replace
                                        // noise_scale and model_sigma (the pooled fit) for the interval
+  std::vector<BeltNode> belt;  // ascending in theta; when present the interval inverts it (the spread then only
+                               // widens it for an estimate of fewer samples than the window)
 };
 
 struct SequentialConfig {
@@ -169,6 +185,14 @@ class SequentialRule {
 // One sample's increment of a CUSUM at `level` with an increment cap: min(level − Θ̂, cap)
 // (a Huber-type robust CUSUM; the rule and its calibration share it).
 inline double cusumIncrement(double level, double theta, double cap) { return std::min(level - theta, cap); }
+
+// A belt's acceptance region at `theta` (linear between nodes; beyond the end nodes, the end
+// node's region moved with theta). `belt` non-empty, ascending.
+void beltAcceptance(const std::vector<BeltNode>& belt, double theta, double* lo, double* hi);
+// The interval a belt gives an estimate: the least and greatest Θ on the grid 0, 1/kBeltGrid, …, 1
+// whose acceptance region, widened by `widen` on each side, holds it; none: the Θ whose region is
+// nearest, as a point. No allocation.
+void invertBelt(const std::vector<BeltNode>& belt, double estimate, double widen, double* lo, double* hi);
 
 // Standard-normal quantile Φ⁻¹(p), p in (0, 1) (bisection on erfc; to 1e-12).
 double normalQuantile(double p);

@@ -63,6 +63,11 @@ nlohmann::json noiseToJson(const ThetaNoiseModel& m) {
       noise["spread_bins"].push_back(
           {{"estimate_below", b.estimate_below}, {"noise_scale", b.noise_scale}, {"model_sigma", b.model_sigma}, {"pairs", b.pairs}});
   }
+  if (!m.belt.empty()) {
+    noise["belt"] = nlohmann::json::array();
+    for (const BeltNode& b : m.belt)
+      noise["belt"].push_back({{"theta", b.theta}, {"accept_lo", b.accept_lo}, {"accept_hi", b.accept_hi}, {"pairs", b.pairs}});
+  }
   return noise;
 }
 
@@ -79,6 +84,12 @@ ThetaNoiseModel noiseFromJson(const nlohmann::json& n, const std::string& where,
     for (const auto& b : bins)
       m.spread_bins.push_back({b.at("estimate_below").get<double>(), b.at("noise_scale").get<double>(), b.at("model_sigma").get<double>(),
                                count(b.at("pairs"), "pairs")});
+  }
+  if (n.contains("belt")) {  // absent before 2026-11-27, and where the calibration fitted none: the spread's interval
+    const auto& belt = n.at("belt");  // its count and values: validate()
+    if (!belt.is_array()) throw ConfigError(where + ": bad calibration: " + key + " belt must be an array of nodes");
+    for (const auto& b : belt)
+      m.belt.push_back({b.at("theta").get<double>(), b.at("accept_lo").get<double>(), b.at("accept_hi").get<double>(), count(b.at("pairs"), "pairs")});
   }
   return m;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/cli_support.h"
+#include "io/calibration_file.h"
 
 namespace {
 
@@ -240,6 +241,43 @@ TEST(DetectCli, TheCalibrationsTargetRateIsTheDefault) {
   ASSERT_EQ(by_default.exit_code, 0) << by_default.out.substr(0, 400);
   EXPECT_TRUE(by_default.out == run(base + " --false-alarms-per-hour 2000", false).out);
   EXPECT_TRUE(by_default.out != run(base + " --false-alarms-per-hour 0.001", false).out);
+}
+
+// --refit-interval: the faulty flights are flown again and only the interval is refitted; the
+// noise model, levels and thresholds are the file's. A belt is fitted (complete failures flown for
+// its node at 0) and detect states it. A missing file is refused in one line naming it.
+TEST(DetectCli, CalibrateRefitsOnlyTheInterval) {
+  using quadfdi::DecisionCalibration;
+  using quadfdi::readCalibrationFile;
+  using quadfdi::calibrationToJson;
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw";
+  const std::string cal = temp("refit-spread.json"), belt = temp("refit-belt.json"), again = temp("refit-again.json");
+  ASSERT_EQ(run("calibrate -q --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 3 --output " + cal).exit_code, 0);
+  const CommandResult r = run("calibrate --model " + model + " --faulty-flights 3 --refit-interval " + cal + " --interval belt --output " + belt);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("calibrate: interval of " + cal + " refitted (belt, "), std::string::npos) << r.out;
+  const DecisionCalibration before = readCalibrationFile(cal), after = readCalibrationFile(belt);
+  EXPECT_EQ(after.degraded.threshold, before.degraded.threshold);
+  EXPECT_EQ(after.failed.threshold, before.failed.threshold);
+  EXPECT_EQ(after.noise.sigma, before.noise.sigma);
+  EXPECT_EQ(after.flight_hours, before.flight_hours);
+  EXPECT_EQ(after.source.rfind(before.source, 0), 0u);  // the file's provenance, then the refit's
+  EXPECT_NE(after.source.find("interval refitted (belt) on 3 faulty flights and 60 complete failures"), std::string::npos) << after.source;
+  ASSERT_FALSE(quadfdi::estimateNoise(after).belt.empty());
+  EXPECT_EQ(quadfdi::estimateNoise(after).belt.front().theta, 0.0);
+  EXPECT_TRUE(quadfdi::estimateNoise(before).belt.empty());
+  // Refitting the spread on the same flights gives the file back, but for its provenance.
+  ASSERT_EQ(run("calibrate -q --model " + model + " --faulty-flights 3 --refit-interval " + cal + " --output " + again).exit_code, 0);
+  DecisionCalibration same = readCalibrationFile(again);
+  same.source = before.source;
+  EXPECT_EQ(calibrationToJson(same), calibrationToJson(before));
+  const CommandResult d = run("detect --model " + model + " --calibration " + belt + " --input " + faultyCsv() + " --output " + temp("belt.jsonl"));
+  ASSERT_EQ(d.exit_code, 0) << d.out;
+  EXPECT_NE(d.out.find("FAULT in motor 3"), std::string::npos) << d.out;
+  const CommandResult missing = run("calibrate -q --model " + model + " --refit-interval " + temp("no-such.json"));
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.out.find(temp("no-such.json") + ": "), std::string::npos) << missing.out;
+  EXPECT_EQ(std::count(missing.out.begin(), missing.out.end(), '\n'), 1) << missing.out;
 }
 
 TEST(DetectCli, APipelineFromSimulateGivesTheFileModeOutput) {

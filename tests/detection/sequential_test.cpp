@@ -535,6 +535,94 @@ TEST(Calibration, TheEstimateSpreadIsFittedPerRangeOfTheEstimate) {
   EXPECT_EQ(none[0].model_sigma, ThetaNoiseModel{}.model_sigma);
 }
 
+// Pairs whose error depends on the true Θ, not on where the estimate lies: wide (σ 0.02) at Θ
+// near 0.1, 0.3, 0.5, …, narrow (0.004) near 0, 0.2, 0.4, …, and one-sided at Θ = 0 (Θ̂ ≥ 0). A
+// tenth of them are complete failures, as `calibrate --interval belt` flies.
+struct BeltCase {
+  std::vector<double> est, truth, var;
+  static double sigma(double theta) { return static_cast<int>(std::lround(theta * 10.0)) % 2 ? 0.02 : 0.004; }
+  static double draw(double theta, Rng& rng) {
+    const double g = std::sqrt(-2.0 * std::log(1.0 - rng.uniform())) * std::cos(2.0 * M_PI * rng.uniform());  // Box–Muller
+    return theta == 0.0 ? std::abs(g) * 0.01 : theta + 0.005 + sigma(theta) * g;  // a small bias too
+  }
+  BeltCase(int n, std::uint64_t seed) {
+    Rng rng(seed, 0);
+    for (int i = 0; i < n; ++i) {
+      const double t = i % 10 == 0 ? 0.0 : rng.uniform(0.0, 0.9);
+      est.push_back(draw(t, rng));
+      truth.push_back(t);
+      var.push_back(0.01 * 0.01);
+    }
+  }
+};
+
+// The belt's interval holds Θ at its level for each Θ; a spread per range of the estimate holds it
+// on average over a range but not for each Θ, since every range mixes wide- and narrow-error Θ.
+TEST(Calibration, TheBeltHoldsThetaAtItsLevelForEachTheta) {
+  const BeltCase fit(40000, 61);
+  const std::vector<BeltNode> belt = fitThetaBelt(fit.est, fit.truth, 0.9);
+  ASSERT_EQ(belt.size(), kBeltNodes.size());
+  EXPECT_EQ(belt[0].accept_lo, 0.0);  // the boundary: every estimate up to its quantile
+  for (std::size_t i = 1; i < belt.size(); ++i) EXPECT_LT(belt[i].accept_lo, belt[i].accept_hi);
+  const std::vector<SpreadBin> bins = fitBinnedEstimateSpread(fit.est, fit.truth, fit.var, 0.9);
+  const double z = normalQuantile(0.95);
+  Rng rng(62, 0);
+  int spread_off = 0;
+  for (double theta : kBeltNodes) {
+    long belt_in = 0, spread_in = 0;
+    const int n = 4000;
+    for (int i = 0; i < n; ++i) {
+      const double e = BeltCase::draw(theta, rng);
+      double lo, hi;
+      invertBelt(belt, e, 0.0, &lo, &hi);
+      belt_in += lo <= theta && theta <= hi;
+      std::size_t b = 0;
+      while (b + 1 < bins.size() && e >= bins[b].estimate_below) ++b;
+      const double se = std::sqrt(bins[b].noise_scale * 1e-4 + bins[b].model_sigma * bins[b].model_sigma);
+      spread_in += std::max(0.0, e - z * se) <= theta && theta <= e + z * se;
+    }
+    EXPECT_NEAR(static_cast<double>(belt_in) / n, 0.9, 0.03) << "Θ = " << theta;
+    spread_off += std::abs(static_cast<double>(spread_in) / n - 0.9) > 0.05;
+  }
+  EXPECT_GE(spread_off, 4);  // the spread is off by more than 5 points at several Θ
+  // Too few pairs at a node: left out.
+  EXPECT_TRUE(fitThetaBelt({0.5}, {0.5}, 0.9).empty());
+}
+
+// The interval inverts the belt: every Θ whose acceptance region holds the estimate.
+TEST(SequentialRule, TheIntervalInvertsTheBelt) {
+  const double kGridStep = 1.5 / kBeltGrid;  // the inversion's resolution: a bound on an edge may fall one grid step either side
+  const std::vector<BeltNode> band{{0.0, -0.05, 0.05, 100}, {1.0, 0.95, 1.05, 100}};  // Θ ± 0.05 everywhere
+  double lo, hi;
+  invertBelt(band, 0.5, 0.0, &lo, &hi);
+  EXPECT_NEAR(lo, 0.45, kGridStep);
+  EXPECT_NEAR(hi, 0.55, kGridStep);
+  invertBelt(band, 0.02, 0.0, &lo, &hi);  // clipped at 0
+  EXPECT_EQ(lo, 0.0);
+  EXPECT_NEAR(hi, 0.07, kGridStep);
+  invertBelt(band, 0.5, 0.02, &lo, &hi);  // widened
+  EXPECT_NEAR(lo, 0.43, kGridStep);
+  EXPECT_NEAR(hi, 0.57, kGridStep);
+  // Beyond the end nodes the region moves with Θ; an estimate no region holds gets the nearest Θ.
+  const std::vector<BeltNode> short_belt{{0.2, 0.18, 0.22, 100}, {0.4, 0.38, 0.42, 100}};
+  invertBelt(short_belt, 0.7, 0.0, &lo, &hi);
+  EXPECT_NEAR(lo, 0.68, kGridStep);
+  EXPECT_NEAR(hi, 0.72, kGridStep);
+  invertBelt(band, -0.3, 0.0, &lo, &hi);
+  EXPECT_EQ(lo, 0.0);
+  EXPECT_EQ(hi, 0.0);
+  // In the rule: the interval of a full window is the belt's; one of fewer samples is wider.
+  SequentialConfig c = handConfig();
+  c.noise.belt = band;
+  SequentialRule rule(c);
+  ASSERT_EQ(updatesUntil(rule, with(2, 0.5f), SequentialStatus::kRaised), 8);  // 0.4 a sample past 2.999
+  const double early = rule.state().theta_hi - rule.state().theta_lo;
+  for (int i = 0; i < c.estimate_window; ++i) rule.update(with(2, 0.5f), 1);
+  EXPECT_NEAR(rule.state().theta_lo, 0.45, kGridStep);
+  EXPECT_NEAR(rule.state().theta_hi, 0.55, kGridStep);
+  EXPECT_GT(early, 0.1 + 0.01);
+}
+
 // The rule states the interval of the range its estimate lies in.
 TEST(SequentialRule, TheIntervalComesFromTheEstimatesRange) {
   SequentialConfig c = handConfig();
@@ -581,6 +669,16 @@ std::string rejection(const std::string& json) {
   return {};
 }
 
+// rejection() of `json` with its first `from` replaced by `to`.
+std::string rejectionAfterEdit(std::string json, const std::string& from, const std::string& to) {
+  const std::size_t at = json.find(from);
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "no " << from;
+    return {};
+  }
+  return rejection(json.replace(at, from.size(), to));
+}
+
 TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
   const auto train = ar1Streams(2, 50000, 0.97, 0.02, 0.9, 5);
   DecisionCalibration c = defaultCalibration(0.9, 0.3, 0.1, 0.002);
@@ -617,6 +715,23 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
     for (std::size_t b = 0; b <= kMaxSpreadBins; ++b) ranged.noise.spread_bins.push_back({1.0 + static_cast<double>(b), 1.0, 0.0, 100});
     const std::string too_many = rejection(calibrationToJson(ranged));
     EXPECT_NE(too_many.find("cal.json: bad calibration: noise spread_bins: at most 16 ranges"), std::string::npos) << too_many;
+  }
+  {  // the belt round-trips into the rule; absent: none (the spread's interval); malformed: refused
+    DecisionCalibration belted = c;
+    belted.noise.belt = {{0.0, 0.0, 0.03, 600}, {0.5, 0.47, 0.53, 900}};
+    const std::string json = calibrationToJson(belted);
+    const DecisionCalibration back_belt = calibrationFromJson(json, "x.json");
+    ASSERT_EQ(back_belt.noise.belt.size(), 2u);
+    EXPECT_EQ(back_belt.noise.belt[1].accept_hi, 0.53);
+    EXPECT_EQ(back_belt.noise.belt[1].pairs, 900);
+    EXPECT_EQ(calibrationToJson(back_belt), json);
+    EXPECT_EQ(sequentialConfig(back_belt).noise.belt.size(), 2u);
+    EXPECT_EQ(calibrationToJson(c).find("\"belt\""), std::string::npos);
+    const std::string error = rejectionAfterEdit(json, "\"accept_hi\": 0.53", "\"accept_hi\": 0.43");
+    EXPECT_NE(error.find("cal.json: bad calibration: noise belt[1]: accept_lo and accept_hi must be finite with accept_lo <= accept_hi"),
+              std::string::npos) << error;
+    const std::string order_error = rejectionAfterEdit(json, "\"theta\": 0.5", "\"theta\": 0.0");
+    EXPECT_NE(order_error.find("cal.json: bad calibration: noise belt[1]: theta must lie in [0, 1] and ascend"), std::string::npos) << order_error;
   }
   {  // the reference round-trips; absent (every file before 2026-11-26): absolute; unknown: refused
     DecisionCalibration relative = c;
