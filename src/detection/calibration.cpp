@@ -267,7 +267,7 @@ std::vector<BeltNode> fitThetaBelt(const std::vector<double>& estimates, const s
     BeltNode node;
     node.theta = g;
     node.pairs = static_cast<long>(moved.size());
-    if (g <= 0.0) {
+    if (boundary) {
       node.accept_lo = std::min(0.0, moved.front());
       node.accept_hi = rank(std::ceil((n + 1.0) * coverage));
     } else {

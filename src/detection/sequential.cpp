@@ -265,5 +265,4 @@ void SequentialRule::estimate(int k) {
   invertBelt(belt, state_.theta_est, widen, &state_.theta_lo, &state_.theta_hi);
 }
 
-
 }  // namespace quadfdi
