@@ -289,33 +289,28 @@ int runCalibrate(const CalibrateOptions& o) {
   }
   ThetaNoiseModel& interval_noise = estimateNoise(c);
 
-  // Faulty flights of the default path (nominal Crazyflie under LQR): fault at step 500.
-  Rng draw(o.seed, kFirstStream - 1);
-  for (int f = 0; o.randomise.empty() && f < o.faulty_flights; ++f) {
+  // Faulty flights of the default path (nominal Crazyflie under LQR): fault at step 500; flight
+  // `index` of the faulty scenario streams.
+  auto flyFaulty = [&](int index, int motor, double theta) {
     FlightThetaStream s;
-    s.truth.motor = 1 + static_cast<int>(draw.uniform(0.0, 4.0)) % 4;
-    s.truth.theta = draw.uniform(0.0, 0.9);
+    s.truth.motor = motor;
+    s.truth.theta = theta;
     const int fault_step = 500, flight_steps = fault_step + 2 * T + 4 * SequentialConfig{}.estimate_window;
-    const std::vector<TelemetrySample> flight = simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(f),
-                                                               flight_steps, flight_steps, s.truth.motor, s.truth.theta, fault_step, o);
+    const std::vector<TelemetrySample> flight = simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(index),
+                                                               flight_steps, flight_steps, motor, theta, fault_step, o);
     s.theta = thetaStream(model, flight);
     s.observable = observableMasks(flight, T);
     s.truth.fault_sample = fault_step - (T - 1);  // stream index of the fault's sample
-    faulty.push_back(std::move(s));
+    return s;
+  };
+  Rng draw(o.seed, kFirstStream - 1);
+  for (int f = 0; o.randomise.empty() && f < o.faulty_flights; ++f) {
+    const int motor = 1 + static_cast<int>(draw.uniform(0.0, 4.0)) % 4;
+    faulty.push_back(flyFaulty(f, motor, draw.uniform(0.0, 0.9)));
   }
   Rng motors(o.seed, kFirstStream - 3);
-  for (int f = 0; o.randomise.empty() && o.interval == "belt" && f < beltBoundaryFlights(o.faulty_flights); ++f) {
-    FlightThetaStream s;
-    s.truth.motor = 1 + static_cast<int>(motors.next() % 4);
-    s.truth.theta = 0.0;
-    const int fault_step = 500, flight_steps = fault_step + 2 * T + 4 * SequentialConfig{}.estimate_window;
-    const std::vector<TelemetrySample> flight =
-        simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(o.faulty_flights + f), flight_steps,
-                       flight_steps, s.truth.motor, 0.0, fault_step, o);
-    s.theta = thetaStream(model, flight);
-    s.truth.fault_sample = fault_step - (T - 1);
-    boundary.push_back(std::move(s));
-  }
+  for (int f = 0; o.randomise.empty() && o.interval == "belt" && f < beltBoundaryFlights(o.faulty_flights); ++f)
+    boundary.push_back(flyFaulty(o.faulty_flights + f, 1 + static_cast<int>(motors.next() % 4), 0.0));
 
   // Model error of the estimate: from the sample the fault has been flown through (the network's
   // window T holds only faulty samples; evaluation/sequential_metrics.h flown_through) on, every
