@@ -64,15 +64,6 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
          "Refit only the Θ interval of this calibration FILE (by --interval) on the faulty flights — give the --randomise, "
          "--vehicle, --seed and --faulty-flights that made it — keeping its noise model, levels and thresholds; no healthy flight "
          "is flown. Writes -o, else FILE itself");
-  t->add("--add-physics", o.add_physics,
-         "Add the physics check (a thrust-loss observer on the vehicle's description, docs/decisions.md) to this calibration "
-         "FILE: fly the healthy flights (give the --randomise, --vehicle, --flights, --flight-seconds and --seed that made it) "
-         "and set its threshold for half the file's false-alarm target, as each level's; keeps everything else. Writes -o, else FILE");
-  t->add("--disturbance-walk", o.disturbance_walk,
-         "With --add-physics: the observer's random-walk intensity of unexplained angular acceleration [rad/s² per √s], its bandwidth")
-      .above(0.0, 1e9);
-  t->add("--observer-attitude-noise", o.observer_attitude_noise, "With --add-physics: the observer's attitude measurement noise [rad]")
-      .above(0.0, 1.0);
   t->add("--degraded-cap", o.degraded_cap,
          "Most one sample adds to the degraded CUSUM [effectiveness] (a robust CUSUM: a short deep dip of healthy Θ̂ weighs "
          "no more than a mild fault's sustained one; 0: no cap)")
@@ -202,75 +193,6 @@ int beltBoundaryFlights(int faulty_flights) { return faulty_flights > 0 ? std::m
 
 }  // namespace
 
-constexpr std::uint64_t kFirstCalibrationStream = std::uint64_t{1} << 42;  // disjoint from training (0 …), held-out (2⁴⁰), test (2⁴¹)
-
-// The randomised flights of --randomise, with --vehicle's descriptions instead of the file's.
-RolloutConfig calibrationRollout(const CalibrateOptions& o, const TrainedModel& model) {
-  RolloutConfig rc;
-  rc.window = model.metadata.window;
-  rc.dt = model.metadata.dt;
-  rc.output = model.metadata.output;
-  rc.randomisation = loadRandomisation(o.randomise);
-  if (!o.vehicles.empty()) {
-    rc.randomisation.vehicles.clear();
-    rc.randomisation.vehicle_names.clear();
-    for (const std::string& v : o.vehicles) {
-      rc.randomisation.vehicles.push_back(loadVehicleParams(v));
-      rc.randomisation.vehicle_names.push_back(std::filesystem::path(v).stem().string());
-    }
-  }
-  return rc;
-}
-
-// --add-physics: the healthy flights of the calibration again, through the thrust-loss observer only.
-int addPhysics(const CalibrateOptions& o, const TrainedModel& model, int steps, long settle_samples) {
-  require(!o.randomise.empty(), "--add-physics needs --randomise (the observer needs each flight's vehicle description)");
-  require(o.refit_interval.empty(), "--add-physics and --refit-interval are separate runs");
-  DecisionCalibration c = readCalibrationFile(o.add_physics);
-  const double dt = model.metadata.dt;
-  require(std::abs(c.dt - dt) <= 1e-12 * dt, o.add_physics + ": calibrated at dt = " + std::to_string(c.dt) + " s, the model runs at " +
-                                                 std::to_string(dt) + " s");
-  RolloutConfig rc = calibrationRollout(o, model);
-  rc.seed = o.seed + kFirstCalibrationStream;
-  rc.post_fault_steps = std::max(1, steps - model.metadata.window);
-  std::vector<TrajectoryJob> jobs;
-  for (int f = 0; f < o.flights; ++f) jobs.push_back({static_cast<std::uint64_t>(f), 2, 1.0});
-  ThrustLossObserverConfig observer;
-  observer.dt = dt;
-  observer.disturbance_walk = o.disturbance_walk;
-  observer.attitude_noise = o.observer_attitude_noise;
-  std::vector<std::vector<MotorTheta>> physics;
-  std::vector<std::vector<std::uint8_t>> observable;
-  long samples = 0;
-  for (FlightThetaStream& s : simulateThetaStreams(model, rc, jobs, 0, 16, nullptr, {}, &observer, false)) {
-    const std::size_t n = std::min(s.physics.size(), static_cast<std::size_t>(std::max(0L, settle_samples)));
-    s.physics.erase(s.physics.begin(), s.physics.begin() + static_cast<std::ptrdiff_t>(n));
-    s.observable.erase(s.observable.begin(), s.observable.begin() + static_cast<std::ptrdiff_t>(std::min(n, s.observable.size())));
-    samples += static_cast<long>(s.physics.size());
-    physics.push_back(std::move(s.physics));
-    observable.push_back(std::move(s.observable));
-  }
-  const double hours = static_cast<double>(samples) * dt / 3600.0;
-  c.physics = true;
-  c.observer = observer;
-  c.physics_level = calibrateLevel(excursionMaxima(physics, c.failed.level, 0, kNoIncrementCap, &observable), c.failed.level, hours,
-                                   c.target_rate / 2.0, c.noise, dt);
-  char what[200];
-  std::snprintf(what, sizeof what, "; physics check added on %d healthy flights (%.2f h), disturbance walk %g, attitude noise %g, seed %llu",
-                o.flights, hours, observer.disturbance_walk, observer.attitude_noise, o.seed);
-  c.source += what;
-  const std::string output = o.output.empty() ? o.add_physics : o.output;
-  writeCalibrationFile(output, c);
-  if (!o.quiet) {
-    const LevelCalibration& l = c.physics_level;
-    std::fprintf(stderr, "calibrate: physics check at %.2f over %.3f h: h = %.3f (%s; %ld excursions, largest %.3g), %ld alarms in the data = %.3g/h\n",
-                 l.level, hours, l.threshold, l.method.c_str(), l.excursions, l.tail_maxima.empty() ? 0.0 : l.tail_maxima.front(),
-                 l.alarms_at_threshold, l.rate_at_threshold);
-    std::fprintf(stderr, "calibrate: wrote %s\n", output.c_str());
-  }
-  return 0;
-}
-
 int runCalibrate(const CalibrateOptions& o) {
   for (double level : o.degraded_below) require(o.failed_below < level, "--failed-below must be below --degraded-below");
   const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
@@ -291,8 +213,7 @@ int runCalibrate(const CalibrateOptions& o) {
     require(o.faulty_flights > 0, "--refit-interval needs --faulty-flights > 0");
   }
   require(settle_samples < steps - T, "--settle must leave some of each --flight-seconds flight");
-  if (!o.add_physics.empty()) return addPhysics(o, model, steps, settle_samples);
-  constexpr std::uint64_t kFirstStream = kFirstCalibrationStream;
+  constexpr std::uint64_t kFirstStream = std::uint64_t{1} << 42;  // disjoint from training (0 …), held-out (2⁴⁰), test (2⁴¹)
 
   std::vector<std::vector<MotorTheta>> healthy;
   std::vector<std::vector<std::uint8_t>> healthy_observable;  // the command gate's masks (detection/command_gate.h)
@@ -300,7 +221,19 @@ int runCalibrate(const CalibrateOptions& o) {
   // Randomised flights (--randomise): every library vehicle, controller, manoeuvre and estimator.
   std::vector<FlightThetaStream> faulty, boundary;  // boundary: complete failures for the belt (--interval belt)
   if (!o.randomise.empty()) {
-    RolloutConfig rc = calibrationRollout(o, model);
+    RolloutConfig rc;
+    rc.window = T;
+    rc.dt = dt;
+    rc.output = model.metadata.output;
+    rc.randomisation = loadRandomisation(o.randomise);
+    if (!o.vehicles.empty()) {
+      rc.randomisation.vehicles.clear();
+      rc.randomisation.vehicle_names.clear();
+      for (const std::string& v : o.vehicles) {
+        rc.randomisation.vehicles.push_back(loadVehicleParams(v));
+        rc.randomisation.vehicle_names.push_back(std::filesystem::path(v).stem().string());
+      }
+    }
     rc.seed = o.seed + kFirstStream;
     rc.post_fault_steps = std::max(1, steps - T);
     std::vector<TrajectoryJob> jobs;

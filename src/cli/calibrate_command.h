@@ -6,8 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "detection/thrust_loss_observer.h"
-
 #include "core/types.h"
 #include "detection/calibration.h"
 
@@ -30,9 +28,6 @@ struct CalibrateOptions {
   double delay_budget = 0.3;        // [s] level choice: a fault counts when its motor is named this long after it (issue 14)
   double failed_below = 0.3;        // [-]
   std::string refit_interval;       // a calibration FILE: refit only its interval on the faulty flights, keeping the rest
-  std::string add_physics;          // a calibration FILE: add the physics check, its threshold from the healthy flights, keeping the rest
-  double disturbance_walk = ThrustLossObserverConfig{}.disturbance_walk;  // [rad/s² per √s] the observer's bandwidth
-  double observer_attitude_noise = ThrustLossObserverConfig{}.attitude_noise;  // [rad] the observer's measurement noise
   std::string interval = "spread";  // the Θ interval: spread (per range of the estimate) or belt (Neyman's, per Θ;
                                     //     detection/calibration.h fitThetaBelt)
   double degraded_cap = kDefaultDegradedCap;  // [effectiveness] degraded CUSUM's increment cap per sample (0: none)

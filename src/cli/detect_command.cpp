@@ -211,7 +211,6 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, std::option
       if (std::abs(level->level - below) > 1e-9) *level = calibrateLevel({}, below, 0.0, per_level, c.noise, dt, level->increment_cap);
       else retarget(*level, c.flight_hours, per_level, c.noise, dt);
     }
-    if (c.physics) retarget(c.physics_level, c.flight_hours, per_level, c.noise, dt);  // its own budget, as each level's
     c.target_rate = rate;
   }
   if (!(c.failed.level < c.degraded.level))

@@ -195,7 +195,6 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
   in.model_path = o.model_free;
   in.calibration_path = calibration.empty() ? "none (default noise model, Siegmund thresholds)" : calibration;
   in.decision.rule = rule.config;
-  if (rule.calibration.physics) in.decision.physics = rule.calibration.observer;
   in.decision.dt = model.metadata.dt;
   in.calibration = rule.calibration;
   for (const std::string& v : o.vehicles) {

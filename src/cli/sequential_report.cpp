@@ -146,7 +146,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   std::vector<TrajectoryJob> jobs;
   for (int i = 0; i < flights; ++i) jobs.push_back({static_cast<std::uint64_t>(i), 2, 1.0});
   if (progress) progress("flying " + std::to_string(flights) + " healthy flights of " + num(kFlightSeconds, 0) + " s");
-  std::vector<FlightThetaStream> healthy_streams = simulateThetaStreams(model, healthy, jobs, in.threads, 16, nullptr, {}, in.decision.physicsObserver());
+  std::vector<FlightThetaStream> healthy_streams = simulateThetaStreams(model, healthy, jobs, in.threads, 16);
   // The rate is counted from kUpsetRecoverySeconds into each recording, as the calibration is; the
   // alarms of the rule run over whole recordings, in their first seconds, are reported apart.
   const long settle_samples = std::lround(kUpsetRecoverySeconds / base.dt);
@@ -167,7 +167,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   for (double theta : thetas)
     for (int i = 0; i < per_theta; ++i) fault_jobs.push_back({scenario++, 1 + i % 4, theta});
   if (progress) progress("flying " + std::to_string(fault_jobs.size()) + " faulty flights");
-  const std::vector<FlightThetaStream> fault_streams = simulateThetaStreams(model, faulty, fault_jobs, in.threads, 64, nullptr, {}, in.decision.physicsObserver());
+  const std::vector<FlightThetaStream> fault_streams = simulateThetaStreams(model, faulty, fault_jobs, in.threads);
 
   const SequentialEvaluation h = evaluateSequential(healthy_streams, in.decision);
   std::ostringstream md, csv;

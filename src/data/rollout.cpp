@@ -368,7 +368,6 @@ void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch&
   }
 
   recordStart(b, slot, plant.x, sc.goal, theta, fault_step, job.scenario_index);
-  b.vehicle[static_cast<std::size_t>(slot)] = d.vehicle;
 
   int length = 0;
   Output residual = Output::Zero();

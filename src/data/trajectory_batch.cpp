@@ -22,13 +22,12 @@ void TrajectoryBatch::resize(int n, int samples_per_trajectory) {
   initial_state.assign(un * kStateDim, 0.0);
   goal.assign(un * 3, 0.0);
   scenario_index.assign(un, 0);
-  vehicle.assign(un, 0);
 }
 
 std::size_t TrajectoryBatch::bytes() const {
   return (outputs.size() + inputs.size() + states.size() + residuals.size() + theta.size()) * sizeof(float) +
          (fault_step.size() + length.size()) * sizeof(std::int32_t) + end_status.size() +
-         (initial_state.size() + goal.size()) * sizeof(double) + scenario_index.size() * sizeof(std::uint64_t) + vehicle.size() * sizeof(std::int32_t);
+         (initial_state.size() + goal.size()) * sizeof(double) + scenario_index.size() * sizeof(std::uint64_t);
 }
 
 int faultyLength(const TrajectoryBatch& batch, const WindowRef& w) {

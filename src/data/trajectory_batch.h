@@ -29,7 +29,6 @@ struct TrajectoryBatch {
   std::vector<double> initial_state;         // [count][12] x at sample 0 (after any pre-roll)
   std::vector<double> goal;                  // [count][3]
   std::vector<std::uint64_t> scenario_index; // RNG stream of the initial condition
-  std::vector<std::int32_t> vehicle;         // randomised flights: index of the described vehicle (Randomisation::vehicles), else 0
 
   // setup: allocates for `n` trajectories of `samples_per_trajectory` samples. Per-sample
   // contents are left for the writer (RolloutEngine writes every sample).

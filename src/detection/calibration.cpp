@@ -90,7 +90,6 @@ SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelC
 SequentialConfig sequentialConfig(const DecisionCalibration& c) {
   SequentialConfig config = sequentialConfig(c.degraded, c.failed, c.noise, c.reference);
   config.estimate_reference = c.estimate_reference;
-  if (c.physics) config.physics_threshold = c.physics_level.threshold;
   config.noise = estimateNoise(c);
   return config;
 }

@@ -26,7 +26,6 @@
 #include <vector>
 
 #include "detection/sequential.h"
-#include "detection/thrust_loss_observer.h"
 
 namespace quadfdi {
 
@@ -57,12 +56,6 @@ struct DecisionCalibration {
   ThetaNoiseModel estimate_noise;  // of the estimate_reference quantity, for the interval; used only where it differs
                                    // from `reference`
   LevelCalibration degraded, failed;
-  // The physics check (detection/thrust_loss_observer.h; `calibrate --add-physics`): the CUSUM at the failed level on
-  // the observer's Θ, its threshold from the same healthy flights at its own share of false alarms. Needs the
-  // vehicle's description where the rule runs. Absent (false) in every calibration before 2026-11-27.
-  bool physics = false;
-  LevelCalibration physics_level;
-  ThrustLossObserverConfig observer;  // the settings it was calibrated with (dt: the calibration's)
   std::string source;        // provenance: command, model, simulation settings
 };
 

@@ -100,7 +100,6 @@ std::string validate(const SequentialConfig& c) {
   if (!(c.failed_below > 0.0 && c.failed_below < c.degraded_below && c.degraded_below <= 1.0))
     return "levels must satisfy 0 < failed_below < degraded_below <= 1";
   if (!(c.degraded_threshold > 0.0) || !(c.failed_threshold > 0.0)) return "CUSUM thresholds must be positive";
-  if (!(c.physics_threshold > 0.0)) return "the physics check's CUSUM threshold must be positive (infinite: none)";
   if (!(c.degraded_cap > 0.0) || !(c.failed_cap > 0.0)) return "CUSUM increment caps must be positive (infinite: none)";
   if (c.clear_after < 1) return "clear_after must be at least 1 sample";
   if (c.estimate_window < 1 || c.estimate_window > 100000) return "estimate_window must be 1 … 100000 samples";
@@ -150,7 +149,6 @@ SequentialRule::SequentialRule(const SequentialConfig& config) : config_(config)
 void SequentialRule::reset() {
   degraded_.fill(0.0);
   failed_.fill(0.0);
-  physics_.fill(0.0);
   since_change_.fill(0);
   std::fill(window_.begin(), window_.end(), 1.0f);
   window_at_ = 0;
@@ -159,8 +157,7 @@ void SequentialRule::reset() {
   state_ = SequentialState{};
 }
 
-SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int samples, std::uint8_t observable,
-                                        const MotorTheta* physics) {
+SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int samples, std::uint8_t observable) {
   const MotorTheta theta = ruleInput(network_theta, config_.reference);
   const MotorTheta estimated = config_.estimate_reference == config_.reference ? theta : ruleInput(network_theta, config_.estimate_reference);
   const long n = std::max(1, samples);
@@ -180,12 +177,6 @@ SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int sam
         std::max(0.0, before + dn * std::min(gain_limit, cusumIncrement(config_.degraded_below, x, config_.degraded_cap)));
     failed_[static_cast<std::size_t>(k)] = std::max(
         0.0, failed_[static_cast<std::size_t>(k)] + dn * std::min(gain_limit, cusumIncrement(config_.failed_below, x, config_.failed_cap)));
-    // The physics check: the same CUSUM at the failed level on the observer's Θ (no cap: its
-    // threshold is calibrated on the plain sum).
-    if (physics && std::isfinite(config_.physics_threshold))
-      physics_[static_cast<std::size_t>(k)] = std::max(
-          0.0, physics_[static_cast<std::size_t>(k)] +
-                   dn * std::min(gain_limit, config_.failed_below - static_cast<double>((*physics)[static_cast<std::size_t>(k)])));
     long& since = since_change_[static_cast<std::size_t>(k)];
     if (degraded_[static_cast<std::size_t>(k)] <= 0.0) since = 0;
     else since = (before <= 0.0) ? n : since + n;
@@ -202,7 +193,7 @@ SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int sam
     int best = -1;
     for (int k = 0; k < kMotors; ++k) {
       const std::size_t i = static_cast<std::size_t>(k);
-      if (degraded_[i] < config_.degraded_threshold && !failedEvidence(k)) continue;
+      if (degraded_[i] < config_.degraded_threshold && failed_[i] < config_.failed_threshold) continue;
       if (best < 0 || degraded_[i] > degraded_[static_cast<std::size_t>(best)]) best = k;
     }
     if (best < 0) {
@@ -211,13 +202,13 @@ SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int sam
       return building ? SequentialStatus::kBuilding : SequentialStatus::kHealthy;
     }
     state_.motor = best + 1;
-    state_.severity = failedEvidence(best) ? Severity::kFailed : Severity::kDegraded;
+    state_.severity = failed_[static_cast<std::size_t>(best)] >= config_.failed_threshold ? Severity::kFailed : Severity::kDegraded;
     recovery_run_ = 0;
     status = SequentialStatus::kRaised;
   } else {
     const std::size_t m = static_cast<std::size_t>(state_.motor - 1);
     const double x = static_cast<double>(theta[m]);
-    if (state_.severity == Severity::kDegraded && failedEvidence(state_.motor - 1)) {
+    if (state_.severity == Severity::kDegraded && failed_[m] >= config_.failed_threshold) {
       state_.severity = Severity::kFailed;
       recovery_run_ = 0;
       status = SequentialStatus::kEscalated;
@@ -230,10 +221,10 @@ SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int sam
         recovery_run_ = 0;
         if (state_.severity == Severity::kFailed) {
           state_.severity = Severity::kDegraded;
-          failed_[m] = physics_[m] = 0.0;
+          failed_[m] = 0.0;
           status = SequentialStatus::kRecovered;
         } else {
-          degraded_[m] = failed_[m] = physics_[m] = 0.0;
+          degraded_[m] = failed_[m] = 0.0;
           since_change_[m] = 0;
           state_ = SequentialState{};
           return SequentialStatus::kCleared;

@@ -111,9 +111,6 @@ struct SequentialConfig {
                                           //     mild fault's sustained one (docs/decisions.md "Capped increments").
                                           //     A calibration sets it with its thresholds; none for these defaults
   double failed_cap = kNoIncrementCap;    // [effectiveness] the same for the failed statistic
-  double physics_threshold = kNoIncrementCap;  // [effectiveness·samples] h of the physics check's CUSUM at failed_below on the
-                                    //     thrust-loss observer's Θ (detection/thrust_loss_observer.h): reaching it raises or
-                                    //     escalates to `failed`. Infinite: no physics check (every calibration before 2026-11-27)
   int clear_after = 100;            // [samples] Θ̂ of the flagged motor at or above the level this long
                                     //     clears (or de-escalates) it: 200 ms at 500 Hz, as the persistence filter
   int estimate_window = 50;         // [samples] Θ̂ estimate: mean of the last this many samples since the
@@ -157,9 +154,7 @@ class SequentialRule {
   // `estimate_reference`) that stands for `samples` ≥ 1 model samples (the detector's stride holds an
   // estimate until the next evaluation). A motor whose bit is clear in `observable` (CommandGate) takes no
   // evidence: its statistics may fall, not rise. No allocation.
-  // `physics`: the thrust-loss observer's Θ for the same sample(s), or null (no physics evidence).
-  SequentialStatus update(const MotorTheta& theta, int samples, std::uint8_t observable = kAllMotorsObservable,
-                          const MotorTheta* physics = nullptr);
+  SequentialStatus update(const MotorTheta& theta, int samples, std::uint8_t observable = kAllMotorsObservable);
   const SequentialState& state() const { return state_; }
   bool active() const { return state_.severity != Severity::kHealthy; }
   // Gap or restart: every statistic, window and alarm back to the start.
@@ -168,22 +163,17 @@ class SequentialRule {
   // Inspection (tests, calibration): the statistics of motor `k` (0-based).
   double degradedStatistic(int k) const { return degraded_[static_cast<std::size_t>(k)]; }
   double failedStatistic(int k) const { return failed_[static_cast<std::size_t>(k)]; }
-  double physicsStatistic(int k) const { return physics_[static_cast<std::size_t>(k)]; }
   const SequentialConfig& config() const { return config_; }
   double z() const { return z_; }  // standard-normal quantile of the interval
 
  private:
   void estimate(int k);  // state_.theta_* for motor k
-  // Motor k (0-based) past the failed level's threshold, or past the physics check's.
-  bool failedEvidence(int k) const {
-    return failed_[static_cast<std::size_t>(k)] >= config_.failed_threshold || physics_[static_cast<std::size_t>(k)] >= config_.physics_threshold;
-  }
 
   SequentialConfig config_;
   double z_ = 1.6449;
   std::vector<SpreadBin> bins_;         // the noise model's ranges, or one range of its pooled spread
   std::vector<double> mean_variance_;  // [bin][n] noise variance of the mean of n consecutive samples, n = 0 … window
-  std::array<double, kMotors> degraded_{}, failed_{}, physics_{};
+  std::array<double, kMotors> degraded_{}, failed_{};
   std::array<long, kMotors> since_change_{};  // samples since the degraded statistic left zero
   std::vector<float> window_;                 // [motor][estimate_window] ring buffers
   int window_at_ = 0;                          // next slot (shared: every motor gets every sample)

@@ -10,16 +10,13 @@ namespace quadfdi {
 
 std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, const RolloutConfig& rollout,
                                                     const std::vector<TrajectoryJob>& jobs, int threads, int chunk,
-                                                    const std::atomic<bool>* stop, const CommandGateConfig& gate,
-                                                    const ThrustLossObserverConfig* physics, bool network) {
+                                                    const std::atomic<bool>* stop, const CommandGateConfig& gate) {
   if (!StreamingMotorEstimator::canStream(model.metadata))
     throw std::invalid_argument("simulated Θ̂ streams need a streaming model (a TCN on streaming features)");
   const RolloutEngine engine(rollout);
   if (!engine.error().empty()) throw std::invalid_argument("rollout: " + engine.error());
   const int workers = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
   const int window = model.metadata.window;
-  std::vector<VehicleParams> described = rollout.randomisation.enabled() ? rollout.randomisation.vehicles
-                                                                         : std::vector<VehicleParams>{rollout.controller_model};
   std::vector<FlightThetaStream> streams(jobs.size());
   TrajectoryBatch batch;
   for (std::size_t first = 0; first < jobs.size(); first += static_cast<std::size_t>(chunk)) {
@@ -34,9 +31,6 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
       CommandGateConfig gate_config = gate;
       gate_config.hold = window;  // as the detector: an estimate reads the whole window
       CommandGate command_gate(gate_config);
-      std::vector<ThrustLossObserver> observers;
-      if (physics)
-        for (const VehicleParams& v : described) observers.emplace_back(v, *physics);
       for (int t; (t = next.fetch_add(1)) < batch.count;) {
         FlightThetaStream& s = streams[first + static_cast<std::size_t>(t)];
         const TrajectoryJob& job = part[static_cast<std::size_t>(t)];
@@ -45,14 +39,6 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
         s.theta.reserve(static_cast<std::size_t>(std::max(0, length - window + 1)));
         s.observable.clear();
         s.observable.reserve(s.theta.capacity());
-        s.physics.clear();
-        ThrustLossObserver* observer = nullptr;
-        if (!observers.empty()) {
-          observer = &observers[static_cast<std::size_t>(std::clamp(batch.vehicle[static_cast<std::size_t>(t)], 0,
-                                                                    static_cast<int>(observers.size()) - 1))];
-          observer->reset();
-          s.physics.reserve(s.theta.capacity());
-        }
         estimator.reset();
         command_gate.reset();
         for (int k = 0; k < length; ++k) {
@@ -63,17 +49,9 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
           for (int i = 0; i < kInputDim; ++i) u(i) = batch.inputs[o * kInputDim + static_cast<std::size_t>(i)];
           MotorTheta theta;
           const std::uint8_t observable = command_gate.step({u(0), u(1), u(2), u(3)});
-          MotorTheta physical{1.0f, 1.0f, 1.0f, 1.0f};
-          if (observer) physical = observer->step({y(0), y(1), y(2), y(3), y(4), y(5)}, {u(0), u(1), u(2), u(3)});
-          if (!network) {
-            if (k >= window - 1) {
-              s.observable.push_back(observable);
-              if (observer) s.physics.push_back(physical);
-            }
-          } else if (estimator.push(y, u, theta)) {
+          if (estimator.push(y, u, theta)) {
             s.theta.push_back(theta);
             s.observable.push_back(observable);
-            if (observer) s.physics.push_back(physical);
           }
         }
         const bool healthy = job.theta >= 1.0;
@@ -95,8 +73,6 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
 void dropLeadingSamples(FlightThetaStream& stream, long samples) {
   const std::size_t n = std::min(stream.theta.size(), static_cast<std::size_t>(std::max(0L, samples)));
   stream.theta.erase(stream.theta.begin(), stream.theta.begin() + static_cast<std::ptrdiff_t>(n));
-  if (!stream.physics.empty())
-    stream.physics.erase(stream.physics.begin(), stream.physics.begin() + static_cast<std::ptrdiff_t>(std::min(n, stream.physics.size())));
   if (!stream.observable.empty())
     stream.observable.erase(stream.observable.begin(), stream.observable.begin() + static_cast<std::ptrdiff_t>(std::min(n, stream.observable.size())));
   if (stream.truth.fault_sample >= 0) stream.truth.fault_sample = std::max(0L, stream.truth.fault_sample - static_cast<long>(n));

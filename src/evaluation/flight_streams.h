@@ -9,7 +9,6 @@
 
 #include "data/rollout.h"
 #include "detection/command_gate.h"
-#include "detection/thrust_loss_observer.h"
 #include "evaluation/sequential_metrics.h"
 #include "inference/weights_file.h"
 
@@ -20,15 +19,10 @@ namespace quadfdi {
 // receptive field on (sample T − 1 of the flight is stream index 0). The model must stream
 // (StreamingMotorEstimator::canStream); throws std::invalid_argument otherwise. `threads` 0 = all
 // cores; the result does not depend on it. A flight cut by a crash keeps the samples before it.
-// Each stream also carries the command gate's mask per sample (`gate`, its hold set to T), and with
-// `physics` the thrust-loss observer's Θ per sample, the observer built on the flight's described
-// vehicle (a randomised flight's Randomisation::vehicles entry, else the controller's design model):
-// what a user's description would be, not the drawn plant. Without `network` (physics only) Θ̂ is
-// not computed and `theta` stays empty; `physics` keeps the same indexing.
+// Each stream also carries the command gate's mask per sample (`gate`, its hold set to T).
 std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, const RolloutConfig& rollout,
                                                     const std::vector<TrajectoryJob>& jobs, int threads = 0, int chunk = 64,
-                                                    const std::atomic<bool>* stop = nullptr, const CommandGateConfig& gate = {},
-                                                    const ThrustLossObserverConfig* physics = nullptr, bool network = true);
+                                                    const std::atomic<bool>* stop = nullptr, const CommandGateConfig& gate = {});
 
 // Every simulated flight starts from the scenario's random initial state (±0.3 rad, ±1 rad/s; the
 // paper's training distribution, docs/data.md) and recovers from it during its first second or so:

@@ -39,8 +39,7 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
     const long false_alarms_before = r.false_alarms;
     for (long k = 0; k < static_cast<long>(f.theta.size()); ++k) {
       const SequentialStatus status = rule.update(
-          f.theta[static_cast<std::size_t>(k)], 1, f.observable.empty() ? kAllMotorsObservable : f.observable[static_cast<std::size_t>(k)],
-          f.physics.empty() ? nullptr : &f.physics[static_cast<std::size_t>(k)]);
+          f.theta[static_cast<std::size_t>(k)], 1, f.observable.empty() ? kAllMotorsObservable : f.observable[static_cast<std::size_t>(k)]);
       const SequentialState& s = rule.state();
       const bool after = faulty && k >= truth.fault_sample;
       if (!after) {

@@ -3,12 +3,10 @@
 // each stream and the outcomes are summed. No I/O; the caller simulates or reads the flights.
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "detection/sequential.h"
-#include "detection/thrust_loss_observer.h"
 
 namespace quadfdi {
 
@@ -21,21 +19,16 @@ struct FlightTruth {
 struct FlightThetaStream {
   std::vector<MotorTheta> theta;         // Θ̂ per model sample
   std::vector<std::uint8_t> observable;  // per Θ̂ sample, the CommandGate mask the rule is given; empty: all observable
-  std::vector<MotorTheta> physics;       // per Θ̂ sample, the thrust-loss observer's Θ (detection/thrust_loss_observer.h);
-                                         //     empty: the rule has no physics check
   FlightTruth truth;
 };
 
 struct SequentialEvaluationConfig {
   SequentialConfig rule;
-  // The observer settings for streams that feed the rule's physics check (evaluation/flight_streams.h), or null.
-  const ThrustLossObserverConfig* physicsObserver() const { return std::isfinite(rule.physics_threshold) ? &physics : nullptr; }
   double dt = 0.002;             // [s] model sample period
   long flown_through = 100;      // [samples] after the fault, the network's window holds only faulty samples (T)
   long isolation_early = 25;     // [samples] first isolation check after the fault (50 ms at 500 Hz)
   long isolation_late = 150;     // [samples] second check (300 ms: issue 14's bound for mild faults)
   double confidence = 0.95;      // [-] one-sided, for the false-alarm rate's Poisson upper bound
-  ThrustLossObserverConfig physics;  // the physics check's observer, flown where rule.physics_threshold is finite
   long start_samples = 0;        // [samples] false alarms raised this early in a stream are also counted apart
                                  //     (a simulated flight's start: the recovery from its random initial state)
 };

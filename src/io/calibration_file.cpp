@@ -111,13 +111,6 @@ std::string calibrationToJson(const DecisionCalibration& c) {
       {"failed", levelToJson(c.failed)},
       {"source", c.source}};
   if (ownEstimateNoise(c)) j["estimate_noise"] = noiseToJson(c.estimate_noise);
-  if (c.physics)
-    j["physics"] = {{"level", levelToJson(c.physics_level)},
-                    {"observer",
-                     {{"attitude_noise", c.observer.attitude_noise},
-                      {"disturbance_walk", c.observer.disturbance_walk},
-                      {"min_share", c.observer.min_share},
-                      {"settle", c.observer.settle}}}};
   return j.dump(2) + "\n";
 }
 
@@ -151,23 +144,10 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.degraded = levelFromJson(j.at("degraded"));
     c.failed = levelFromJson(j.at("failed"));
     c.source = j.at("source").get<std::string>();
-    if (j.contains("physics")) {  // absent before 2026-11-27
-      const nlohmann::json& p = j.at("physics");
-      c.physics = true;
-      c.physics_level = levelFromJson(p.at("level"));
-      const nlohmann::json& o = p.at("observer");
-      c.observer.attitude_noise = o.at("attitude_noise").get<double>();
-      c.observer.disturbance_walk = o.at("disturbance_walk").get<double>();
-      c.observer.min_share = o.at("min_share").get<double>();
-      c.observer.settle = o.at("settle").get<int>();
-      c.observer.dt = c.dt;
-      if (std::string e = validate(c.observer); !e.empty()) throw fail("bad calibration: physics " + e);
-    }
   } catch (const nlohmann::json::exception& e) {
     throw fail(std::string("bad calibration: ") + e.what());
   }
   if (std::string p = validate(sequentialConfig(c.degraded, c.failed, c.noise, c.reference)); !p.empty()) throw fail("bad calibration: " + p);
-  if (c.physics && !(c.physics_level.threshold > 0.0)) throw fail("bad calibration: physics threshold must be positive");
   if (ownEstimateNoise(c))  // the same config as above otherwise; only its noise model differs
     if (std::string p = validate(sequentialConfig(c)); !p.empty()) throw fail("bad calibration: estimate_" + p);
   if (!(c.target_rate > 0.0) || !(c.dt > 0.0) || !(c.flight_hours >= 0.0)) throw fail("bad calibration: target_rate, dt or flight_hours out of range");
