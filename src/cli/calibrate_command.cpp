@@ -68,6 +68,9 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
          "Most one sample adds to the degraded CUSUM [effectiveness] (a robust CUSUM: a short deep dip of healthy Θ̂ weighs "
          "no more than a mild fault's sustained one; 0: no cap)")
       .atLeast(0.0);
+  t->add("--failed-cap", o.failed_cap,
+         "Most one sample adds to the failed CUSUM [effectiveness] (as --degraded-cap, for the failed level; 0: no cap)")
+      .atLeast(0.0);
   t->add("--reference", o.reference,
          "What the rule reads as a motor's effectiveness: others (its Θ̂ over the median of the other three motors': a dip "
          "every motor shares cancels) or absolute (Θ̂ as the network gives it, the rule before 2026-11-26)")
@@ -192,6 +195,14 @@ std::vector<std::uint8_t> observableMasks(const std::vector<TelemetrySample>& fl
 int beltBoundaryFlights(int faulty_flights) { return faulty_flights > 0 ? std::max(60, faulty_flights / 10) : 0; }
 
 }  // namespace
+
+// ", failed cap 0.15" for a capped failed statistic (the calibration's provenance), else nothing.
+std::string failedCapNote(double cap) {
+  if (!(cap > 0.0)) return "";
+  char text[48];
+  std::snprintf(text, sizeof text, ", failed cap %g", cap);
+  return text;
+}
 
 int runCalibrate(const CalibrateOptions& o) {
   for (double level : o.degraded_below) require(o.failed_below < level, "--failed-below must be below --degraded-below");
@@ -359,8 +370,9 @@ int runCalibrate(const CalibrateOptions& o) {
 
   const double per_level = o.false_alarms_per_hour / 2.0;
   const double cap = o.degraded_cap > 0.0 ? o.degraded_cap : kNoIncrementCap;
-  c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below, 0, kNoIncrementCap, &healthy_observable), o.failed_below, c.flight_hours,
-                            per_level, c.noise, dt);
+  const double failed_cap = o.failed_cap > 0.0 ? o.failed_cap : kNoIncrementCap;
+  c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below, 0, failed_cap, &healthy_observable), o.failed_below, c.flight_hours,
+                            per_level, c.noise, dt, failed_cap);
   LevelChoiceConfig choose;
   choose.candidates = o.degraded_below;
   choose.cap = cap;
@@ -390,7 +402,8 @@ int runCalibrate(const CalibrateOptions& o) {
   char flights[160];
   std::snprintf(flights, sizeof flights, "%d healthy flights of %g s, counted from %g s on, %d faulty flights", o.flights,
                 o.flight_seconds, o.settle, o.faulty_flights);
-  c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; reference " + o.reference + ", estimate " + o.estimate_reference + (o.interval == "belt" ? ", interval belt" : "") + "; " +
+  c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; reference " + o.reference + ", estimate " + o.estimate_reference + (o.interval == "belt" ? ", interval belt" : "") +
+             failedCapNote(o.failed_cap) + "; " +
              (o.randomise.empty() ? "LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
                                         std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
                                   : "randomisation " + o.randomise + vehicleNames(o.vehicles)) +

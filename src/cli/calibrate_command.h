@@ -31,6 +31,7 @@ struct CalibrateOptions {
   std::string interval = "spread";  // the Θ interval: spread (per range of the estimate) or belt (Neyman's, per Θ;
                                     //     detection/calibration.h fitThetaBelt)
   double degraded_cap = kDefaultDegradedCap;  // [effectiveness] degraded CUSUM's increment cap per sample (0: none)
+  double failed_cap = 0.0;          // [effectiveness] failed CUSUM's increment cap per sample (0: none, the plain Page CUSUM)
   std::string reference = "others";  // the rule's input (detection/sequential.h ThetaReference): "others" calibrated the
                                      //     general model's degraded level at 0.9 with h 9.7 where absolute Θ̂ needed 17.8
                                      //     (docs/decisions.md "Relative evidence")

@@ -129,6 +129,18 @@ TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
   EXPECT_NE(r.out.find("FAULT in motor 3"), std::string::npos) << r.out;
 }
 
+// --failed-cap: the failed level is fitted on the capped statistic and the file keeps the cap.
+TEST(DetectCli, CalibrateCapsTheFailedStatisticWhenAsked) {
+  const std::string cal = temp("failed-cap.json");
+  const CommandResult c = run("calibrate --model " + std::string(QUADFDI_SOURCE_DIR) +
+                              "/models/tcn-model-free.qfdw --flights 2 --flight-seconds 4 --faulty-flights 3 --failed-cap 0.15 --output " + cal);
+  ASSERT_EQ(c.exit_code, 0) << c.out;
+  EXPECT_NE(c.out.find("calibrate: level 0.30, cap 0.15: h = "), std::string::npos) << c.out;
+  EXPECT_NE(readFile(cal).find("\"increment_cap\": 0.15"), std::string::npos);
+  const CommandResult bad = run("calibrate --model " + std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw --failed-cap -1 --output " + cal);
+  EXPECT_NE(bad.exit_code, 0);
+}
+
 // --reference absolute calibrates Θ̂ as the network gives it (the paper's models); the file says
 // which, detect follows it, and an unknown reference is refused in one line. --estimate-reference
 // changes what the estimate reads and nothing the statistics decide.

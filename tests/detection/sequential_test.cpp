@@ -160,6 +160,32 @@ TEST(SequentialRule, ACappedIncrementWeighsADeepDipNoMoreThanTheCap) {
   EXPECT_NEAR(held.degradedStatistic(1), single.degradedStatistic(1), 1e-12);
 }
 
+// The failed statistic's cap (calibrate --failed-cap): a complete failure's Θ̂ plateau at 0.15–0.2
+// adds 0.10–0.15 a sample, under a 0.15 cap, so it counts in full; a healthy dip to 0 adds the cap,
+// not 0.3.
+TEST(SequentialRule, TheFailedCapTrimsADeepDipAndKeepsTheFailuresPlateau) {
+  SequentialConfig c = handConfig();
+  c.degraded_threshold = 1000.0;  // only the failed statistic decides here
+  c.failed_threshold = 0.999;  // just under 1: see handConfig
+  c.failed_cap = 0.15;
+  SequentialRule capped(c);
+  c.failed_cap = kNoIncrementCap;
+  SequentialRule plain(c);
+  // A 4-sample dip to 0: 0.3 a sample uncapped (raised on the 4th: 1.2), 0.15 capped (0.6).
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(plain.update(with(2, 0.0f), 1), SequentialStatus::kBuilding);
+  EXPECT_EQ(plain.update(with(2, 0.0f), 1), SequentialStatus::kRaised);
+  EXPECT_EQ(plain.state().severity, Severity::kFailed);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(capped.update(with(2, 0.0f), 1), SequentialStatus::kBuilding);
+  EXPECT_NEAR(capped.failedStatistic(1), 0.6, 1e-6);
+  capped.reset();
+  plain.reset();
+  // The plateau at 0.175: 0.125 a sample either way, raised `failed` on the 8th sample by both.
+  EXPECT_EQ(updatesUntil(capped, with(3, 0.175f), SequentialStatus::kRaised), 8);
+  EXPECT_EQ(updatesUntil(plain, with(3, 0.175f), SequentialStatus::kRaised), 8);
+  EXPECT_EQ(capped.state().severity, Severity::kFailed);
+  EXPECT_EQ(capped.state().motor, 3);
+}
+
 TEST(RelativeToOthers, DividesByTheMedianOfTheSiblingsWithAFloor) {
   const MotorTheta r = relativeToOthers({0.6f, 0.9f, 1.0f, 0.8f});
   EXPECT_FLOAT_EQ(r[0], 0.6f / 0.9f);  // siblings 0.9, 1.0, 0.8: median 0.9
