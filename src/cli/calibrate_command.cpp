@@ -194,7 +194,8 @@ std::vector<std::uint8_t> observableMasks(const std::vector<TelemetrySample>& fl
 // the estimate cannot be moved from a neighbouring Θ (fitThetaBelt).
 int beltBoundaryFlights(int faulty_flights) { return faulty_flights > 0 ? std::max(60, faulty_flights / 10) : 0; }
 
-}  // namespace
+// A --degraded-cap / --failed-cap value as the CUSUM's cap: 0 means none.
+double incrementCap(double option) { return option > 0.0 ? option : kNoIncrementCap; }
 
 // ", failed cap 0.15" for a capped failed statistic (the calibration's provenance), else nothing.
 std::string failedCapNote(double cap) {
@@ -203,6 +204,8 @@ std::string failedCapNote(double cap) {
   std::snprintf(text, sizeof text, ", failed cap %g", cap);
   return text;
 }
+
+}  // namespace
 
 int runCalibrate(const CalibrateOptions& o) {
   for (double level : o.degraded_below) require(o.failed_below < level, "--failed-below must be below --degraded-below");
@@ -369,8 +372,8 @@ int runCalibrate(const CalibrateOptions& o) {
   }
 
   const double per_level = o.false_alarms_per_hour / 2.0;
-  const double cap = o.degraded_cap > 0.0 ? o.degraded_cap : kNoIncrementCap;
-  const double failed_cap = o.failed_cap > 0.0 ? o.failed_cap : kNoIncrementCap;
+  const double cap = incrementCap(o.degraded_cap);
+  const double failed_cap = incrementCap(o.failed_cap);
   c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below, 0, failed_cap, &healthy_observable), o.failed_below, c.flight_hours,
                             per_level, c.noise, dt, failed_cap);
   LevelChoiceConfig choose;

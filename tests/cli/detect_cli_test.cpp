@@ -139,6 +139,7 @@ TEST(DetectCli, CalibrateCapsTheFailedStatisticWhenAsked) {
   EXPECT_NE(readFile(cal).find("\"increment_cap\": 0.15"), std::string::npos);
   const CommandResult bad = run("calibrate --model " + std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw --failed-cap -1 --output " + cal);
   EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("--failed-cap: must be >= 0, got -1"), std::string::npos) << bad.out;
 }
 
 // --reference absolute calibrates Θ̂ as the network gives it (the paper's models); the file says
