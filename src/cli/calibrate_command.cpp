@@ -429,9 +429,10 @@ int runCalibrate(const CalibrateOptions& o) {
     }
     for (const LevelCalibration* l : {&c.degraded, &c.failed})
       std::fprintf(stderr,
-                   "calibrate: level %.2f, cap %g: h = %.3f (%s; %ld excursions), %ld alarms in the data = %.3g/h (95 %% bound %.3g/h)\n",
+                   "calibrate: level %.2f, cap %g: h = %.3f (%s; %ld excursions), %ld alarms in the data = %.3g/h (95 %% bound %.3g/h); "
+                   "no alarm sooner than %ld samples (%.0f ms), however clear the fault\n",
                    l->level, l->increment_cap, l->threshold, l->method.c_str(), l->excursions, l->alarms_at_threshold, l->rate_at_threshold,
-                   l->rate_upper_bound);
+                   l->rate_upper_bound, fewestSamplesToAlarm(*l), 1e3 * c.dt * static_cast<double>(fewestSamplesToAlarm(*l)));
     for (std::size_t i = 0; choice.candidates.size() > 1 && i < choice.candidates.size(); ++i) {
       const LevelCandidate& l = choice.candidates[i];
       std::fprintf(stderr, "calibrate: degraded level %.3g: h = %.3f, %d of %d faults (Θ < %.3g) named within %g s%s\n", l.degraded.level,

@@ -29,6 +29,12 @@ void fillAchieved(LevelCalibration& c, double flight_hours) {
 }
 }  // namespace
 
+long fewestSamplesToAlarm(const LevelCalibration& l) {
+  const double most_per_sample = std::min(l.level, l.increment_cap);
+  // The relative slack keeps an exact multiple (3.0 / 0.15 = 19.999…96 or 20.000…04) at its count.
+  return static_cast<long>(std::ceil(l.threshold / most_per_sample * (1.0 - 1e-12)));
+}
+
 double poissonUpperBound(long count, double confidence) {
   // λ with P(X ≤ count | λ) = 1 − confidence; the CDF falls as λ grows.
   const double target = std::log(1.0 - confidence);

@@ -159,6 +159,11 @@ inline constexpr double kBeltBoundaryWidth = 1e-9;  // [-] the node at Θ = 0 ta
 std::vector<BeltNode> fitThetaBelt(const std::vector<double>& estimates, const std::vector<double>& truths, double coverage,
                                    const std::vector<double>& nodes = kBeltNodes, double half_width = kBeltHalfWidth);
 
+// The fewest samples in which a CUSUM at this level can reach its threshold, however clear the
+// fault: Θ̂ ≥ 0, so a sample adds at most min(level, cap), and S ≥ h needs ⌈h / min(level, cap)⌉
+// of them (docs/decisions.md "Why the 1.5 kg quad is late"). `l.threshold` > 0, `l.level` > 0.
+long fewestSamplesToAlarm(const LevelCalibration& l);
+
 // One-sided upper confidence bound of a Poisson mean after `count` events (Garwood 1936:
 // ½ χ²_{2(count+1)}(confidence)), by bisection on the Poisson distribution function.
 double poissonUpperBound(long count, double confidence = 0.95);

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -135,7 +137,15 @@ TEST(DetectCli, CalibrateCapsTheFailedStatisticWhenAsked) {
   const CommandResult c = run("calibrate --model " + std::string(QUADFDI_SOURCE_DIR) +
                               "/models/tcn-model-free.qfdw --flights 2 --flight-seconds 4 --faulty-flights 3 --failed-cap 0.15 --output " + cal);
   ASSERT_EQ(c.exit_code, 0) << c.out;
-  EXPECT_NE(c.out.find("calibrate: level 0.30, cap 0.15: h = "), std::string::npos) << c.out;
+  const std::size_t at = c.out.find("calibrate: level 0.30, cap 0.15: h = ");
+  ASSERT_NE(at, std::string::npos) << c.out;
+  // The line states the capped statistic's floor: ⌈h / 0.15⌉ samples of 2 ms.
+  double h = 0.0;
+  ASSERT_EQ(std::sscanf(c.out.c_str() + at, "calibrate: level 0.30, cap 0.15: h = %lf", &h), 1);
+  const long floor = static_cast<long>(std::ceil(h / 0.15 * (1.0 - 1e-12)));
+  const std::string line = c.out.substr(at, c.out.find('\n', at) - at);
+  EXPECT_NE(line.find("no alarm sooner than " + std::to_string(floor) + " samples (" + std::to_string(2 * floor) + " ms)"), std::string::npos)
+      << line;
   EXPECT_NE(readFile(cal).find("\"increment_cap\": 0.15"), std::string::npos);
   const CommandResult bad = run("calibrate --model " + std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw --failed-cap -1 --output " + cal);
   EXPECT_NE(bad.exit_code, 0);

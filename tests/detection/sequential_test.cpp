@@ -279,6 +279,38 @@ TEST(Ar1MeanVariance, MatchesTheDirectSumAndTheIidCase) {
   EXPECT_NEAR(normalQuantile(0.95), 1.6448536269514722, 1e-9);
 }
 
+// The capped CUSUM's floor: the fewest samples to reach h, checked against the rule itself fed the
+// clearest possible fault (Θ̂ = 0 on one motor from the first sample).
+TEST(SequentialRule, NoFailureIsNamedSoonerThanTheThresholdOverTheCapAllows) {
+  LevelCalibration failed;
+  failed.level = 0.3;
+  failed.increment_cap = 0.15;
+  failed.threshold = 3.72;  // the quad's calibration (models/README.md): 24.8 samples
+  EXPECT_EQ(fewestSamplesToAlarm(failed), 25);
+  failed.threshold = 3.0;  // an exact multiple stays at its count
+  EXPECT_EQ(fewestSamplesToAlarm(failed), 20);
+  failed.increment_cap = kNoIncrementCap;  // uncapped: the level itself is the most a sample adds
+  failed.threshold = 6.49;
+  EXPECT_EQ(fewestSamplesToAlarm(failed), 22);
+
+  for (const double cap : {0.15, kNoIncrementCap}) {
+    SequentialConfig config = handConfig();
+    config.failed_cap = cap;
+    config.failed_threshold = cap == 0.15 ? 3.72 : 6.49;
+    config.degraded_threshold = 1e9;  // only the failed statistic can raise
+    SequentialRule rule(config);
+    LevelCalibration level;
+    level.level = config.failed_below;
+    level.increment_cap = cap;
+    level.threshold = config.failed_threshold;
+    int first_failed = -1;
+    for (int n = 1; n <= 100 && first_failed < 0; ++n)
+      if (rule.update(with(2, 0.0f), 1) != SequentialStatus::kHealthy && rule.state().severity == Severity::kFailed)
+        first_failed = n;
+    EXPECT_EQ(first_failed, fewestSamplesToAlarm(level)) << "cap " << cap;
+  }
+}
+
 TEST(PoissonBound, KnownValues) {
   EXPECT_NEAR(poissonUpperBound(0, 0.95), 2.995732273553991, 1e-9);  // −ln 0.05
   EXPECT_NEAR(poissonUpperBound(1, 0.95), 4.743864518, 1e-6);        // ½ χ²₄(0.95) = 9.487729/2
