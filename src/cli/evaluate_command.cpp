@@ -288,6 +288,7 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
     report << "  - " << role << ": `" << path << "` (" << toString(m.architecture) << ", " << toString(m.features)
            << ", trained at scale " << m.scale << " with seed " << m.seed << ", " << m.iterations
            << " outer iterations, held-out accuracy " << fmt(m.heldout_accuracy) << ")\n";
+    if (!m.started_from.empty()) report << "    fine-tuned from " << m.started_from << "\n";
     if (!m.randomisation.empty()) {
       // The training randomisation, as the model file records it (docs/data.md#randomisation).
       report << "    trained on randomised flights:\n\n    ```\n";

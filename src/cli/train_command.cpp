@@ -79,6 +79,9 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
   t->add("--checkpoint", o.checkpoint, "Checkpoint file").defaultText("OUTPUT.ckpt");
   t->add("--log", o.log, "Training log CSV").defaultText("OUTPUT.log.csv");
   t->add("--resume", o.resume, "Continue from the checkpoint if there is one");
+  t->add("--start-from", o.start_from,
+         "Fine-tune: start from this finished model's weights and normalisation (a .qfdw whose network matches "
+         "this training's) instead of fresh ones, e.g. the general model on your vehicle (docs/networks.md#fine-tuning)");
   t->add("--quiet,-q", o.quiet, "No progress bar or summary");
   attachOptions(*cmd, t);
   return cmd;
@@ -160,6 +163,12 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   c.log_path = o.log.empty() ? o.output + ".log.csv" : o.log;
   c.resume = o.resume;
   c.stop = &interruptFlag();
+  if (!o.start_from.empty()) {
+    c.start_from = std::make_shared<const TrainedModel>(readModelFile(o.start_from));  // "PATH: problem"
+    c.start_from_name = o.start_from;
+    const std::string mismatch = startingModelProblem(c);
+    require(mismatch.empty(), "--start-from " + o.start_from + ": " + mismatch);
+  }
   return c;
 }
 
@@ -176,7 +185,10 @@ int trainAndSave(const TrainOptions& o, const std::string& command_line) {
         std::snprintf(line, sizeof line, "iter %d loss %.4f held-out acc %.3f", it.iteration, it.loss,
                       it.heldout_accuracy);
         last = line;
-        if (!o.quiet) {
+        if (!o.quiet && it.iteration == 0) {
+          std::fprintf(stderr, "train: the starting model on this run's held-out flights: loss %.5f accuracy %.3f\n",
+                       it.heldout_loss, it.heldout_accuracy);
+        } else if (!o.quiet) {
           bar.finish();
           std::fprintf(stderr, "train: iteration %d/%d loss %.5f held-out loss %.5f accuracy %.3f (%zu windows, %.0f "
                                "windows/s, %.1f s: data %.1f, train %.1f, held-out %.1f)\n",
@@ -194,10 +206,10 @@ int trainAndSave(const TrainOptions& o, const std::string& command_line) {
     const ModelMetadata& m = r.model.metadata();
     std::fprintf(stderr,
                  "quadfdi train: %s %s, %d outer iterations%s%s, %.1f s; final loss %.5f, held-out accuracy %.3f "
-                 "(|theta error| <= 0.05 on every motor); wrote %s\n",
+                 "(|theta error| <= 0.05 on every motor)%s%s; wrote %s\n",
                  toString(m.architecture), toString(m.features), r.iterations, r.resumed ? " (resumed)" : "",
                  r.converged ? " (converged)" : "", m.training_seconds, m.final_loss, m.heldout_accuracy,
-                 o.output.c_str());
+                 m.started_from.empty() ? "" : ", fine-tuned from ", m.started_from.c_str(), o.output.c_str());
   }
   return 0;
 }

@@ -43,6 +43,7 @@ struct TrainOptions {
   std::string checkpoint;                       // default: <output>.ckpt
   std::string log;                              // default: <output>.log.csv
   bool resume = false;                          // continue from the checkpoint if there is one
+  std::string start_from;                       // fine-tune: a finished model (.qfdw) to start from
   bool quiet = false;                           // no progress bar or summary
 };
 

@@ -52,6 +52,7 @@ std::string metadataToJson(const ModelMetadata& m) {
                         {"heldout_accuracy", m.heldout_accuracy},
                         {"generator", m.generator}}}};
   if (!m.randomisation.empty()) j["randomisation"] = m.randomisation;
+  if (!m.started_from.empty()) j["provenance"]["started_from"] = m.started_from;
   if (m.architecture == Architecture::kTcn)
     j["tcn"] = {{"channels", m.tcn.channels}, {"kernel", m.tcn.kernel}, {"dilations", m.tcn.dilations}};
   return j.dump();
@@ -111,6 +112,7 @@ ModelMetadata metadataFromJson(const std::string& text, const std::string& where
     m.heldout_loss = p.at("heldout_loss").get<double>();
     m.heldout_accuracy = p.at("heldout_accuracy").get<double>();
     m.generator = p.at("generator").get<std::string>();
+    if (p.contains("started_from")) m.started_from = p.at("started_from").get<std::string>();
   } catch (const nlohmann::json::exception& e) {
     throw fail(std::string("bad metadata: ") + e.what());
   }

@@ -51,6 +51,10 @@ struct ModelMetadata {
   std::vector<float> feature_mean, feature_std;
   // Provenance.
   std::string command;            // how it was trained
+  // Fine-tuned models: the model whose weights and normalisation training started from, and its
+  // own provenance in brief; empty when trained from fresh weights. `iterations` and
+  // `training_seconds` count this run only.
+  std::string started_from;
   std::string scale;
   std::uint64_t seed = 0;
   int iterations = 0;             // outer iterations run

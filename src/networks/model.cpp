@@ -366,4 +366,74 @@ NetworkWeights exportWeights(const FaultIdentifier& model) {
   return w;
 }
 
+namespace {
+
+// Copies `values` into `target` (a parameter or buffer), refusing a size mismatch.
+void assign(torch::Tensor target, const std::vector<float>& values, const std::string& name) {
+  if (static_cast<std::int64_t>(values.size()) != target.numel())
+    throw ModelError("importWeights: " + name + " holds " + std::to_string(values.size()) + " values, the network " +
+                     std::to_string(target.numel()));
+  target.copy_(torch::tensor(values).reshape(target.sizes()));
+}
+
+void assignDense(torch::nn::LinearImpl& l, const DenseWeights& d, const std::string& name) {
+  assign(l.weight, d.weight, name + ".weight");
+  assign(l.bias, d.bias, name + ".bias");
+}
+
+}  // namespace
+
+FaultIdentifier importWeights(const ModelMetadata& metadata, const NetworkWeights& w) {
+  if (w.architecture != metadata.architecture || w.channels != metadata.channels() || w.window != metadata.window)
+    throw ModelError("importWeights: the weights are not for this network (architecture, channels or window)");
+  FaultIdentifier model = FaultIdentifier::create(metadata, 0);
+  FaultNet& net = model.impl()->net;
+  torch::NoGradGuard no_grad;
+  assign(net->mean, w.mean, "mean");
+  assign(net->scale, w.scale, "scale");
+  ModelMetadata& m = model.metadata();
+  m.feature_mean = w.mean;
+  m.feature_std = w.scale;
+  if (metadata.architecture == Architecture::kLstm) {
+    const std::int64_t n = w.channels;
+    for (auto& p : net->lstm->named_parameters()) {
+      if (p.key() == "weight_ih_l0" || p.key() == "weight_hh_l0") {
+        const torch::Tensor gates = torch::tensor(w.gates.weight);
+        if (gates.numel() != 4 * metadata.hidden * (n + metadata.hidden))
+          throw ModelError("importWeights: LSTM gate weights do not match the hidden size");
+        const torch::Tensor both = gates.reshape({4 * metadata.hidden, n + metadata.hidden});
+        p.value().copy_(p.key() == "weight_ih_l0" ? both.narrow(1, 0, n) : both.narrow(1, n, metadata.hidden));
+      } else if (p.key() == "bias_ih_l0") {
+        assign(p.value(), w.gates.bias, "gates.bias");
+      } else if (p.key() == "bias_hh_l0") {
+        p.value().zero_();
+      }
+    }
+    if (w.head.size() != 2) throw ModelError("importWeights: an LSTM needs two head layers");
+    assignDense(*net->head1, w.head[0], "head1");
+    assignDense(*net->head2, w.head[1], "head2");
+  } else if (metadata.architecture == Architecture::kTcn) {
+    if (w.convs.size() != net->convs.size() || w.head.size() != 2)
+      throw ModelError("importWeights: the TCN's layers do not match the network");
+    for (std::size_t i = 0; i < net->convs.size(); ++i) {
+      if (w.convs[i].dilation != metadata.tcn.dilations[i])
+        throw ModelError("importWeights: conv" + std::to_string(i) + "'s dilation differs from the network's");
+      assign(net->convs[i]->weight, w.convs[i].weight, "conv" + std::to_string(i) + ".weight");
+      assign(net->convs[i]->bias, w.convs[i].bias, "conv" + std::to_string(i) + ".bias");
+    }
+    assignDense(*net->head1, w.head[0], "head1");
+    assignDense(*net->head2, w.head[1], "head2");
+  } else {
+    std::size_t layer = 0;
+    for (const auto& module : net->mlp->children())
+      if (auto* linear = module->as<torch::nn::LinearImpl>()) {
+        if (layer >= w.head.size()) throw ModelError("importWeights: the MLP has more layers than the weights");
+        assignDense(*linear, w.head[layer], "mlp" + std::to_string(layer));
+        ++layer;
+      }
+    if (layer != w.head.size()) throw ModelError("importWeights: the weights have more layers than the MLP");
+  }
+  return model;
+}
+
 }  // namespace quadfdi

@@ -53,5 +53,9 @@ bool cudaAvailable();
 
 // The network's weights in the plain form the inference engine and the weights file use.
 NetworkWeights exportWeights(const FaultIdentifier& model);
+// The inverse: a trainable network holding `weights` (normalisation included), for fine-tuning a
+// finished model. Throws ModelError when a tensor's shape does not match `metadata`'s network.
+// (An LSTM's two bias vectors come back as their sum and zero: the same network.)
+FaultIdentifier importWeights(const ModelMetadata& metadata, const NetworkWeights& weights);
 
 }  // namespace quadfdi

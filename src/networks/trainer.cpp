@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "networks/torch_net.h"
@@ -126,6 +127,31 @@ bool parseTrainingMode(const std::string& text, TrainingMode& m) {
   return false;
 }
 
+std::string startingModelProblem(const TrainConfig& c) {
+  if (!c.start_from) return {};
+  const ModelMetadata& s = c.start_from->metadata;
+  const std::string prefix = "the starting model's ";
+  if (s.architecture != c.model.architecture)
+    return prefix + "architecture is " + toString(s.architecture) + ", this training's " + toString(c.model.architecture);
+  if (s.features != c.model.features)
+    return prefix + "features are " + toString(s.features) + ", this training's " + toString(c.model.features);
+  if (s.output != c.data.rollout.output) return prefix + "measured output differs from this training's";
+  if (s.window != c.model.window || std::abs(s.dt - c.data.rollout.dt) > 1e-12)
+    return prefix + "window (" + std::to_string(s.window) + " samples of " + std::to_string(s.dt) +
+           " s) differs from this training's (" + std::to_string(c.model.window) + " of " +
+           std::to_string(c.data.rollout.dt) + " s)";
+  if (s.architecture == Architecture::kTcn && (s.tcn.channels != c.model.tcn.channels ||
+                                               s.tcn.kernel != c.model.tcn.kernel ||
+                                               s.tcn.dilations != c.model.tcn.dilations))
+    return prefix + "TCN has " + std::to_string(s.tcn.channels) + " channels, kernel " +
+           std::to_string(s.tcn.kernel) + " and " + std::to_string(s.tcn.dilations.size()) +
+           " layers; this training's " + std::to_string(c.model.tcn.channels) + ", " +
+           std::to_string(c.model.tcn.kernel) + " and " + std::to_string(c.model.tcn.dilations.size());
+  if (s.architecture != Architecture::kTcn && s.hidden != c.model.hidden)
+    return prefix + "hidden size is " + std::to_string(s.hidden) + ", this training's " + std::to_string(c.model.hidden);
+  return {};
+}
+
 std::string validate(const TrainConfig& c) {
   if (const std::string e = validate(c.data.rollout); !e.empty()) return e;
   if (c.data.scale.initial_conditions < 1 || c.data.scale.buffer_windows < 1) return "scale needs N1 >= 1 and N_buf >= 1";
@@ -143,7 +169,7 @@ std::string validate(const TrainConfig& c) {
     return "bad optimiser settings (learning rate > 0, weight decay and epsilon >= 0, all finite; decay in (0, 1])";
   if (c.device != "cpu" && c.device != "cuda") return "device must be cpu or cuda";
   if (c.model.window != c.data.rollout.window) return "model window must equal the data window";
-  return {};
+  return startingModelProblem(c);
 }
 
 namespace {
@@ -156,10 +182,19 @@ torch::Device trainingDevice(const TrainConfig& config) {
   return torch::Device(config.device == "cuda" ? torch::kCUDA : torch::kCPU);
 }
 
-// A fresh model (its weights drawn from config.seed), replaced by the checkpoint's when resuming.
+// A fresh model (its weights drawn from config.seed, or config.start_from's), replaced by the
+// checkpoint's when resuming.
 TrainResult createOrResumeModel(const TrainConfig& config) {
-  TrainResult result{FaultIdentifier::create(config.model, config.seed)};
+  TrainResult result{config.start_from ? importWeights(config.model, config.start_from->weights)
+                                       : FaultIdentifier::create(config.model, config.seed)};
   ModelMetadata& m = result.model.metadata();
+  if (config.start_from) {
+    const ModelMetadata& s = config.start_from->metadata;
+    char brief[160];
+    std::snprintf(brief, sizeof brief, " (%d iterations, %.0f s, held-out accuracy %.3f)", s.iterations,
+                  s.training_seconds, s.heldout_accuracy);
+    m.started_from = (config.start_from_name.empty() ? std::string("a model") : config.start_from_name) + brief;
+  }
   m.output = config.data.rollout.output;
   m.window = config.data.rollout.window;
   m.dt = config.data.rollout.dt;
@@ -479,6 +514,22 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
   const double previous_seconds = result.resumed ? impl.metadata.training_seconds : 0.0;
   const auto t0 = std::chrono::steady_clock::now();
   Minibatch mb;  // reused by every minibatch
+  auto scoreHeldout = [&] {
+    return config.mode == TrainingMode::kSequences ? evaluateHeldoutDense(config, heldout, impl, device, mb)
+                                                   : evaluateHeldout(config, heldout, impl, device, mb);
+  };
+  if (config.start_from && !result.resumed) {  // where fine-tuning starts, on this run's held-out flights
+    IterationReport start;
+    auto phase = std::chrono::steady_clock::now();
+    const HeldoutScore score = scoreHeldout();
+    start.heldout_seconds = secondsSince(phase);
+    start.loss = std::numeric_limits<double>::quiet_NaN();
+    start.heldout_loss = score.loss;
+    start.heldout_accuracy = score.accuracy;
+    start.seconds = secondsSince(t0);
+    log.append(start);
+    if (on_iteration) on_iteration(start);
+  }
   std::int64_t windows_trained = 0;
   int iteration = start_iteration;
   while (iteration < config.max_iterations) {
@@ -486,7 +537,7 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
     IterationReport report;
     auto phase = std::chrono::steady_clock::now();
     data.nextIteration();
-    if (iteration == 0) {
+    if (iteration == 0 && !config.start_from) {  // a fine-tuned network keeps the scale it learnt
       computeNormalisation(data.buffer(), impl.metadata);
       loadNormalisation(impl);
     }
@@ -505,9 +556,7 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
     report.train_seconds = secondsSince(phase);
 
     phase = std::chrono::steady_clock::now();
-    const HeldoutScore heldout_score = config.mode == TrainingMode::kSequences
-                                           ? evaluateHeldoutDense(config, heldout, impl, device, mb)
-                                           : evaluateHeldout(config, heldout, impl, device, mb);
+    const HeldoutScore heldout_score = scoreHeldout();
     report.heldout_seconds = secondsSince(phase);
     const double seconds = secondsSince(t0);
     report.iteration = iteration;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "data/algorithm1.h"
+#include "inference/weights_file.h"
 #include "networks/model.h"
 
 namespace quadfdi {
@@ -46,6 +47,12 @@ struct TrainConfig {
   int threads = 0;               // torch intra-op threads (0 = all cores)
   std::string checkpoint_path;   // written after every outer iteration (atomic); empty = none
   bool resume = false;           // continue from checkpoint_path if it exists
+  // Fine-tuning (docs/networks.md#fine-tuning): start from this finished model's weights and
+  // normalisation instead of fresh ones (a resumed checkpoint still wins). Its network must be
+  // the one `model` describes; the held-out set is scored once before the first iteration
+  // (reported as iteration 0) so the run shows what it added.
+  std::shared_ptr<const TrainedModel> start_from;
+  std::string start_from_name;   // how the provenance names it (its path)
   std::string log_path;          // CSV, one row per outer iteration; empty = none
   const std::atomic<bool>* stop = nullptr;  // raised (by a signal handler): stop before the next
                                             // minibatch; the last iteration's checkpoint stays
@@ -58,8 +65,8 @@ class TrainingInterrupted : public std::runtime_error {
 };
 
 struct IterationReport {
-  int iteration = 0;        // 1-based, completed
-  double loss = 0.0;        // mean training loss over the iteration's minibatches
+  int iteration = 0;        // 1-based, completed; 0: the starting model's score, before training
+  double loss = 0.0;        // mean training loss over the iteration's minibatches (NaN at iteration 0)
   double heldout_loss = 0.0;
   double heldout_accuracy = 0.0;  // max_i |Θ̂_i − Θ_i| ≤ 0.05
   std::size_t buffer_windows = 0;
@@ -80,6 +87,9 @@ struct TrainResult {
 
 // Empty when valid, else a one-line description.
 std::string validate(const TrainConfig& config);
+// The part of validate() about config.start_from: empty when its network is the one config.model
+// describes (architecture, features, output, window and dt, TCN shape or hidden size).
+std::string startingModelProblem(const TrainConfig& config);
 
 // Throws std::runtime_error with a one-line message on bad configuration, an unusable
 // checkpoint, a missing CUDA device or a non-finite loss.

@@ -156,6 +156,35 @@ TEST(TrainCli, SigintStopsAtASafePointAndResumeFinishes) {
   EXPECT_TRUE(exists(model));
 }
 
+TEST(TrainCli, StartFromFineTunesAFinishedModelAndRefusesAnother) {
+  const std::string base = temp("ft_base.qfdw"), tuned = temp("ft_tuned.qfdw");
+  ASSERT_EQ(run("train --max-iterations 1 -o " + base + kFast).exit_code, 0);
+  const Result r = run("train --max-iterations 1 --start-from " + base + " -o " + tuned + kFast);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const quadfdi::TrainedModel m = quadfdi::readModelFile(tuned);
+  EXPECT_EQ(m.metadata.started_from.rfind(base + " (1 iterations", 0), 0u) << m.metadata.started_from;
+  EXPECT_EQ(m.metadata.feature_mean, quadfdi::readModelFile(base).metadata.feature_mean);
+  std::ifstream log(tuned + ".log.csv");
+  std::string header, start, first;
+  std::getline(log, header);
+  std::getline(log, start);
+  std::getline(log, first);
+  EXPECT_EQ(start.rfind("0,nan,", 0), 0u) << start;  // the starting model's score, before training
+  EXPECT_EQ(first.rfind("1,", 0), 0u) << first;
+
+  const Result other = run("train --max-iterations 1 --features model-based --start-from " + base + " -o " +
+                           temp("ft_other.qfdw") + kFast);
+  EXPECT_NE(other.exit_code, 0);
+  EXPECT_EQ(std::count(other.out.begin(), other.out.end(), '\n'), 1) << other.out;
+  EXPECT_NE(other.out.find("--start-from " + base + ": the starting model's features are model-free"), std::string::npos)
+      << other.out;
+  const std::string missing = temp("ft_missing.qfdw");
+  const Result absent = run("train --max-iterations 1 --start-from " + missing + " -o " + temp("ft_x.qfdw") + kFast);
+  EXPECT_NE(absent.exit_code, 0);
+  EXPECT_EQ(std::count(absent.out.begin(), absent.out.end(), '\n'), 1) << absent.out;
+  EXPECT_NE(absent.out.find(missing), std::string::npos) << absent.out;
+}
+
 TEST(GenerateCli, SigtermLeavesNoOutputAndNoTemporaryFile) {
   const std::string out = temp("sigterm.h5"), err = temp("sigterm.err");
   std::remove(out.c_str());
