@@ -31,8 +31,8 @@ case $set_name in
   library)
     for vehicle in configs/vehicles/*.toml; do
       stem=$(basename "$vehicle" .toml)
-      # The model `detect --vehicle` runs: the vehicle's own, else the general one (the quad450 since
-      # 2026-11-25 late evening: the general model serves it better than its own did, models/README.md).
+      # The model `detect --vehicle` runs: the vehicle's own (the quad450's since 2026-11-27 is the
+      # general model fine-tuned on it, models/README.md), else the general one.
       model=models/tcn-$stem.qfdw
       [[ -f $model ]] || model=$general
       evaluate "$model" "$vehicle" "docs/results/vehicles/$stem"
