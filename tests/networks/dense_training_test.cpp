@@ -8,6 +8,7 @@
 
 #include "networks/model.h"
 #include "networks/trainer.h"
+#include "networks/tiny_training.h"
 
 namespace quadfdi {
 namespace {
@@ -62,33 +63,9 @@ TEST(DenseTraining, RefusesNonCausalNetworks) {
   EXPECT_FALSE(parseTrainingMode("dense", mode));
 }
 
-// A tiny real run: T = 10, a two-layer TCN (receptive field 7), 12 trajectories an iteration.
-TrainConfig tinyDenseConfig() {
-  TrainConfig c;
-  c.data.rollout.window = 10;
-  c.data.rollout.seed = 3;
-  c.data.scale = {"unit", 4, 2000};
-  c.data.thetas = {0.0, 0.5, 1.0};
-  c.data.threads = 1;
-  c.model.architecture = Architecture::kTcn;
-  c.model.features = FeatureSet::kModelFreeHeading;
-  c.model.window = 10;
-  c.model.tcn.channels = 16;
-  c.model.tcn.dilations = {1, 2};
-  c.mode = TrainingMode::kSequences;
-  c.batch_trajectories = 8;
-  c.passes = 2;
-  c.min_iterations = 6;
-  c.max_iterations = 6;
-  c.heldout_initial_conditions = 2;
-  c.learning_rate = 5e-3;
-  c.threads = 1;
-  c.seed = 5;
-  return c;
-}
 
 TEST(DenseTraining, ReducesTheLossAndScoresTheHeldOutWindowsAsTheWindowedForwardDoes) {
-  const TrainConfig c = tinyDenseConfig();
+  const TrainConfig c = test::tinyDenseTcn(FeatureSet::kModelFreeHeading);
   std::vector<IterationReport> reports;
   const TrainResult r = train(c, [&](const IterationReport& it) { reports.push_back(it); });
   ASSERT_EQ(reports.size(), 6u);

@@ -8,6 +8,7 @@
 
 #include "networks/model.h"
 #include "networks/trainer.h"
+#include "networks/tiny_training.h"
 
 namespace quadfdi {
 namespace {
@@ -69,30 +70,8 @@ TEST(FineTuning, RefusesWeightsOfAnotherNetwork) {
   EXPECT_THROW(importWeights(lstm, w), ModelError);
 }
 
-// A tiny dense TCN run (T = 10, receptive field 7, 12 trajectories an iteration).
-TrainConfig tinyTcnConfig(int iterations) {
-  TrainConfig c;
-  c.data.rollout.window = 10;
-  c.data.rollout.seed = 3;
-  c.data.scale = {"unit", 4, 2000};
-  c.data.thetas = {0.0, 0.5, 1.0};
-  c.data.threads = 1;
-  c.model.architecture = Architecture::kTcn;
-  c.model.features = FeatureSet::kScaleFree;
-  c.model.window = 10;
-  c.model.tcn.channels = 16;
-  c.model.tcn.dilations = {1, 2};
-  c.mode = TrainingMode::kSequences;
-  c.batch_trajectories = 8;
-  c.passes = 2;
-  c.min_iterations = iterations;
-  c.max_iterations = iterations;
-  c.heldout_initial_conditions = 2;
-  c.learning_rate = 5e-3;
-  c.threads = 1;
-  c.seed = 5;
-  return c;
-}
+// A tiny dense TCN run on scale-free features (tiny_training.h).
+TrainConfig tinyTcnConfig(int iterations) { return test::tinyDenseTcn(FeatureSet::kScaleFree, iterations); }
 
 std::shared_ptr<const TrainedModel> finished(const TrainResult& r) {
   return std::make_shared<const TrainedModel>(TrainedModel{r.model.metadata(), exportWeights(r.model)});

@@ -11,6 +11,7 @@
 #include "networks/model.h"
 #include "networks/trainer.h"
 #include "scratch_path.h"
+#include "networks/tiny_training.h"
 
 namespace quadfdi {
 namespace {
@@ -20,26 +21,13 @@ std::string temp(const std::string& name) {
   return quadfdi::test::scratchPath("nn", name);
 }
 
-// A tiny but real Algorithm 1 run: T = 10, hidden 16, 12 trajectories an iteration.
+// A tiny but real Algorithm 1 run (tiny_training.h), hidden 16, minibatches of 32 windows.
 TrainConfig tinyConfig(Architecture arch = Architecture::kLstm, FeatureSet features = FeatureSet::kModelFree) {
-  TrainConfig c;
-  c.data.rollout.window = 10;
-  c.data.rollout.seed = 3;
-  c.data.scale = {"unit", 4, 2000};
-  c.data.thetas = {0.0, 0.5, 1.0};
-  c.data.threads = 1;
+  TrainConfig c = test::tinyTraining();
   c.model.architecture = arch;
   c.model.features = features;
-  c.model.window = 10;
   c.model.hidden = 16;
   c.batch_size = 32;
-  c.passes = 2;
-  c.min_iterations = 6;
-  c.max_iterations = 6;
-  c.heldout_initial_conditions = 2;
-  c.learning_rate = 5e-3;
-  c.threads = 1;
-  c.seed = 5;
   return c;
 }
 
