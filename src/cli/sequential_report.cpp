@@ -181,7 +181,9 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
      << " per flight-minute), counted from " << num(kUpsetRecoverySeconds, 0) << " s into each recording. They came from "
      << h.flights_with_false_alarm << " of the " << flights << " flights: " << num(h.alarmed_flights_per_hour, 3)
      << " alarmed flights per flight hour, bound " << num(h.alarmed_flights_upper_bound, 3)
-     << " (alarms cluster in flights at the envelope's edge, so flights are the independent units). Before that, the recording ("
+     << " (alarms cluster in flights at the envelope's edge, so flights are the independent units). By severity: "
+     << h.false_alarms - h.false_alarms_failed << " raised as `degraded` (" << h.false_escalations << " of them escalated to `failed`), "
+     << h.false_alarms_failed << " straight at `failed`. Before that, the recording ("
      << "which begins " << num(base.randomisation.preroll_seconds.lo, 1) << "–" << num(base.randomisation.preroll_seconds.hi, 1)
      << " s into the flight) can hold the recovery from the random initial state every simulated flight starts in (±0.3 rad, ±1 rad/s), "
         "which a pilot's flight does not begin with: the rule run over whole recordings raised "

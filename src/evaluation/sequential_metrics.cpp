@@ -44,8 +44,11 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
       const bool after = faulty && k >= truth.fault_sample;
       if (!after) {
         ++healthy_samples;
-        r.false_alarms += status == SequentialStatus::kRaised;
-        r.false_alarms_at_start += status == SequentialStatus::kRaised && k < config.start_samples;
+        const bool raised = status == SequentialStatus::kRaised;
+        r.false_alarms += raised;
+        r.false_alarms_at_start += raised && k < config.start_samples;
+        r.false_alarms_failed += raised && s.severity == Severity::kFailed;
+        r.false_escalations += status == SequentialStatus::kEscalated;
         continue;
       }
       const long since = k - truth.fault_sample;

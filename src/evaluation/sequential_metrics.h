@@ -61,6 +61,10 @@ struct SequentialEvaluation {
   double coverage = 0.0;              // [-] fraction with theta_lo ≤ Θ ≤ theta_hi
   long false_alarms = 0;              // alarms raised in healthy time (healthy flights, before a fault)
   long false_alarms_at_start = 0;     // … of them, raised in a stream's first start_samples samples
+  // What a pilot would have been told: a false `failed` asks for a landing now, a false `degraded`
+  // for a check after the flight, so the two are counted apart.
+  long false_alarms_failed = 0;       // … of false_alarms, raised straight at `failed`
+  long false_escalations = 0;         // escalations degraded → failed in healthy time
   double healthy_hours = 0.0;         // [h] healthy flight time
   double false_alarms_per_hour = 0.0;       // [1/h]
   double false_alarms_upper_bound = 0.0;    // [1/h] one-sided Poisson (Garwood) bound at `confidence`

@@ -133,6 +133,38 @@ TEST(SequentialEvaluation, FalseAlarmsAreAlsoCountedByFlight) {
   EXPECT_LT(r.alarmed_flights_upper_bound, r.false_alarms_upper_bound);
 }
 
+// A false `failed` and a false `degraded` ask different things of a pilot, so the report counts
+// them apart: a deep healthy dip either escalates an alarm raised as degraded, or, where the failed
+// threshold is the lower, raises it straight at failed; a shallow dip only ever raises degraded.
+TEST(SequentialEvaluation, FalseAlarmsAreSplitBySeverity) {
+  SequentialEvaluationConfig c;
+  c.rule.degraded_below = 0.9;
+  c.rule.degraded_threshold = c.rule.failed_threshold = 2.999;
+  c.rule.clear_after = 50;
+  Rng rng(3, 0);
+  FlightThetaStream deep = flight(1000, 0, 1.0, -1, 0.0, 0.0, rng);
+  for (int k = 100; k < 120; ++k) deep.theta[static_cast<std::size_t>(k)][1] = 0.0f;
+  FlightThetaStream shallow = flight(1000, 0, 1.0, -1, 0.0, 0.0, rng);
+  for (int k = 500; k < 520; ++k) shallow.theta[static_cast<std::size_t>(k)][2] = 0.5f;
+  const std::vector<FlightThetaStream> flights{deep, shallow};
+  // Equal thresholds: degraded after 4 samples of 0.9, failed after 10 of 0.3 → one escalation.
+  const SequentialEvaluation equal = evaluateSequential(flights, c);
+  EXPECT_EQ(equal.false_alarms, 2);
+  EXPECT_EQ(equal.false_alarms_failed, 0);
+  EXPECT_EQ(equal.false_escalations, 1);
+  // A failed threshold of 0.5: failed after 2 samples, before degraded's 4 → raised at failed.
+  c.rule.failed_threshold = 0.5;
+  const SequentialEvaluation low = evaluateSequential(flights, c);
+  EXPECT_EQ(low.false_alarms, 2);
+  EXPECT_EQ(low.false_alarms_failed, 1);
+  EXPECT_EQ(low.false_escalations, 0);
+  // A fault's own escalation is not a false one.
+  c.rule.failed_threshold = 2.999;
+  const SequentialEvaluation faulty = evaluateSequential({flight(1000, 1, 0.0, 400, 0.0, 0.0, rng)}, c);
+  EXPECT_EQ(faulty.false_alarms, 0);
+  EXPECT_EQ(faulty.false_escalations, 0);
+}
+
 TEST(SequentialEvaluation, TheIntervalCoversTheTruthAtItsNominalRate) {
   // Noise matching the rule's noise model, no model error: the 90 % interval must cover Θ in
   // 85–95 % of the samples after the fault has been flown through.
