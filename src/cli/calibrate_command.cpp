@@ -225,6 +225,8 @@ int runCalibrate(const CalibrateOptions& o) {
     require(std::abs(c.dt - dt) <= 1e-12 * dt, o.refit_interval + ": calibrated at dt = " + std::to_string(c.dt) + " s, the model runs at " +
                                                    std::to_string(dt) + " s");
     require(o.faulty_flights > 0, "--refit-interval needs --faulty-flights > 0");
+    const std::string other = calibrationModelProblem(c, model.file_crc32);
+    require(other.empty(), o.refit_interval + ": " + other);
   }
   require(settle_samples < steps - T, "--settle must leave some of each --flight-seconds flight");
   constexpr std::uint64_t kFirstStream = std::uint64_t{1} << 42;  // disjoint from training (0 …), held-out (2⁴⁰), test (2⁴¹)
@@ -411,6 +413,7 @@ int runCalibrate(const CalibrateOptions& o) {
                                         std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
                                   : "randomisation " + o.randomise + vehicleNames(o.vehicles)) +
              "; seed " + std::to_string(o.seed) + chosen_from;
+  c.model_crc32 = model.file_crc32;
   const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
   writeCalibrationFile(output, c);
   if (!o.quiet) {

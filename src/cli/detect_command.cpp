@@ -192,7 +192,8 @@ CalibrationChoice defaultCalibrationPath(const std::string& model_path, const st
 }
 
 SequentialSetup sequentialSetup(const std::string& calibration_file, std::optional<double> degraded_below,
-                                std::optional<double> failed_below, std::optional<double> false_alarms_per_hour, double dt) {
+                                std::optional<double> failed_below, std::optional<double> false_alarms_per_hour, double dt,
+                                std::uint32_t model_crc32) {
   SequentialSetup s;
   DecisionCalibration& c = s.calibration;
   if (calibration_file.empty()) {
@@ -201,6 +202,7 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, std::option
                            false_alarms_per_hour.value_or(DecisionCalibration{}.target_rate), dt);
   } else {
     c = readCalibrationFile(calibration_file);
+    if (const std::string other = calibrationModelProblem(c, model_crc32); !other.empty()) throw ConfigError(calibration_file + ": " + other);
     const double rate = false_alarms_per_hour.value_or(c.target_rate);
     const double per_level = rate / 2.0;  // the vehicle's budget, split over the two levels
     if (std::abs(c.dt - dt) > 1e-12 * dt)
@@ -268,7 +270,7 @@ int runDetect(const DetectOptions& o) {
       else if (!o.quiet && chosen.for_vehicle)
         std::fprintf(stderr, "detect: calibration %s (for --vehicle %s)\n", calibration.c_str(), o.log.vehicle.c_str());
     }
-    config.sequential = sequentialSetup(calibration, o.degraded_below, o.failed_below, o.false_alarms_per_hour, m.dt).config;
+    config.sequential = sequentialSetup(calibration, o.degraded_below, o.failed_below, o.false_alarms_per_hour, m.dt, model.file_crc32).config;
     config.sequential.clear_after = o.clear_after;
   }
   std::unique_ptr<Detector> detector;

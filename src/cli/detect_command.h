@@ -1,6 +1,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -46,8 +47,11 @@ struct SequentialSetup {
   SequentialConfig config;
   DecisionCalibration calibration;  // as used: thresholds re-solved for the options' target rate
 };
+// A calibration that records another weights file's CRC than `model_crc32` is refused (ConfigError
+// "CALIBRATION: made for another model (…)").
 SequentialSetup sequentialSetup(const std::string& calibration_file, std::optional<double> degraded_below,
-                                std::optional<double> failed_below, std::optional<double> false_alarms_per_hour, double dt);
+                                std::optional<double> failed_below, std::optional<double> false_alarms_per_hour, double dt,
+                                std::uint32_t model_crc32);
 
 // MODEL.qfdw → MODEL.calibration.json: the calibration detect uses when none is named.
 std::string calibrationSidecarPath(const std::string& model_path);

@@ -189,7 +189,7 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
   const std::string calibration =
       o.calibration.empty() ? defaultCalibrationPath(o.model_free, o.vehicles.size() == 1 ? o.vehicles.front() : std::string()).path : o.calibration;
   // The calibration's own levels (their thresholds come from data); defaults without one.
-  const SequentialSetup rule = sequentialSetup(calibration, std::nullopt, std::nullopt, std::nullopt, model.metadata.dt);
+  const SequentialSetup rule = sequentialSetup(calibration, std::nullopt, std::nullopt, std::nullopt, model.metadata.dt, model.file_crc32);
   SequentialReportInputs in;
   in.model = &model;
   in.model_path = o.model_free;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 
@@ -293,6 +294,18 @@ DecisionCalibration defaultCalibration(double degraded_below, double failed_belo
   c.degraded = calibrateLevel({}, degraded_below, 0.0, target_rate / 2.0, c.noise, dt);
   c.failed = calibrateLevel({}, failed_below, 0.0, target_rate / 2.0, c.noise, dt);
   return c;
+}
+
+std::string calibrationModelProblem(const DecisionCalibration& c, std::uint32_t model_crc32) {
+  if (!c.model_crc32 || model_crc32 == 0 || *c.model_crc32 == model_crc32) return "";
+  return "made for another model (weights file CRC-32 " + crc32Hex(*c.model_crc32) + ", this model's " + crc32Hex(model_crc32) +
+         "): recalibrate with quadfdi calibrate --model MODEL, or give the calibration made for this model";
+}
+
+std::string crc32Hex(std::uint32_t crc) {
+  char text[11];
+  std::snprintf(text, sizeof text, "0x%08x", crc);
+  return text;
 }
 
 }  // namespace quadfdi

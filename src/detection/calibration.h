@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -57,7 +58,16 @@ struct DecisionCalibration {
                                    // from `reference`
   LevelCalibration degraded, failed;
   std::string source;        // provenance: command, model, simulation settings
+  // The CRC-32 of the weights file calibrated (TrainedModel::file_crc32): thresholds fitted on one
+  // network's Θ̂ mean nothing for another's, so a model with another CRC is refused
+  // (calibrationModelProblem). Absent (nullopt) in files written before 2026-11-27: not checked.
+  std::optional<std::uint32_t> model_crc32;
 };
+
+// "" when `c` may run with a model whose weights file has CRC `model_crc32`; else why not, naming
+// both CRCs (hex). A calibration without a recorded CRC, or a model not read from a file (0), passes.
+std::string calibrationModelProblem(const DecisionCalibration& c, std::uint32_t model_crc32);
+std::string crc32Hex(std::uint32_t crc);  // "0x" and eight lower-case hex digits, as calibration files write it
 
 // The rule for two calibrated levels and a noise model of the `reference` quantity: their levels,
 // thresholds and caps; the estimate reads the same quantity; every other setting (clear_after,

@@ -161,6 +161,7 @@ TrainedModel decodeWeightsFile(const std::uint8_t* data, std::size_t size, const
   if (!header.is_object() || !header.contains("metadata") || !header.contains("tensors") || !header["tensors"].is_array())
     throw fail("byte 16: the header lacks 'metadata' or 'tensors'");
   TrainedModel model;
+  model.file_crc32 = getU32(data + size - 4);
   model.metadata = metadataFromJson(header["metadata"].dump(), where);
   const std::vector<TensorSpec> specs = layoutOf(model.metadata, model.weights);
   const nlohmann::json& directory = header["tensors"];

@@ -18,6 +18,9 @@ inline constexpr std::uint32_t kWeightsVersion = 1;
 struct TrainedModel {
   ModelMetadata metadata;
   NetworkWeights weights;
+  // The CRC-32 its weights file ends with (checked on decoding): the file's identity, which a
+  // calibration records so that it is not run with another network. 0 for a model not read from a file.
+  std::uint32_t file_crc32 = 0;
 };
 
 // Serialises; throws std::invalid_argument if the weights do not match the metadata's architecture.

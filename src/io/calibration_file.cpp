@@ -111,6 +111,7 @@ std::string calibrationToJson(const DecisionCalibration& c) {
       {"failed", levelToJson(c.failed)},
       {"source", c.source}};
   if (ownEstimateNoise(c)) j["estimate_noise"] = noiseToJson(c.estimate_noise);
+  if (c.model_crc32) j["model_crc32"] = crc32Hex(*c.model_crc32);
   return j.dump(2) + "\n";
 }
 
@@ -144,6 +145,12 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     c.degraded = levelFromJson(j.at("degraded"));
     c.failed = levelFromJson(j.at("failed"));
     c.source = j.at("source").get<std::string>();
+    if (j.contains("model_crc32")) {  // absent before 2026-11-27
+      const std::string hex = j.at("model_crc32").get<std::string>();
+      if (hex.size() != 10 || hex.compare(0, 2, "0x") != 0 || hex.find_first_not_of("0123456789abcdef", 2) != std::string::npos)
+        throw fail("bad calibration: model_crc32 must be \"0x\" and eight lower-case hex digits, not \"" + hex + "\"");
+      c.model_crc32 = static_cast<std::uint32_t>(std::stoul(hex.substr(2), nullptr, 16));
+    }
   } catch (const nlohmann::json::exception& e) {
     throw fail(std::string("bad calibration: ") + e.what());
   }

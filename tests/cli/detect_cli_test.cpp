@@ -131,6 +131,38 @@ TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
   EXPECT_NE(r.out.find("FAULT in motor 3"), std::string::npos) << r.out;
 }
 
+// A calibration records the CRC-32 its model's weights file ends with; detect refuses it with any
+// other model in one line naming both, and accepts a file written before the key existed.
+TEST(DetectCli, ACalibrationIsRefusedWithAnotherModel) {
+  const std::string src = QUADFDI_SOURCE_DIR, cal = temp("crc-calibration.json");
+  const std::string tcn = src + "/models/tcn-model-free.qfdw", lstm = src + "/models/lstm-model-free.qfdw";
+  ASSERT_EQ(run("calibrate -q --model " + tcn + " --flights 2 --flight-seconds 4 --faulty-flights 0 --output " + cal).exit_code, 0);
+  const std::string bytes = readFile(tcn);
+  ASSERT_GT(bytes.size(), 4u);
+  std::uint32_t crc = 0;
+  for (int i = 3; i >= 0; --i) crc = (crc << 8) | static_cast<unsigned char>(bytes[bytes.size() - 4 + static_cast<std::size_t>(i)]);
+  char hex[16];
+  std::snprintf(hex, sizeof hex, "0x%08x", crc);
+  EXPECT_NE(readFile(cal).find(std::string("\"model_crc32\": \"") + hex + "\""), std::string::npos) << readFile(cal);
+  const std::string input = " --input " + faultyCsv() + " --output " + temp("crc.jsonl");
+  EXPECT_EQ(run("detect -q --model " + tcn + " --calibration " + cal + input).exit_code, 0);
+  const CommandResult other = run("detect --model " + lstm + " --calibration " + cal + input);
+  EXPECT_NE(other.exit_code, 0);
+  EXPECT_NE(other.out.find(cal + ": made for another model (weights file CRC-32 " + hex + ", this model's 0x"), std::string::npos) << other.out;
+  EXPECT_EQ(lines(other.out).size(), 1u) << other.out;
+  // evaluate reads calibrations the same way.
+  const CommandResult evaluated = run("evaluate -e decisions --model-free " + lstm + " --calibration " + cal + " -o " + temp("crc-eval"));
+  EXPECT_NE(evaluated.exit_code, 0);
+  EXPECT_NE(evaluated.out.find(cal + ": made for another model"), std::string::npos) << evaluated.out;
+  // Without the key (files before 2026-11-27) nothing is checked.
+  std::string old = readFile(cal);
+  const std::size_t at = old.find(",\n  \"model_crc32\"");
+  ASSERT_NE(at, std::string::npos) << old;
+  old.erase(at + 1, old.find('\n', at + 2) - (at + 1));  // the key's line; the line before keeps its comma
+  std::ofstream(temp("crc-old.json")) << old;
+  EXPECT_EQ(run("detect -q --model " + lstm + " --calibration " + temp("crc-old.json") + input).exit_code, 0);
+}
+
 // --failed-cap: the failed level is fitted on the capped statistic and the file keeps the cap.
 TEST(DetectCli, CalibrateCapsTheFailedStatisticWhenAsked) {
   const std::string cal = temp("failed-cap.json");

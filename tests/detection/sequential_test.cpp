@@ -791,6 +791,26 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
     const std::string order_error = rejectionAfterEdit(json, "\"theta\": 0.5", "\"theta\": 0.0");
     EXPECT_NE(order_error.find("cal.json: bad calibration: noise belt[1]: theta must lie in [0, 1] and ascend"), std::string::npos) << order_error;
   }
+  {  // the model's CRC round-trips as 0x + 8 hex digits; absent: not recorded, so not checked; malformed: refused
+    DecisionCalibration stamped = c;
+    stamped.model_crc32 = 0x0badf00du;
+    const std::string json = calibrationToJson(stamped);
+    EXPECT_NE(json.find("\"model_crc32\": \"0x0badf00d\""), std::string::npos) << json;
+    const DecisionCalibration stamped_back = calibrationFromJson(json, "x.json");
+    ASSERT_TRUE(stamped_back.model_crc32.has_value());
+    EXPECT_EQ(*stamped_back.model_crc32, 0x0badf00du);
+    EXPECT_FALSE(calibrationFromJson(calibrationToJson(c), "x.json").model_crc32.has_value());
+    EXPECT_EQ(calibrationModelProblem(stamped_back, 0x0badf00du), "");
+    EXPECT_EQ(calibrationModelProblem(c, 0x12345678u), "");             // none recorded
+    EXPECT_EQ(calibrationModelProblem(stamped_back, 0), "");            // a model not read from a file
+    EXPECT_EQ(calibrationModelProblem(stamped_back, 0x12345678u).rfind("made for another model (weights file CRC-32 0x0badf00d, this model's 0x12345678)", 0), 0u);
+    for (const char* bad : {"\"0x0BADF00D\"", "\"0badf00d\"", "\"0x0badf00\"", "\"0x0badf00g\""}) {
+      const std::string error = rejectionAfterEdit(json, "\"0x0badf00d\"", bad);
+      EXPECT_NE(error.find("cal.json: bad calibration: model_crc32 must be \"0x\" and eight lower-case hex digits"), std::string::npos) << error;
+    }
+    const std::string not_text = rejectionAfterEdit(json, "\"0x0badf00d\"", "195948557");
+    EXPECT_EQ(not_text.rfind("cal.json: bad calibration: ", 0), 0u) << not_text;
+  }
   {  // the reference round-trips; absent (every file before 2026-11-26): absolute; unknown: refused
     DecisionCalibration relative = c;
     relative.reference = ThetaReference::kOthers;

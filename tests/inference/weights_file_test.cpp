@@ -61,6 +61,18 @@ TEST(WeightsFile, RoundTripsEveryArchitectureExactly) {
   }
 }
 
+// A decoded model carries its file's CRC-32 (what a calibration records): the CRC of every byte
+// before it, and another one for another network.
+TEST(WeightsFile, ADecodedModelKnowsItsFilesCrc) {
+  const std::string bytes = encode(makeModel(Architecture::kTcn, 3));
+  const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+  const TrainedModel a = decodeWeightsFile(data, bytes.size(), "a");
+  EXPECT_EQ(a.file_crc32, crc32(data, bytes.size() - 4));
+  const std::string other = encode(makeModel(Architecture::kTcn, 4));
+  EXPECT_NE(decodeWeightsFile(reinterpret_cast<const std::uint8_t*>(other.data()), other.size(), "b").file_crc32, a.file_crc32);
+  EXPECT_EQ(makeModel(Architecture::kTcn, 3).file_crc32, 0u);  // not read from a file
+}
+
 TEST(WeightsFile, EveryKindOfDamageIsAOneLineError) {
   const std::string good = encode(makeModel(Architecture::kTcn, 1));
   EXPECT_EQ(errorOf(""), "m.qfdw: empty file, not a quadfdi weights file");

@@ -2,13 +2,15 @@
 // models' read Θ̂ against the other motors and the paper's models' read it as given (the
 // reproduction's rule); and a calibration for one airframe (MODEL.STEM.calibration.json, which
 // detect --vehicle STEM.toml picks) names a model that exists and a described vehicle, so that a
-// misspelt name cannot ship a calibration nothing ever runs.
+// misspelt name cannot ship a calibration nothing ever runs; and each records the CRC of the
+// weights file beside it.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
 
 #include "io/calibration_file.h"
+#include "io/model_file.h"
 
 namespace quadfdi {
 namespace {
@@ -38,6 +40,10 @@ TEST(ShippedCalibrations, ReadWithTheirReferencesAndNameWhatTheyCalibrate) {
     const bool paper = model == "tcn-model-free" || model == "lstm-model-free";
     EXPECT_EQ(c.reference, paper ? ThetaReference::kAbsolute : ThetaReference::kOthers) << name;
     EXPECT_EQ(c.estimate_reference, ThetaReference::kAbsolute) << name;
+    // Made for the model beside it: a model replaced without recalibrating fails here, as detect
+    // would refuse the pair.
+    ASSERT_TRUE(c.model_crc32.has_value()) << name << ": no model_crc32";
+    EXPECT_EQ(calibrationModelProblem(c, readModelFile((kModels / (model + ".qfdw")).string()).file_crc32), "") << name;
   }
   EXPECT_GE(files, 5);
   EXPECT_GE(for_vehicles, 1);
