@@ -13,6 +13,7 @@
 
 #include "cli/cli_support.h"
 #include "io/calibration_file.h"
+#include "io/model_file.h"
 
 namespace {
 
@@ -137,13 +138,8 @@ TEST(DetectCli, ACalibrationIsRefusedWithAnotherModel) {
   const std::string src = QUADFDI_SOURCE_DIR, cal = temp("crc-calibration.json");
   const std::string tcn = src + "/models/tcn-model-free.qfdw", lstm = src + "/models/lstm-model-free.qfdw";
   ASSERT_EQ(run("calibrate -q --model " + tcn + " --flights 2 --flight-seconds 4 --faulty-flights 0 --output " + cal).exit_code, 0);
-  const std::string bytes = readFile(tcn);
-  ASSERT_GT(bytes.size(), 4u);
-  std::uint32_t crc = 0;
-  for (int i = 3; i >= 0; --i) crc = (crc << 8) | static_cast<unsigned char>(bytes[bytes.size() - 4 + static_cast<std::size_t>(i)]);
-  char hex[16];
-  std::snprintf(hex, sizeof hex, "0x%08x", crc);
-  EXPECT_NE(readFile(cal).find(std::string("\"model_crc32\": \"") + hex + "\""), std::string::npos) << readFile(cal);
+  const std::string hex = quadfdi::crc32Hex(quadfdi::readModelFile(tcn).file_crc32);  // WeightsFile tests: the file's CRC
+  EXPECT_NE(readFile(cal).find("\"model_crc32\": \"" + hex + "\""), std::string::npos) << readFile(cal);
   const std::string input = " --input " + faultyCsv() + " --output " + temp("crc.jsonl");
   EXPECT_EQ(run("detect -q --model " + tcn + " --calibration " + cal + input).exit_code, 0);
   const CommandResult other = run("detect --model " + lstm + " --calibration " + cal + input);
