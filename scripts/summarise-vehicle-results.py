@@ -59,7 +59,7 @@ if held_out:
                "models learnt the Crazyflie, the racer and the Iris (`configs/randomisation-default.toml`). Each is flown "
                "and scored with what `detect --vehicle` runs for it — the general model `models/tcn-randomised.qfdw` with "
                "its shipped calibration (STEM/) — and, in STEM-calibrated/, the same model with a calibration made for "
-               "that airframe (`quadfdi calibrate --vehicle`, no training; [docs/vehicles.md](../../vehicles.md#held-out-airframes-configsvehiclesheld-out)). "
+               "that airframe (`quadfdi calibrate --randomise configs/randomisation-default.toml --vehicle FILE`, no training; [docs/vehicles.md](../../vehicles.md#held-out-airframes-configsvehiclesheld-out)). "
                f"Runs: {runs}. Command: `{command}` (STEM-calibrated adds `--calibration FILE`). "
                f"Full reports: {reports}. Machine: {machine}; summarised {datetime.date.today().isoformat()}.\n")
 else:

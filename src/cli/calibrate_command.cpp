@@ -209,6 +209,10 @@ std::string failedCapNote(double cap) {
 
 int runCalibrate(const CalibrateOptions& o) {
   for (double level : o.degraded_below) require(o.failed_below < level, "--failed-below must be below --degraded-below");
+  // Without a randomisation the flights are the nominal Crazyflie's under LQR: a --vehicle there
+  // would be ignored, and the calibration would silently not be the airframe's.
+  require(o.vehicles.empty() || !o.randomise.empty(),
+          "--vehicle needs --randomise FILE (e.g. configs/randomisation-default.toml): without it calibrate flies the nominal Crazyflie");
   const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
   const TrainedModel model = readModelFile(model_path);
   const double dt = model.metadata.dt;

@@ -20,7 +20,7 @@ CLI::App* addReproduceCommand(CLI::App& app, ReproduceOptions& o) {
       "The whole chain in one folder: train every network the experiments need (model-free LSTM,\n"
       "model-based LSTM, residual-only LSTM, model-free MLP; data generated inside Algorithm 1),\n"
       "then run E1–E6 and write REPORT.md with tables and figures.\n"
-      "Scales: tiny (tests), quick (~10–15 min on 2 cores, small networks' training), default (the CPU\n"
+      "Scales: tiny (tests), quick (~8 min on 2 cores, small networks' training), default (the CPU\n"
       "reproduction), paper (the paper's training and test scale; meant for a GPU: --device cuda).");
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);

@@ -246,6 +246,19 @@ TEST(DetectCli, CalibrateCountsHealthyFlightsFromTheSettleTimeOn) {
   EXPECT_NE(refused.out.find("--settle must leave some of each --flight-seconds flight"), std::string::npos) << refused.out;
 }
 
+// --vehicle only chooses the vehicles of a randomisation: alone it is refused in one line rather
+// than ignored (which would calibrate the nominal Crazyflie under the airframe's name).
+TEST(DetectCli, CalibrateRefusesAVehicleWithoutARandomisation) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw";
+  const std::string cal = temp("vehicle-alone.json");
+  const CommandResult c = run("calibrate -q --model " + model + " --vehicle " + std::string(QUADFDI_SOURCE_DIR) +
+                              "/configs/vehicles/racer250.toml --flights 2 --flight-seconds 4 --output " + cal);
+  EXPECT_EQ(c.exit_code, 1);
+  EXPECT_EQ(countLines(c.out), 1) << c.out;
+  EXPECT_NE(c.out.find("--vehicle needs --randomise FILE"), std::string::npos) << c.out;
+  EXPECT_FALSE(std::filesystem::exists(cal));
+}
+
 // Several degraded levels: each is calibrated and scored on the faulty flights, one is kept, and
 // detect then runs at the calibration's level unless told otherwise.
 TEST(DetectCli, CalibrateChoosesALevelThatDetectThenUses) {
