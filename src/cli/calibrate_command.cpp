@@ -35,6 +35,7 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
       "simulate faulty flights for the model error of the Θ̂ estimate. Writes JSON for `detect --calibration`.");
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
+  t->recordGivenIn(o.given);
   t->add("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)").defaultText("");
   t->add("--output,-o", o.output, "Calibration JSON to write (default: MODEL.calibration.json beside the model, which detect reads)")
       .defaultText("");
@@ -209,10 +210,21 @@ std::string failedCapNote(double cap) {
 
 int runCalibrate(const CalibrateOptions& o) {
   for (double level : o.degraded_below) require(o.failed_below < level, "--failed-below must be below --degraded-below");
-  // Without a randomisation the flights are the nominal Crazyflie's under LQR: a --vehicle there
-  // would be ignored, and the calibration would silently not be the airframe's.
-  require(o.vehicles.empty() || !o.randomise.empty(),
-          "--vehicle needs --randomise FILE (e.g. configs/randomisation-default.toml): without it calibrate flies the nominal Crazyflie");
+  // Options this run would not read are refused, not ignored: without a randomisation the flights
+  // are the nominal Crazyflie's under LQR (a --vehicle would silently not be the airframe's); with
+  // one, its estimator noise and manoeuvres are flown; a refit flies no healthy flight.
+  if (o.randomise.empty())
+    refuseGiven(o.given, {"vehicle"}, "needs --randomise FILE (e.g. configs/randomisation-default.toml): without it calibrate flies the nominal Crazyflie");
+  else
+    refuseGiven(o.given, {"position_noise", "attitude_noise", "goal_period"},
+                "applies only without --randomise (the randomisation's estimator noise and manoeuvres are flown)");
+  if (!o.refit_interval.empty())
+    refuseGiven(o.given,
+                {"flights", "flight_seconds", "settle", "false_alarms_per_hour", "degraded_below", "failed_below", "delay_budget",
+                 "degraded_cap", "failed_cap", "reference", "estimate_reference"},
+                "--refit-interval keeps the file's levels, thresholds, caps and references and flies no healthy flight: drop it");
+  if (o.degraded_below.size() < 2) refuseGiven(o.given, {"delay_budget"}, "only chooses among several --degraded-below levels");
+  if (o.faulty_flights == 0 && o.interval == "belt") refuseGiven(o.given, {"interval"}, "belt needs --faulty-flights > 0 to fit it on");
   const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
   const TrainedModel model = readModelFile(model_path);
   const double dt = model.metadata.dt;

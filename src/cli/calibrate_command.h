@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,7 @@ struct CalibrateOptions {
   std::string randomise;            // randomisation FILE: fly its vehicles, controllers, manoeuvres and estimator instead
   std::vector<std::string> vehicles;  // with --randomise: these vehicle description FILEs instead of the file's
   bool quiet = false;
+  std::set<std::string> given;      // keys given explicitly: options this run would ignore are refused
 };
 
 CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& options);

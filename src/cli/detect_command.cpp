@@ -232,6 +232,14 @@ int runDetect(const DetectOptions& o) {
   // Checked for every input: with a CSV the description only picks the model, and a missing or
   // broken one must be refused ("FILE:LINE: problem"), not read as "no model of its own".
   if (!o.log.vehicle.empty()) loadVehicleDescription(o.log.vehicle);
+  // The other rule's options are warned about, not refused: a config file may serve both rules.
+  if (!o.quiet) {
+    const std::string unread = sequential ? firstGiven(o.log.given, {"raise_below", "raise_after", "clear_above"})
+                                          : firstGiven(o.log.given, {"calibration", "degraded_below", "failed_below", "false_alarms_per_hour"});
+    if (!unread.empty())
+      std::fprintf(stderr, "detect: warning: %s is the %s rule's; --rule %s does not read it\n", unread.c_str(),
+                   sequential ? "persistence" : "sequential", o.rule.c_str());
+  }
   const DetectModelChoice choice = detectModelPath(o.model, o.log.vehicle);
   const std::string& model_path = choice.path;
   const TrainedModel model = readModelFile(model_path);
@@ -283,6 +291,7 @@ int runDetect(const DetectOptions& o) {
   if (!o.plot.empty()) requireGnuplot();  // before any work
   const bool live = o.input == "-";
   const std::string format = resolveInputFormat(o.input, o.log.format);
+  refuseOptionsUnreadBy(format, o.log);
   std::ios::sync_with_stdio(false);  // buffered standard input: the reader asks it what is waiting
   std::ifstream file;
   const std::string name = live ? std::string("<stdin>") : o.input;

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -37,6 +38,7 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
       "manoeuvres, plant errors; streaming models); decisions: severity, delay against theta, false alarms per flight hour.");
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
+  t->recordGivenIn(o.given);
   t->add("--model-free,--model", o.model_free, "Model-free LSTM model file (E1, E3–E6)");
   t->add("--model-based", o.model_based, "Model-based LSTM model file (E3–E5)");
   t->add("--residual", o.residual, "Residual-only model file (E4, optional)");
@@ -221,6 +223,17 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
 }  // namespace
 
 int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
+  auto chosen = [&](std::initializer_list<const char*> ids) {
+    for (const char* id : ids)
+      if (std::find(o.experiments.begin(), o.experiments.end(), id) != o.experiments.end()) return true;
+    return false;
+  };
+  if (!chosen({"e7", "decisions"}))
+    refuseGiven(o.given, {"vehicle", "calibration", "flights_per_class"}, "only -e e7 and decisions read it: add one of them to -e, or drop it");
+  if (!chosen({"decisions"}))
+    refuseGiven(o.given, {"randomise", "flight_hours", "faulty_per_theta"}, "only -e decisions reads it: add decisions to -e, or drop it");
+  if (!chosen({"e1", "e2", "e3", "e4", "e5", "e6"}))
+    refuseGiven(o.given, {"theta_tol"}, "only E1-E6 read it (E7 and decisions run the sequential rule): add one of them to -e, or drop it");
   std::string problem;
   const NamedScale* named = findScale(o.scale, &problem);
   require(named != nullptr, "--scale: " + problem);

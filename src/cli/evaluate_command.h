@@ -1,6 +1,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ struct EvaluateOptions {
   double flight_hours = 0.0;    // [h] `decisions`: healthy flight time; 0: from --scale
   int faulty_per_theta = 0;     // [flights] `decisions`: faulty flights per (vehicle, Θ); 0: 4 × flights_per_class
   bool quiet = false;           // no progress
+  std::set<std::string> given;  // keys given explicitly: options the chosen experiments ignore are refused
 };
 
 // Declares the options (validated while CLI11 parses).

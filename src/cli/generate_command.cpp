@@ -65,6 +65,9 @@ int runGenerate(const GenerateOptions& o) {
   require(scale != nullptr, "--scale: " + problem);
   const int n1 = o.initial_conditions.value_or(scale->data.initial_conditions);
 
+  if (!o.randomise.empty())
+    refuseGiven(o.given, {"params", "controller", "controller_config", "preroll"},
+                "has no effect with --randomise (its vehicles, controller mix and preroll_seconds are flown)");
   RolloutConfig rc;
   rc.plant = loadVehicleParams(o.params);
   rc.controller_model = rc.plant;

@@ -15,6 +15,7 @@
 namespace quadfdi::cli {
 
 void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
+  t.recordGivenIn(o.given);
   t.add("--format", o.format,
         "Input format: auto (from the content: ULog, DataFlash or Crazyflie magic, else CSV), csv, ulog, dataflash, crazyflie")
       .choices({"auto", "csv", "ulog", "dataflash", "crazyflie"});
@@ -44,6 +45,25 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
   t.add("--cf-thrust-map", o.crazyflie_thrust,
         "Crazyflie: motor command → thrust: auto (battery model when pwm.* and pm.vbatMV are logged), duty, battery")
       .choices({"auto", "duty", "battery"});
+}
+
+void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o) {
+  if (format == "csv") {
+    refuseGiven(o.given,
+                {"max_thrust", "mass", "hover_calibrate", "min_rate_attitude", "min_rate_command", "min_rate_position",
+                 "settle_after_takeoff", "settle_before_landing", "phases_by_rule", "ekf_core", "cf_thrust_map"},
+                "reads flight logs (ULog, DataFlash, Crazyflie micro-SD); a telemetry CSV's u1..u4 are newtons per motor already "
+                "(docs/conventions.md)");
+    return;
+  }
+  if (format != "dataflash") refuseGiven(o.given, {"ekf_core"}, "is ArduPilot's (DataFlash); this log is " + format);
+  if (format != "crazyflie") refuseGiven(o.given, {"cf_thrust_map"}, "is the Crazyflie's; this log is " + format);
+  if (format == "crazyflie")
+    refuseGiven(o.given, {"max_thrust", "mass", "hover_calibrate"},
+                "scales thrust-fraction commands; a Crazyflie log's commands become newtons through the firmware's thrust "
+                "map (--cf-thrust-map)");
+  else if (o.given.count("max_thrust") && !o.import.hover_calibrate)
+    refuseGiven(o.given, {"mass"}, "unused with --max-thrust unless --hover-calibrate (which calibrates the scale from the hover)");
 }
 
 namespace {

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@ struct LogInputOptions {
   int ekf_core = 0;                  // ArduPilot
   std::string crazyflie_thrust = "auto";  // auto|duty|battery
   std::string vehicle;               // a vehicle description (docs/vehicles.md): max thrust, mass, thrust curve
+  std::set<std::string> given;       // keys the command was given (its whole table): options a format does not read
 };
 
 // Declares --format, --vehicle, --max-thrust, --mass, --hover-calibrate, --min-rate-*, --settle-*,
@@ -32,6 +34,11 @@ void addLogInputOptions(OptionTable& table, LogInputOptions& o);
 // "csv", "ulog", "dataflash" or "crazyflie": --format, else the file's first bytes (magic).
 // Throws "FILE: unknown format: …" for a binary file with no known magic.
 std::string resolveInputFormat(const std::string& path, const std::string& format);
+
+// Refuses, in one line ("--flag: why"), the options above that `format`'s reader does not read:
+// a telemetry CSV reads none (its u1..u4 are newtons already), ULog none of ArduPilot's or the
+// Crazyflie's, and so on. Run with the format resolveInputFormat gave, before any work.
+void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o);
 
 struct OpenedLog {
   std::unique_ptr<LogSampleSource> source;

@@ -274,4 +274,18 @@ void attachOptions(CLI::App& command, std::shared_ptr<OptionTable> table) {
   command.callback([table] { table->resolve(); });
 }
 
+std::string firstGiven(const std::set<std::string>& given, std::initializer_list<const char*> keys) {
+  for (const char* key : keys)
+    if (given.count(key)) {
+      std::string flag = std::string("--") + key;
+      std::replace(flag.begin(), flag.end(), '_', '-');
+      return flag;
+    }
+  return {};
+}
+
+void refuseGiven(const std::set<std::string>& given, std::initializer_list<const char*> keys, const std::string& why) {
+  if (const std::string flag = firstGiven(given, keys); !flag.empty()) throw OptionError(flag + ": " + why);
+}
+
 }  // namespace quadfdi::cli

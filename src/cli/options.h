@@ -25,6 +25,7 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -205,5 +206,12 @@ class OptionTable {
 // Registers `table`'s options on `command` and resolves them when CLI11 has parsed it (the
 // callback keeps the table alive as long as the command).
 void attachOptions(CLI::App& command, std::shared_ptr<OptionTable> table);
+
+// Options that another choice makes meaningless (a flag only one mode reads). `given` is the set
+// recordGivenIn fills (config keys); `keys` are config keys. firstGiven: the first of them given,
+// as its flag ("--max-thrust"), else "". refuseGiven: throws OptionError "--flag: why" for it, so
+// a run never silently does something other than what its flags asked for.
+std::string firstGiven(const std::set<std::string>& given, std::initializer_list<const char*> keys);
+void refuseGiven(const std::set<std::string>& given, std::initializer_list<const char*> keys, const std::string& why);
 
 }  // namespace quadfdi::cli

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cli/cli_util.h"
 #include "cli/options.h"
 #include "control/controller_factory.h"
 #include "io/atomic_file.h"
@@ -126,6 +127,20 @@ int runSimulate(const SimulateOptions& o) {
     cc.lqr = o.lqr_weights == "authors" ? LqrConfig::authors() : LqrConfig::brysonFor(design);
   if (o.controller_config.empty() || given("cbf_min_altitude")) cc.cbf.min_altitude = o.cbf_min_altitude;
   if (o.controller_config.empty() || given("cbf_max_tilt")) cc.cbf.max_tilt = o.cbf_max_tilt;
+  // Options this flight would not read are refused, not ignored.
+  if (cc.kind == ControllerKind::kPid)
+    refuseGiven(o.given, {"lqr_weights"}, "is the LQR's (and the CBF-QP's, which filters it); --controller pid does not read it");
+  if (cc.kind != ControllerKind::kCbfQp)
+    refuseGiven(o.given, {"cbf_min_altitude", "cbf_max_tilt"}, "is the CBF-QP filter's; give --controller cbf");
+  if (o.motor == 0) refuseGiven(o.given, {"theta", "fault_step"}, "needs --motor N (without it the flight is healthy)");
+  require(o.motor == 0 || o.fault_step < o.steps,
+          "--fault-step " + std::to_string(o.fault_step) + " is not before --steps " + std::to_string(o.steps) + ": the flight would stay healthy");
+  require(!(o.gust_rate > 0.0) || o.gust_peak > 0.0, "--gust-rate: needs --gust-peak > 0 (no gusts otherwise)");
+  require(!(o.gust_peak > 0.0) || o.gust_rate > 0.0, "--gust-peak: needs --gust-rate > 0 (no gusts otherwise)");
+  if (o.trajectory == "hover")
+    refuseGiven(o.given, {"speed", "radius", "yaw_mode"}, "applies to --trajectory point-to-point, circle or figure-eight; hover holds the goal");
+  else if (o.trajectory == "point-to-point")
+    refuseGiven(o.given, {"radius"}, "is the circle's and the figure-eight's; point-to-point flies from the start to the goal");
 
   SimulationSettings settings;
   settings.steps = o.steps;

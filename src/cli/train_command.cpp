@@ -30,6 +30,7 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
       "continues a killed run, losing at most one iteration.");
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
+  t->recordGivenIn(o.given);
   t->add("--scale", o.scale, "Data per iteration, buffer and schedule: tiny (tests), quick, default (CPU), "
                              "paper (GPU)")
       .choices(scaleNames());
@@ -103,6 +104,11 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   c.data.thetas = o.thetas;
   c.data.motors = {2};
   c.data.threads = o.threads;
+  if (!o.randomise.empty())
+    refuseGiven(o.given, {"params", "controller", "preroll"},
+                "has no effect with --randomise (its vehicles, controller mix and preroll_seconds are flown)");
+  else if (o.vehicles.size() == 1)
+    refuseGiven(o.given, {"params"}, "--vehicle FILE is the plant; give one of them");
   c.data.rollout.plant = loadVehicleParams(o.vehicles.size() == 1 && o.randomise.empty() ? o.vehicles[0] : o.params);
   c.data.rollout.controller_model = c.data.rollout.plant;
   require(o.vehicles.size() <= 1 || !o.randomise.empty(), "--vehicle: several vehicles need --randomise FILE");
@@ -135,6 +141,11 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
     require(parseTrainingMode(o.training, c.mode), "--training must be windows or sequences");
   require(c.mode == TrainingMode::kWindows || c.model.architecture == Architecture::kTcn,
           "--training sequences needs --architecture tcn (an LSTM's or MLP's output depends on where the window starts)");
+  if (c.mode == TrainingMode::kWindows)
+    refuseGiven(o.given, {"batch_trajectories"}, "is for --training sequences; windows training takes --batch-size");
+  else
+    refuseGiven(o.given, {"batch_size"}, "is for --training windows; sequences training takes --batch-trajectories");
+  if (c.model.architecture != Architecture::kTcn) refuseGiven(o.given, {"tcn_channels"}, "only --architecture tcn has channels");
   c.model.tcn.channels = o.tcn_channels;
   require(c.model.architecture != Architecture::kTcn || c.model.tcn.receptiveField() <= c.data.rollout.window - 1,
           "--architecture tcn: the receptive field (" + std::to_string(c.model.tcn.receptiveField()) +
@@ -144,7 +155,7 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   require(symmetry_problem.empty(), "--symmetry " + o.symmetry + ": " + symmetry_problem);
   c.loss = o.loss == "norm" ? LossKind::kNorm : LossKind::kPerMotor;
   c.model.window = c.data.rollout.window;
-  c.model.params = o.params;
+  c.model.params = o.vehicles.size() == 1 && o.randomise.empty() ? o.vehicles[0] : o.params;  // the plant flown
   c.model.controller = o.controller;
   c.model.command = command_line;
   c.batch_size = o.batch_size.value_or(s.batch_size);

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,7 @@ struct TrainOptions {
   bool resume = false;                          // continue from the checkpoint if there is one
   std::string start_from;                       // fine-tune: a finished model (.qfdw) to start from
   bool quiet = false;                           // no progress bar or summary
+  std::set<std::string> given;                  // keys given explicitly: options this training would ignore are refused
 };
 
 // Declares the options (validated while CLI11 parses, --config included).

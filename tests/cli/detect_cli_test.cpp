@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -255,7 +256,7 @@ TEST(DetectCli, CalibrateRefusesAVehicleWithoutARandomisation) {
                               "/configs/vehicles/racer250.toml --flights 2 --flight-seconds 4 --output " + cal);
   EXPECT_EQ(c.exit_code, 1);
   EXPECT_EQ(countLines(c.out), 1) << c.out;
-  EXPECT_NE(c.out.find("--vehicle needs --randomise FILE"), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("--vehicle: needs --randomise FILE"), std::string::npos) << c.out;
   EXPECT_FALSE(std::filesystem::exists(cal));
 }
 
@@ -509,6 +510,30 @@ TEST(DetectCli, ShortLogsModelsAndOptionsAreCheckedUpFront) {
   EXPECT_NE(stride.out.find("--stride: "), std::string::npos) << stride.out;
   EXPECT_EQ(run("detect --raise-below 0.9 --clear-above 0.5 --input " + path).exit_code, 1);
   EXPECT_EQ(run("detect --input /nonexistent/log.csv").exit_code, 1);
+}
+
+// The other calibrate modes' options are refused in one line rather than ignored: the nominal
+// flights' noise and goals under a randomisation, a refit's healthy-flight and level settings.
+TEST(DetectCli, CalibrateRefusesOptionsItsModeWouldNotRead) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw";
+  const std::string randomise = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-default.toml";
+  const std::string shipped = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.calibration.json";
+  const std::pair<std::string, std::string> cases[] = {
+      {"--randomise " + randomise + " --attitude-noise 0.01", "--attitude-noise: applies only without --randomise"},
+      {"--randomise " + randomise + " --goal-period 5", "--goal-period: applies only without --randomise"},
+      {"--refit-interval " + shipped + " --degraded-below 0.9", "--degraded-below: --refit-interval keeps the file's levels"},
+      {"--refit-interval " + shipped + " --flights 10", "--flights: --refit-interval keeps the file's levels"},
+      {"--delay-budget 0.2", "--delay-budget: only chooses among several --degraded-below levels"},
+      {"--faulty-flights 0 --interval belt", "--interval: belt needs --faulty-flights > 0"},
+  };
+  for (const auto& [args, message] : cases) {
+    const std::string cal = temp("refused.json");
+    const CommandResult c = run("calibrate -q --model " + model + " " + args + " --output " + cal);
+    EXPECT_EQ(c.exit_code, 1) << args << "\n" << c.out;
+    EXPECT_EQ(countLines(c.out), 1) << c.out;
+    EXPECT_NE(c.out.find(message), std::string::npos) << args << "\n" << c.out;
+    EXPECT_FALSE(std::filesystem::exists(cal));
+  }
 }
 
 }  // namespace

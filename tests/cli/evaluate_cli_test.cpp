@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 namespace {
 
@@ -81,6 +82,28 @@ TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
   EXPECT_NE(csv.find("\n0.5,2,"), std::string::npos) << csv;   // --faulty-per-theta flights at each Θ
   const std::string tradeoff = slurp(dir + "/tradeoff.csv");
   EXPECT_EQ(std::count(tradeoff.begin(), tradeoff.end(), '\n'), 9);  // header + eight target rates
+}
+
+// Options only some experiments read are refused when none of those runs, in one line naming the
+// option (evaluate -e e1 --vehicle mine.toml would otherwise score the Crazyflie and say nothing).
+TEST(EvaluateCli, OptionsTheChosenExperimentsWouldNotReadAreRefused) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-randomised.qfdw";
+  const std::string vehicle = std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/racer250.toml";
+  const std::string dir = ::testing::TempDir() + "quadfdi_eval_refused";
+  const std::pair<std::string, std::string> cases[] = {
+      {"-e e1 --vehicle " + vehicle, "--vehicle: only -e e7 and decisions read it"},
+      {"-e e1 --flights-per-class 3", "--flights-per-class: only -e e7 and decisions read it"},
+      {"-e e7 --flight-hours 1", "--flight-hours: only -e decisions reads it"},
+      {"-e e7 decisions --theta-tol 0.3", "--theta-tol: only E1-E6 read it"},
+  };
+  for (const auto& [args, message] : cases) {
+    int code = 0;
+    const std::string out = run("evaluate --model-free " + model + " --scale tiny -q " + args + " -o " + dir, &code);
+    EXPECT_EQ(code, 1) << args << "\n" << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+    EXPECT_NE(out.find(message), std::string::npos) << args << "\n" << out;
+  }
+  EXPECT_FALSE(std::ifstream(dir + "/REPORT.md").good());
 }
 
 }  // namespace

@@ -207,4 +207,34 @@ TEST(LogCli, BadInputGetsOneLineNamingFileAndByte) {
   EXPECT_EQ(countLines(r.out), 1) << r.out;
 }
 
+// A flight-log option the input's reader does not read is refused in one line naming the flag,
+// before any output is written, rather than ignored (a CSV with --max-thrust would otherwise run
+// unscaled, without a word).
+TEST(LogCli, OptionsTheFormatDoesNotReadAreRefused) {
+  const std::string csv = temp("newtons.csv");
+  { std::ofstream(csv) << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n"; }
+  const std::string ulog = faultyUlog();
+  const std::string out = temp("refused.jsonl");
+  { std::ofstream(out) << "keep me\n"; }
+  const struct {
+    std::string command, flag, why;
+  } cases[] = {
+      {"detect --input " + csv + " --max-thrust 0.15 --output " + out, "--max-thrust: ", "a telemetry CSV's u1..u4 are newtons"},
+      {"detect --input " + csv + " --ekf-core 1 --output " + out, "--ekf-core: ", "a telemetry CSV's u1..u4 are newtons"},
+      {"detect --input " + ulog + " --max-thrust 0.15 --ekf-core 1 --output " + out, "--ekf-core: ", "is ArduPilot's (DataFlash); this log is ulog"},
+      {"import " + ulog + " --max-thrust 0.15 --cf-thrust-map duty -o " + out, "--cf-thrust-map: ", "is the Crazyflie's; this log is ulog"},
+      {"import " + ulog + " --max-thrust 0.15 --mass 0.03 -o " + out, "--mass: ", "unused with --max-thrust unless --hover-calibrate"},
+  };
+  for (const auto& c : cases) {
+    const CommandResult r = run(c.command);
+    EXPECT_EQ(r.exit_code, 1) << c.command;
+    EXPECT_EQ(countLines(r.out), 1) << r.out;
+    EXPECT_TRUE(contains(r.out, c.flag)) << r.out;
+    EXPECT_TRUE(contains(r.out, c.why)) << r.out;
+    EXPECT_EQ(readFile(out), "keep me\n");
+  }
+  // The readers' own options stay accepted: the ULog with --max-thrust and --mass for the hover.
+  EXPECT_EQ(run("import " + ulog + " --max-thrust 0.15 --mass 0.03 --hover-calibrate -q -o " + temp("hover.csv")).exit_code, 0);
+}
+
 }  // namespace

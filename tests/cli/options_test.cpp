@@ -9,6 +9,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -199,6 +200,20 @@ TEST(Options, ValueParsers) {
   EXPECT_DOUBLE_EQ(d, -2.5e-3);
   bool b = false;
   EXPECT_EQ(parseOptionValue("yes", b), "needs true or false, got 'yes'");
+}
+
+// firstGiven / refuseGiven: the first of the keys given, as its flag; nothing when none was.
+TEST(Options, AGivenOptionAModeDoesNotReadIsNamedAsItsFlag) {
+  const std::set<std::string> given{"max_thrust", "seed"};
+  EXPECT_EQ(firstGiven(given, {"mass", "max_thrust", "seed"}), "--max-thrust");
+  EXPECT_EQ(firstGiven(given, {"mass"}), "");
+  EXPECT_NO_THROW(refuseGiven(given, {"mass", "ekf_core"}, "unused"));
+  try {
+    refuseGiven(given, {"ekf_core", "seed"}, "is not read here");
+    ADD_FAILURE() << "no error";
+  } catch (const OptionError& e) {
+    EXPECT_STREQ(e.what(), "--seed: is not read here");
+  }
 }
 
 }  // namespace

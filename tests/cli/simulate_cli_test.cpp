@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 namespace {
 
@@ -223,6 +224,43 @@ TEST(SimulateCli, AFullDiskIsReportedAndLosesNothing) {
   std::string first;
   std::getline(kept, first);
   EXPECT_EQ(first, "precious");
+}
+
+// An option this flight would not read is refused in one line naming it, not ignored (a flight
+// "with a fault" that never happens, a speed for a hover, an LQR weighting for the PID).
+TEST(SimulateCli, OptionsTheFlightWouldNotReadAreRefused) {
+  const std::string out = tempPath("never-written.csv");
+  const std::pair<std::string, std::string> cases[] = {
+      {"--theta 0.5", "--theta: needs --motor N"},
+      {"--fault-step 100", "--fault-step: needs --motor N"},
+      {"--motor 2 --fault-step 300 --steps 300", "--fault-step 300 is not before --steps 300"},
+      {"--speed 2", "--speed: applies to --trajectory point-to-point, circle or figure-eight"},
+      {"--trajectory point-to-point --radius 2", "--radius: is the circle's and the figure-eight's"},
+      {"--controller pid --lqr-weights authors", "--lqr-weights: is the LQR's"},
+      {"--cbf-max-tilt 0.4", "--cbf-max-tilt: is the CBF-QP filter's"},
+      {"--rotor-drag 0.2 --gust-rate 0.5", "--gust-rate: needs --gust-peak > 0"},
+      {"--rotor-drag 0.2 --gust-peak 2", "--gust-peak: needs --gust-rate > 0"},
+  };
+  for (const auto& [args, message] : cases) {
+    const CommandResult r = run("simulate " + args + " --output " + out);
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.out;
+    EXPECT_EQ(countLines(r.out), 1) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(message), std::string::npos) << args << "\n" << r.out;
+  }
+  EXPECT_FALSE(std::ifstream(out).good());
+  // The same options where the flight reads them still run.
+  EXPECT_EQ(run("simulate --controller cbf --cbf-max-tilt 0.4 --motor 2 --theta 0.5 --fault-step 100 --steps 150 -q --output " + out).exit_code, 0);
+}
+
+// generate --randomise draws each flight's plant, controller and pre-roll: the fixed ones are refused.
+TEST(GenerateCli, FixedPlantOptionsAreRefusedWithARandomisation) {
+  const std::string randomise = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-default.toml";
+  for (const char* option : {"--params perturbed", "--controller cbf", "--preroll 1"}) {
+    const CommandResult r = run("generate --scale tiny --randomise " + randomise + " " + option + " -o " + tempPath("never.h5"));
+    EXPECT_EQ(r.exit_code, 1) << option << "\n" << r.out;
+    EXPECT_EQ(countLines(r.out), 1) << r.out;
+    EXPECT_NE(r.out.find("has no effect with --randomise"), std::string::npos) << r.out;
+  }
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <dirent.h>
 
 #include <string>
+#include <utility>
 #include <thread>
 
 namespace {
@@ -199,6 +200,29 @@ TEST(GenerateCli, SigtermLeavesNoOutputAndNoTemporaryFile) {
   EXPECT_EQ(code, 130) << slurp(err);
   EXPECT_NE(slurp(err).find("was not written"), std::string::npos) << slurp(err);
   EXPECT_EQ(leftoverTemps(temp("sigterm").substr(::testing::TempDir().size())), 0);
+}
+
+// Options this training would not read are refused in one line naming them: a fixed plant or
+// controller under --randomise, the other training mode's batch size, channels for an LSTM.
+TEST(TrainCli, OptionsTheTrainingWouldNotReadAreRefused) {
+  const std::string randomise = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-default.toml";
+  const std::string vehicle = std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/racer250.toml";
+  const std::pair<std::string, std::string> cases[] = {
+      {"--architecture tcn --features scale-free --randomise " + randomise + " --preroll 1", "--preroll: has no effect with --randomise"},
+      {"--architecture tcn --features scale-free --randomise " + randomise + " --controller cbf", "--controller: has no effect with --randomise"},
+      {"--vehicle " + vehicle + " --params perturbed", "--params: --vehicle FILE is the plant"},
+      {"--batch-trajectories 8", "--batch-trajectories: is for --training sequences"},
+      {"--architecture tcn --features model-free-heading --batch-size 64", "--batch-size: is for --training windows"},
+      {"--tcn-channels 16", "--tcn-channels: only --architecture tcn has channels"},
+  };
+  for (const auto& [args, message] : cases) {
+    const std::string model = temp("never.qfdw");
+    const Result r = run("train --scale tiny -q " + args + " -o " + model);
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    EXPECT_NE(r.out.find(message), std::string::npos) << args << "\n" << r.out;
+    EXPECT_FALSE(exists(model));
+  }
 }
 
 }  // namespace
