@@ -245,12 +245,15 @@ int runDetect(const DetectOptions& o) {
   const TrainedModel model = readModelFile(model_path);
   const ModelMetadata& m = model.metadata;
   if (!o.quiet && o.model.empty() && !o.log.vehicle.empty()) {
-    // Say when the vehicle has no model of its own, so a user knows to train one.
-    const bool general = choice.source == DetectModelChoice::Source::kGeneral;
-    std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(),
-                 general ? ("the general model: no models/" + vehicleModelName(o.log.vehicle) + " for").c_str() : "for",
-                 o.log.vehicle.c_str());
+    // Say where the model came from: the vehicle's own, the general one (so a user knows to train
+    // one), or $QUADFDI_MODEL, which wins over the vehicle's own.
+    using Source = DetectModelChoice::Source;
+    const std::string why = choice.source == Source::kEnvironment ? "from $QUADFDI_MODEL, which wins over the own model of"
+                            : choice.source == Source::kGeneral   ? "the general model: no models/" + vehicleModelName(o.log.vehicle) + " for"
+                                                                  : "for";
+    std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(), why.c_str(), o.log.vehicle.c_str());
   }
+  bool vehicle_calibration = false;  // the sequential rule runs the model's calibration for --vehicle
 
   DetectorConfig config;
   config.symmetry = m.symmetry;
@@ -277,6 +280,7 @@ int runDetect(const DetectOptions& o) {
                      model_path.c_str(), calibrationSidecarPath(model_path).c_str());
       else if (!o.quiet && chosen.for_vehicle)
         std::fprintf(stderr, "detect: calibration %s (for --vehicle %s)\n", calibration.c_str(), o.log.vehicle.c_str());
+      vehicle_calibration = chosen.for_vehicle;
     }
     config.sequential = sequentialSetup(calibration, o.degraded_below, o.failed_below, o.false_alarms_per_hour, m.dt, model.file_crc32).config;
     config.sequential.clear_after = o.clear_after;
@@ -292,6 +296,13 @@ int runDetect(const DetectOptions& o) {
   const bool live = o.input == "-";
   const std::string format = resolveInputFormat(o.input, o.log.format);
   refuseOptionsUnreadBy(format, o.log);
+  // With a telemetry CSV a vehicle description only chooses the model and its calibration: say so
+  // when it chose neither, rather than let it look as if the detector knew the airframe.
+  if (!o.quiet && format == "csv" && !o.log.vehicle.empty() && choice.source != DetectModelChoice::Source::kVehicle &&
+      choice.source != DetectModelChoice::Source::kGeneral && !vehicle_calibration)
+    std::fprintf(stderr, "detect: warning: --vehicle %s is not used: the model is given and has no calibration for it (%s); "
+                         "calibrate one (quadfdi calibrate --randomise … --vehicle) or drop --vehicle\n",
+                 o.log.vehicle.c_str(), vehicleCalibrationPath(model_path, o.log.vehicle).c_str());
   std::ios::sync_with_stdio(false);  // buffered standard input: the reader asks it what is waiting
   std::ifstream file;
   const std::string name = live ? std::string("<stdin>") : o.input;

@@ -419,6 +419,10 @@ TEST(DetectCli, AVehicleRunsTheModelsCalibrationForIt) {
   const CommandResult other = run(base + " -q --vehicle " + src + "/configs/vehicles/crazyflie2.toml", false);  // no file for it
   EXPECT_TRUE(other.out == run(base + " -q --calibration " + sidecar, false).out);
   EXPECT_TRUE(other.out != run(base + " -q --calibration " + own, false).out);
+  // A vehicle that chose neither the model (--model is given) nor a calibration is said to be unused.
+  const std::string crazyflie = src + "/configs/vehicles/crazyflie2.toml";
+  EXPECT_NE(run(base + " --vehicle " + crazyflie, true).out.find("detect: warning: --vehicle " + crazyflie + " is not used"), std::string::npos);
+  EXPECT_EQ(picked.out.find("is not used"), std::string::npos);
 }
 
 TEST(DetectCli, AHealthyFlightRaisesNoAlarm) {
