@@ -334,9 +334,16 @@ int runDetect(const DetectOptions& o) {
   const SessionResult r = runDetection(*detector, *source, sink, session);
   if (r.status == SessionStatus::kNotIncreasing)
     throw TelemetryError(r.where + ": time goes backwards or repeats (t = " + std::to_string(r.t) + " s)");
-  if (r.status == SessionStatus::kTooCoarse)
+  if (r.status == SessionStatus::kTooCoarse) {
+    // Intervals of a second or more are no autopilot's rate: most likely t is not in seconds.
+    const double mean_interval = r.samples > 1 ? (r.t - r.first_t) / static_cast<double>(r.samples - 1) : 0.0;
+    char hint[160] = "";
+    if (mean_interval >= 0.5)
+      std::snprintf(hint, sizeof hint, " (its samples are %.4g s apart: is t in milliseconds or microseconds? detect reads seconds)",
+                    mean_interval);
     throw TelemetryError(r.where + ": the log is sampled too coarsely: most of its first intervals exceed " +
-                         fmtMs(o.max_input_period) + " (--max-input-period); the model needs " + fmtMs(m.dt) + " samples");
+                         fmtMs(o.max_input_period) + " (--max-input-period); the model needs " + fmtMs(m.dt) + " samples" + hint);
+  }
   const DetectorSummary& s = detector->summary();
   // Before the commit: a header-only log must not replace an existing output file.
   if (s.input_samples == 0) throw TelemetryError(name + ": no telemetry rows after the header");

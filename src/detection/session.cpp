@@ -16,6 +16,7 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
       if (result.skipped++ < config.max_warnings) sink.warning(problem);
       continue;
     }
+    if (result.samples++ == 0) result.first_t = sample.t;
     const bool look_ahead = !config.live || source.moreReady();
     const ResampleStatus status = detector.push(sample, look_ahead);
     if (status == ResampleStatus::kNotIncreasing || status == ResampleStatus::kTooCoarse) {

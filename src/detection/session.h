@@ -28,6 +28,8 @@ struct SessionResult {
   std::string where;   // the source's position of the offending sample
   double t = 0.0;      // [s] its time
   long skipped = 0;    // samples the source dropped
+  double first_t = 0.0;  // [s] time of the first sample read
+  long samples = 0;      // samples read (not skipped), the offending one included
 };
 
 struct SessionConfig {

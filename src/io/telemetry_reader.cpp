@@ -101,6 +101,15 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
     }
     values[r] = v;
   }
+  // ZYX Euler angles in radians have roll in [−π, π] and pitch in [−π/2, π/2], whatever the flight:
+  // a value outside is another unit or convention (degrees, most often), not a manoeuvre, and
+  // read as radians it would be a tumbling vehicle. Refused, naming the line.
+  constexpr double kSlack = 1e-6;  // [rad] round-off of converters (asin, atan2 of a unit quaternion)
+  const double roll = values[4], pitch = values[5];
+  if (std::abs(roll) > M_PI + kSlack || std::abs(pitch) > M_PI / 2 + kSlack)
+    throw TelemetryError(where() + ": " + (std::abs(pitch) > M_PI / 2 + kSlack ? "pitch = " + cells[static_cast<std::size_t>(column_[5])].substr(0, 40) + " is outside ±π/2"
+                                                                             : "roll = " + cells[static_cast<std::size_t>(column_[4])].substr(0, 40) + " is outside ±π") +
+                         ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? multiply by π/180; docs/conventions.md)");
   sample.t = values[0];
   for (int i = 0; i < 6; ++i) sample.y[static_cast<std::size_t>(i)] = values[1 + i];
   for (int i = 0; i < 4; ++i) sample.u[static_cast<std::size_t>(i)] = values[7 + i];

@@ -470,6 +470,10 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
       {"backwards", good_header + row0 + row1 + row0, "backwards.csv:4: time goes backwards or repeats"},
       {"text", good_header + row0 + "0.002,0,zero,1,0,0,0,0.07,0.07,0.07,0.07\n", "text.csv:3: column 'y': 'zero' is not a number"},
       {"short-row", good_header + row0 + "0.002,0,0,1\n", "short-row.csv:3: 4 cells, the header has 11"},
+      // Angles in degrees: outside the radians' domain of ZYX Euler angles, whatever the flight.
+      {"pitch-degrees", good_header + row0 + "0.002,0,0,1,4.5,-2.1,30,0.07,0.07,0.07,0.07\n",
+       "pitch-degrees.csv:3: pitch = -2.1 is outside ±π/2: roll, pitch, yaw are ZYX Euler angles in radians (degrees?"},
+      {"roll-degrees", good_header + row0 + "0.002,0,0,1,185,1.2,0,0.07,0.07,0.07,0.07\n", "roll-degrees.csv:3: roll = 185 is outside ±π"},
   };
   for (const Case& c : cases) {
     const std::string path = temp(c.name + ".csv");
@@ -492,6 +496,17 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
   const CommandResult r = run("detect --input " + temp("coarse.csv") + " --output " + temp("kept.jsonl"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find("coarse.csv:11: the log is sampled too coarsely"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("milliseconds"), std::string::npos) << r.out;  // 10 ms apart: a rate, not a unit
+  EXPECT_EQ(readFile(temp("kept.jsonl")), "precious\n");
+  // The same log with t in milliseconds: the refusal says what the intervals suggest.
+  std::ostringstream in_ms;
+  in_ms << good_header;
+  for (int k = 0; k < 40; ++k) in_ms << 2 * k << ",0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
+  std::ofstream(temp("in-ms.csv")) << in_ms.str();
+  const CommandResult ms = run("detect -q --input " + temp("in-ms.csv") + " --output " + temp("kept.jsonl"));
+  EXPECT_EQ(ms.exit_code, 1);
+  EXPECT_EQ(countLines(ms.out), 1) << ms.out;
+  EXPECT_NE(ms.out.find("(its samples are 2 s apart: is t in milliseconds or microseconds? detect reads seconds)"), std::string::npos) << ms.out;
   EXPECT_EQ(readFile(temp("kept.jsonl")), "precious\n");
 }
 
