@@ -110,6 +110,14 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
     throw TelemetryError(where() + ": " + (std::abs(pitch) > M_PI / 2 + kSlack ? "pitch = " + cells[static_cast<std::size_t>(column_[5])].substr(0, 40) + " is outside ±π/2"
                                                                              : "roll = " + cells[static_cast<std::size_t>(column_[4])].substr(0, 40) + " is outside ±π") +
                          ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? multiply by π/180; docs/conventions.md)");
+  // Commands in newtons per motor: the largest quadrotor motors make ~100 N (10 kg of thrust), so
+  // hundreds are another unit (PWM µs, a raw 0–65535 command), which the thrust map must convert.
+  constexpr double kMaxMotorThrust = 500.0;  // [N] five times the largest heavy-lift motor's thrust
+  for (int r = 7; r < 11; ++r)
+    if (std::abs(values[r]) > kMaxMotorThrust)
+      throw TelemetryError(where() + ": column '" + kRequiredColumns[r] + "' = " + cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])].substr(0, 40) +
+                           " is no thrust in newtons (over 500 N a motor): PWM or a raw motor command? convert it with the "
+                           "motor's thrust map (docs/conventions.md)");
   sample.t = values[0];
   for (int i = 0; i < 6; ++i) sample.y[static_cast<std::size_t>(i)] = values[1 + i];
   for (int i = 0; i < 4; ++i) sample.u[static_cast<std::size_t>(i)] = values[7 + i];

@@ -474,6 +474,8 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
       {"pitch-degrees", good_header + row0 + "0.002,0,0,1,4.5,-2.1,30,0.07,0.07,0.07,0.07\n",
        "pitch-degrees.csv:3: pitch = -2.1 is outside ±π/2: roll, pitch, yaw are ZYX Euler angles in radians (degrees?"},
       {"roll-degrees", good_header + row0 + "0.002,0,0,1,185,1.2,0,0.07,0.07,0.07,0.07\n", "roll-degrees.csv:3: roll = 185 is outside ±π"},
+      // Motor commands as PWM pulse widths, not newtons.
+      {"pwm", good_header + row0 + "0.002,0,0,1,0,0,0,1500,1520,1480,1500\n", "pwm.csv:3: column 'u1' = 1500 is no thrust in newtons"},
   };
   for (const Case& c : cases) {
     const std::string path = temp(c.name + ".csv");
