@@ -107,8 +107,6 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   if (!o.randomise.empty())
     refuseGiven(o.given, {"params", "controller", "preroll"},
                 "has no effect with --randomise (its vehicles, controller mix and preroll_seconds are flown)");
-  else if (o.vehicles.size() == 1)
-    refuseGiven(o.given, {"params"}, "--vehicle FILE is the plant; give one of them");
   c.data.rollout.plant = loadVehicleParams(o.vehicles.size() == 1 && o.randomise.empty() ? o.vehicles[0] : o.params);
   c.data.rollout.controller_model = c.data.rollout.plant;
   require(o.vehicles.size() <= 1 || !o.randomise.empty(), "--vehicle: several vehicles need --randomise FILE");
