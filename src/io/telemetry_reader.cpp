@@ -105,17 +105,17 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
   // a value outside is another unit or convention (degrees, most often), not a manoeuvre, and
   // read as radians it would be a tumbling vehicle. Refused, naming the line.
   constexpr double kSlack = 1e-6;  // [rad] round-off of converters (asin, atan2 of a unit quaternion)
-  const double roll = values[4], pitch = values[5];
-  if (std::abs(roll) > M_PI + kSlack || std::abs(pitch) > M_PI / 2 + kSlack)
-    throw TelemetryError(where() + ": " + (std::abs(pitch) > M_PI / 2 + kSlack ? "pitch = " + cells[static_cast<std::size_t>(column_[5])].substr(0, 40) + " is outside ±π/2"
-                                                                             : "roll = " + cells[static_cast<std::size_t>(column_[4])].substr(0, 40) + " is outside ±π") +
+  auto cellOf = [&](int r) { return cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])].substr(0, 40); };
+  const bool pitch_out = std::abs(values[5]) > M_PI / 2 + kSlack;
+  if (pitch_out || std::abs(values[4]) > M_PI + kSlack)
+    throw TelemetryError(where() + ": " + (pitch_out ? "pitch = " + cellOf(5) + " is outside ±π/2" : "roll = " + cellOf(4) + " is outside ±π") +
                          ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? multiply by π/180; docs/conventions.md)");
   // Commands in newtons per motor: the largest quadrotor motors make ~100 N (10 kg of thrust), so
   // hundreds are another unit (PWM µs, a raw 0–65535 command), which the thrust map must convert.
   constexpr double kMaxMotorThrust = 500.0;  // [N] five times the largest heavy-lift motor's thrust
   for (int r = 7; r < 11; ++r)
     if (std::abs(values[r]) > kMaxMotorThrust)
-      throw TelemetryError(where() + ": column '" + kRequiredColumns[r] + "' = " + cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])].substr(0, 40) +
+      throw TelemetryError(where() + ": column '" + kRequiredColumns[r] + "' = " + cellOf(r) +
                            " is no thrust in newtons (over 500 N a motor): PWM or a raw motor command? convert it with the "
                            "motor's thrust map (docs/conventions.md)");
   sample.t = values[0];
