@@ -23,6 +23,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   QUADFDI_FUZZ_CHECK(validate(r).empty());
+  // Ranges that validate give synthetic airframes that do.
+  for (const VehicleParams& p : drawAirframes(r.airframes)) QUADFDI_FUZZ_CHECK(validate(p).empty());
   // Its file form (vehicles by name, as recorded in model files) reads back to the same ranges.
   const std::string written = randomisationToText(r);
   const Randomisation back = randomisationFromText(written, "written");  // must not throw

@@ -7,6 +7,9 @@ namespace {
 
 double draw(const Interval& i, Rng& rng) { return i.hi > i.lo ? rng.uniform(i.lo, i.hi) : i.lo; }
 
+// Log-uniform over [lo, hi] (lo > 0): a factor of two is as likely up as down.
+double drawLog(const Interval& i, Rng& rng) { return std::exp(draw({std::log(i.lo), std::log(i.hi)}, rng)); }
+
 bool validInterval(const Interval& i) { return std::isfinite(i.lo) && std::isfinite(i.hi) && i.lo >= 0.0 && i.hi >= i.lo; }
 
 // Index drawn with probability proportional to its weight (weights ≥ 0, sum > 0).
@@ -61,6 +64,7 @@ void delayPreroll(Randomisation& r, double seconds) {
 
 std::string validate(const Randomisation& r) {
   if (r.vehicle_names.size() != r.vehicles.size()) return "randomisation: one name per vehicle";
+  if (const std::string p = validate(r.airframes); !p.empty()) return "randomisation: airframes: " + p;
   for (std::size_t i = 0; i < r.vehicles.size(); ++i)
     if (const std::string p = validate(r.vehicles[i]); !p.empty()) return "vehicle '" + r.vehicle_names[i] + "': " + p;
   const ParameterSpread& p = r.parameters;
@@ -96,13 +100,88 @@ std::string validate(const Randomisation& r) {
   return {};
 }
 
-FlightDraw drawFlight(const Randomisation& r, double dt, Rng& rng) {
+std::string validate(const AirframeRanges& a) {
+  if (a.count < 0 || a.count > 1000) return "count must be in 0 … 1000";
+  if (!(a.share >= 0.0 && a.share <= 1.0)) return "share must be in [0, 1]";
+  if (!a.enabled()) return {};
+  for (const Interval* i : {&a.mass, &a.size_factor, &a.aspect, &a.inertia_factor, &a.yaw_inertia_ratio, &a.hover_fraction,
+                            &a.yaw_moment_coeff})
+    if (!validInterval(*i) || !(i->lo > 0.0)) return "mass, size_factor, aspect, inertia_factor, yaw_inertia_ratio, hover_fraction "
+                                                     "and yaw_moment_coeff need 0 < lo <= hi";
+  if (!(a.hover_fraction.hi < 1.0)) return "hover_fraction must stay below 1 (a vehicle hovering at full thrust cannot be controlled)";
+  // Far beyond any quadrotor, and inside what the products below keep finite and non-zero.
+  struct Bound { const Interval* range; double lo, hi; const char* text; };
+  for (const Bound& b : {Bound{&a.mass, 1e-3, 1e3, "mass must lie in [0.001, 1000] kg"},
+                         Bound{&a.size_factor, 1e-3, 10.0, "size_factor must lie in [0.001, 10] m/kg^(1/3)"},
+                         Bound{&a.aspect, 0.1, 10.0, "aspect must lie in [0.1, 10]"},
+                         Bound{&a.inertia_factor, 1e-3, 10.0, "inertia_factor must lie in [0.001, 10]"},
+                         Bound{&a.yaw_inertia_ratio, 1e-3, 10.0, "yaw_inertia_ratio must lie in [0.001, 10]"},
+                         Bound{&a.yaw_moment_coeff, 1e-4, 1.0, "yaw_moment_coeff must lie in [0.0001, 1] m"},
+                         Bound{&a.motor_time_constant, 0.0, 1.0, "motor_time_constant must lie in [0, 1] s"}})
+    if (!(b.range->lo >= b.lo && b.range->hi <= b.hi)) return b.text;
+  if (!validInterval(a.idle_fraction) || !(a.idle_fraction.hi < a.hover_fraction.lo))
+    return "idle_fraction must be 0 <= lo <= hi < hover_fraction's lo";
+  if (!validInterval(a.motor_time_constant)) return "motor_time_constant needs 0 <= lo <= hi";
+  return {};
+}
+
+std::vector<VehicleParams> drawAirframes(const AirframeRanges& a) {
+  std::vector<VehicleParams> out;
+  out.reserve(static_cast<std::size_t>(std::max(0, a.count)));
+  Rng rng(a.seed, 0);
+  for (int i = 0; i < a.count; ++i) {
+    VehicleParams p;
+    p.gravity = 9.81;  // [m/s²] as the vehicle files' default (io/vehicle_file.cpp)
+    p.mass = drawLog(a.mass, rng);
+    const double reach = draw(a.size_factor, rng) * std::cbrt(p.mass);  // [m] rotor distance from the centre
+    const double aspect = drawLog(a.aspect, rng);
+    p.rotor_x = reach * aspect / std::hypot(1.0, aspect);
+    p.rotor_y = reach / std::hypot(1.0, aspect);
+    p.arm_length = reach;
+    p.inertia_xx = draw(a.inertia_factor, rng) * p.mass * p.rotor_y * p.rotor_y;
+    p.inertia_yy = draw(a.inertia_factor, rng) * p.mass * p.rotor_x * p.rotor_x;
+    p.inertia_zz = draw(a.yaw_inertia_ratio, rng) * (p.inertia_xx + p.inertia_yy);
+    p.max_thrust = p.hoverThrust() / draw(a.hover_fraction, rng);
+    p.min_thrust = draw(a.idle_fraction, rng) * p.max_thrust;
+    p.yaw_moment_coeff = drawLog(a.yaw_moment_coeff, rng);
+    p.motor_time_constant = draw(a.motor_time_constant, rng);
+    // C_T, C_D only feed yawCoeff() when yaw_moment_coeff is 0: keep their ratio consistent anyway.
+    p.drag_coeff = p.thrust_coeff * p.yaw_moment_coeff;
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<VehicleParams> describedVehicles(const Randomisation& r) {
+  std::vector<VehicleParams> all = r.vehicles;
+  const std::vector<VehicleParams> synthetic = drawAirframes(r.airframes);
+  all.insert(all.end(), synthetic.begin(), synthetic.end());
+  return all;
+}
+
+std::string describedVehicleName(const Randomisation& r, std::size_t index) {
+  if (index < r.vehicle_names.size()) return r.vehicle_names[index];
+  return "airframe-" + std::to_string(index - r.vehicle_names.size() + 1);
+}
+
+FlightDraw drawFlight(const Randomisation& r, double dt, Rng& rng) { return drawFlight(r, describedVehicles(r), dt, rng); }
+
+FlightDraw drawFlight(const Randomisation& r, const std::vector<VehicleParams>& described, double dt, Rng& rng) {
   FlightDraw d;
   // A fixed number of draws in a fixed order, whatever the ranges, so that widening one range
-  // does not reshuffle the others.
-  d.vehicle = static_cast<int>(rng.next() % r.vehicles.size());
+  // does not reshuffle the others. Synthetic airframes take two draws (which kind, which one)
+  // only when there are any, so that every earlier model's flights are unchanged.
+  const std::size_t library = r.vehicles.size();
+  if (r.airframes.enabled()) {
+    const bool synthetic = rng.uniform() < r.airframes.share;
+    const std::uint64_t pick_one = rng.next();
+    d.vehicle = static_cast<int>(synthetic ? library + pick_one % static_cast<std::uint64_t>(r.airframes.count)
+                                           : pick_one % library);
+  } else {
+    d.vehicle = static_cast<int>(rng.next() % library);
+  }
   VehicleParams& p = d.plant;
-  p = r.vehicles[static_cast<std::size_t>(d.vehicle)];
+  p = described.at(static_cast<std::size_t>(d.vehicle));
   p.mass *= draw(r.parameters.mass, rng);
   p.inertia_xx *= draw(r.parameters.inertia, rng);
   p.inertia_yy *= draw(r.parameters.inertia, rng);

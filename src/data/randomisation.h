@@ -70,10 +70,36 @@ struct ControllerMix {
   Interval gain_scale{1.0, 1.0};           // [-] PID loop bandwidths and LQR speed multiplied by this
 };
 
+// Synthetic quad-X airframes (docs/data.md#synthetic-airframes): `count` descriptions drawn once,
+// from their own seed, by the scaling of real airframes, and flown beside the described vehicles so
+// that training meets a continuum of sizes and control authorities instead of a handful of real
+// airframes. Each is then a described vehicle like the others: its controllers are designed on it
+// and the plant is drawn around it. Ranges span the library's and held-out airframes
+// (docs/vehicles.md), which is what they were chosen from.
+struct AirframeRanges {
+  int count = 0;                          // [-] airframes drawn; 0 = none
+  std::uint64_t seed = 1;                 // [-] the same seed and ranges give the same airframes
+  double share = 0.5;                     // [-] fraction of flights flown on a synthetic airframe
+  Interval mass{0.025, 3.0};              // [kg] log-uniform: a Crazyflie (27 g) to a 3 kg 650-class
+  Interval size_factor{0.12, 0.24};       // [m/kg^(1/3)] rotor distance from the centre = this · mass^(1/3):
+                                          //   Crazyflie 0.15, racer 0.14, Iris 0.22, X500 0.20, Solo 0.18
+  Interval aspect{0.75, 1.33};            // [-] rotor |x| / |y|, log-uniform (1: square X; racer 0.75)
+  Interval inertia_factor{0.3, 0.6};      // [-] Ixx / (m·y²) and Iyy / (m·x²), drawn each: racer 0.33 / 0.50,
+                                          //   Iris 0.44 / 1.15 (its short x), X500 0.36, Crazyflie 0.58
+  Interval yaw_inertia_ratio{0.8, 1.0};   // [-] Izz / (Ixx + Iyy): 0.81 (Solo) … 0.95 (Iris); a flat plate's is 1
+  Interval hover_fraction{0.15, 0.65};    // [-] hover thrust / max thrust per motor: racer 0.15, Iris 0.52, X500 0.57
+  Interval idle_fraction{0.0, 0.03};      // [-] min thrust / max thrust: Crazyflie 0, X500 0.023
+  Interval yaw_moment_coeff{0.005, 0.06}; // [m] κ, log-uniform: Crazyflie 0.006, racer 0.022, Iris 0.06
+  Interval motor_time_constant{0.0, 0.035};  // [s] the plant's is redrawn by ParameterSpread when that is set
+
+  bool enabled() const { return count > 0; }
+};
+
 struct Randomisation {
   // The described vehicles (the controllers' design models); the plant is drawn around one of them.
   std::vector<VehicleParams> vehicles;
   std::vector<std::string> vehicle_names;  // for reports, parallel to `vehicles`
+  AirframeRanges airframes;                // synthetic descriptions flown beside `vehicles`
   ParameterSpread parameters;
   SensorRanges sensors;
   ManoeuvreMix manoeuvres;
@@ -85,7 +111,15 @@ struct Randomisation {
 };
 
 // Empty when valid, else a one-line description of the first problem.
+std::string validate(const AirframeRanges& a);
 std::string validate(const Randomisation& r);
+
+// The synthetic airframes of `a`, a pure function of it (each valid: validate(VehicleParams)).
+std::vector<VehicleParams> drawAirframes(const AirframeRanges& a);
+// Every described vehicle a flight may draw: `vehicles`, then the synthetic airframes.
+std::vector<VehicleParams> describedVehicles(const Randomisation& r);
+// "airframe-7" for the 7th synthetic airframe (index past `vehicles`), else the vehicle's name.
+std::string describedVehicleName(const Randomisation& r, std::size_t index);
 
 // Every flight's pre-roll `seconds` longer, its other draws unchanged: the pre-roll is one uniform
 // draw of its interval, so shifting both ends keeps each flight's draw stream (the flyability
@@ -104,7 +138,7 @@ struct ManoeuvreDraw {
 
 // One flight's draw.
 struct FlightDraw {
-  int vehicle = 0;            // index into Randomisation::vehicles
+  int vehicle = 0;            // index into describedVehicles(): Randomisation::vehicles, then the airframes
   VehicleParams plant;        // the vehicle flown: the description with the drawn errors
   double thrust_gain = 1.0;   // [-] thrust the rotors produce per newton commanded, all alike
   SensorModelConfig sensors;  // the estimator
@@ -116,6 +150,8 @@ struct FlightDraw {
 };
 
 // Draws one flight from `rng` (its own stream: the caller seeds it from (seed, scenario index)).
+// `described` is describedVehicles(r), made once by the caller.
+FlightDraw drawFlight(const Randomisation& r, const std::vector<VehicleParams>& described, double dt, Rng& rng);
 FlightDraw drawFlight(const Randomisation& r, double dt, Rng& rng);
 
 }  // namespace quadfdi

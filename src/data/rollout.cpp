@@ -180,12 +180,13 @@ RolloutEngine::RolloutEngine(const RolloutConfig& config)
   if (!error_.empty() || !r.enabled()) return;
   // Five levels across the gain range: a draw flies the nearest (Riccati solves stay in setup).
   lqr_gain_levels_ = gainLevels(r.controllers.gain_scale, 5);
-  for (std::size_t v = 0; v < r.vehicles.size(); ++v) {
+  described_ = describedVehicles(r);
+  for (std::size_t v = 0; v < described_.size(); ++v) {
     vehicle_lqr_.emplace_back();
     for (double s : lqr_gain_levels_) {
-      vehicle_lqr_.back().push_back(designLqr(r.vehicles[v], lqrConfigFor(r.vehicles[v], s), config.dt));
+      vehicle_lqr_.back().push_back(designLqr(described_[v], lqrConfigFor(described_[v], s), config.dt));
       if (!vehicle_lqr_.back().back().ok()) {
-        error_ = "LQR design failed for vehicle '" + r.vehicle_names[v] + "': " + vehicle_lqr_.back().back().error;
+        error_ = "LQR design failed for vehicle '" + describedVehicleName(r, v) + "': " + vehicle_lqr_.back().back().error;
         return;
       }
     }
@@ -264,7 +265,7 @@ void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller,
 
 std::unique_ptr<Controller> RolloutEngine::makeFlightController(const FlightDraw& d) const {
   // Designed on the described vehicle (what its user knows), not on the plant.
-  const VehicleParams& described = config_.randomisation.vehicles[static_cast<std::size_t>(d.vehicle)];
+  const VehicleParams& described = described_[static_cast<std::size_t>(d.vehicle)];
   if (d.controller == DrawnController::kPid)
     return std::make_unique<PidController>(described, scaledPid(config_.controller.pid, d.gain_scale), config_.dt);
   std::size_t level = 0;
@@ -280,7 +281,7 @@ bool RolloutEngine::flyable(const FlightDraw& d, std::uint64_t scenario_index) c
   const double dt = config_.dt;
   Rng rng(config_.seed, scenario_index);
   const Scenario sc = sampleScenario(config_.ranges, rng);
-  const VehicleParams& described = config_.randomisation.vehicles[static_cast<std::size_t>(d.vehicle)];
+  const VehicleParams& described = described_[static_cast<std::size_t>(d.vehicle)];
   const RigidBodyModel plant_model = RigidBodyModel::fromParams(d.plant);
   const std::unique_ptr<Controller> controller = makeFlightController(d);
   const TrajectorySpec trajectory = trajectoryFor(d.manoeuvre, sc.goal);
@@ -316,7 +317,7 @@ FlightDraw RolloutEngine::flightDraw(std::uint64_t scenario_index, int* attempts
   for (; attempt < kFlyableAttempts; ++attempt) {
     // Attempt 0 is the draw every flyable flight has always had; redraws take their own streams.
     Rng draw_rng(config_.seed ^ kDrawSalt ^ (static_cast<std::uint64_t>(attempt) * kRedrawSalt), scenario_index);
-    d = drawFlight(config_.randomisation, config_.dt, draw_rng);
+    d = drawFlight(config_.randomisation, described_, config_.dt, draw_rng);
     if (flyable(d, scenario_index)) break;
   }
   if (attempts) *attempts = std::min(attempt + 1, kFlyableAttempts);
@@ -330,7 +331,7 @@ void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch&
   Rng rng(config_.seed, job.scenario_index);
   const Scenario sc = sampleScenario(config_.ranges, rng);
   const FlightDraw d = flightDraw(job.scenario_index);
-  const VehicleParams& described = config_.randomisation.vehicles[static_cast<std::size_t>(d.vehicle)];
+  const VehicleParams& described = described_[static_cast<std::size_t>(d.vehicle)];
   const RigidBodyModel plant_model = RigidBodyModel::fromParams(d.plant);
   const RigidBodyModel described_model = RigidBodyModel::fromParams(described);
   const double lag = d.plant.motor_time_constant;

@@ -93,6 +93,9 @@ class RolloutEngine {
   RigidBodyModel residual_model_;
   bool residual_is_plant_ = false;  // same parameters and no lag: prediction = plant step when healthy
   LqrDesign lqr_;
+  // Randomised flights: every described vehicle (the library's, then the synthetic airframes) and
+  // the LQR designs per (described vehicle, gain level), made in setup.
+  std::vector<VehicleParams> described_;
   // Randomised flights: LQR designs per (described vehicle, gain level), made in setup.
   std::vector<std::vector<LqrDesign>> vehicle_lqr_;
   std::vector<double> lqr_gain_levels_;  // [-] gain scales the designs stand for

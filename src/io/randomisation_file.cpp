@@ -33,8 +33,19 @@ std::vector<std::pair<std::string, Interval*>> intervalFields(Randomisation& r) 
           {"wind.turbulence_tau", &r.wind.turbulence_tau},
           {"wind.gust_rate", &r.wind.gust_rate},
           {"wind.gust_peak", &r.wind.gust_peak},
-          {"wind.gust_duration", &r.wind.gust_duration}};
+          {"wind.gust_duration", &r.wind.gust_duration},
+          {"airframes.mass", &r.airframes.mass},
+          {"airframes.size_factor", &r.airframes.size_factor},
+          {"airframes.aspect", &r.airframes.aspect},
+          {"airframes.inertia_factor", &r.airframes.inertia_factor},
+          {"airframes.yaw_inertia_ratio", &r.airframes.yaw_inertia_ratio},
+          {"airframes.hover_fraction", &r.airframes.hover_fraction},
+          {"airframes.idle_fraction", &r.airframes.idle_fraction},
+          {"airframes.yaw_moment_coeff", &r.airframes.yaw_moment_coeff},
+          {"airframes.motor_time_constant", &r.airframes.motor_time_constant}};
 }
+
+bool isAirframeKey(const std::string& key) { return key.rfind("airframes.", 0) == 0; }
 
 std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
   return {{"manoeuvres.hover", &r.manoeuvres.hover},
@@ -44,7 +55,8 @@ std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
           {"manoeuvres.max_lateral_accel", &r.manoeuvres.max_lateral_accel},
           {"controllers.lqr", &r.controllers.lqr},
           {"controllers.pid", &r.controllers.pid},
-          {"controllers.cbf", &r.controllers.cbf}};
+          {"controllers.cbf", &r.controllers.cbf},
+          {"airframes.share", &r.airframes.share}};
 }
 
 std::string vehicleName(const std::string& spec) { return std::filesystem::path(spec).stem().string(); }
@@ -71,6 +83,14 @@ Randomisation randomisationFromText(const std::string& text, const std::string& 
         *field = doc.number(e);
         known = true;
       }
+    if (e.key == "airframes.count" || e.key == "airframes.seed") {
+      const long long v = doc.integer(e);
+      if (v < 0 || v > (e.key == "airframes.count" ? 1000 : (1LL << 53)))
+        doc.fail(e, e.key + (e.key == "airframes.count" ? " must be in 0 … 1000" : " must be in 0 … 2^53"));
+      if (e.key == "airframes.count") r.airframes.count = static_cast<int>(v);
+      else r.airframes.seed = static_cast<std::uint64_t>(v);
+      known = true;
+    }
     if (e.key == "sensors.delay_steps_max") {
       const long long v = doc.integer(e);
       if (v < 0 || v > 1000) doc.fail(e, "sensors.delay_steps_max must be in 0 … 1000");
@@ -124,12 +144,21 @@ std::string randomisationToText(const Randomisation& r) {
   for (std::size_t i = 0; i < r.vehicle_names.size(); ++i) out += (i ? ", \"" : "\"") + r.vehicle_names[i] + "\"";
   out += "]\n";
   char buf[160];
+  // Without synthetic airframes their keys are left out: the text of every earlier model is unchanged.
+  const bool airframes = r.airframes.enabled();
   for (const auto& [key, field] : numberFields(copy)) {
+    if (isAirframeKey(key) && !airframes) continue;
     std::snprintf(buf, sizeof buf, "%s = %.17g\n", key.c_str(), *field);
     out += buf;
   }
   for (const auto& [key, field] : intervalFields(copy)) {
+    if (isAirframeKey(key) && !airframes) continue;
     std::snprintf(buf, sizeof buf, "%s = [%.17g, %.17g]\n", key.c_str(), field->lo, field->hi);
+    out += buf;
+  }
+  if (airframes) {
+    std::snprintf(buf, sizeof buf, "airframes.count = %d\nairframes.seed = %llu\n", r.airframes.count,
+                  static_cast<unsigned long long>(r.airframes.seed));
     out += buf;
   }
   std::snprintf(buf, sizeof buf, "sensors.delay_steps_max = %d\n", r.sensors.delay_steps_max);

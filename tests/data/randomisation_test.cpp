@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "data/randomisation.h"
 
 namespace quadfdi {
@@ -20,6 +22,87 @@ Randomisation twoVehicles() {
   r.controllers = {0.35, 0.45, 0.2, {0.7, 1.4}};
   r.preroll_seconds = {0.2, 2.0};
   return r;
+}
+
+AirframeRanges someAirframes() {
+  AirframeRanges a;
+  a.count = 12;
+  a.seed = 9;
+  return a;
+}
+
+TEST(Airframes, ArePureFunctionsOfTheirSeedAndRanges) {
+  const AirframeRanges a = someAirframes();
+  AirframeRanges b = a;
+  const std::vector<VehicleParams> x = drawAirframes(a), y = drawAirframes(a);
+  ASSERT_EQ(x.size(), 12u);
+  for (std::size_t i = 0; i < x.size(); ++i) EXPECT_EQ(x[i].mass, y[i].mass);
+  b.seed = 10;
+  EXPECT_NE(drawAirframes(b)[0].mass, x[0].mass);
+  b = a;
+  b.count = 0;
+  EXPECT_TRUE(drawAirframes(b).empty());
+}
+
+// Each airframe is a valid symmetric X whose derived quantities lie in the stated ranges.
+TEST(Airframes, StayInsideTheirScalingRanges) {
+  AirframeRanges a = someAirframes();
+  a.count = 200;
+  for (const VehicleParams& p : drawAirframes(a)) {
+    ASSERT_EQ(validate(p), "");
+    EXPECT_GE(p.mass, a.mass.lo);
+    EXPECT_LE(p.mass, a.mass.hi);
+    const double reach = std::hypot(p.rotor_x, p.rotor_y) / std::cbrt(p.mass);
+    EXPECT_GE(reach, a.size_factor.lo - 1e-12);
+    EXPECT_LE(reach, a.size_factor.hi + 1e-12);
+    EXPECT_GE(p.rotor_x / p.rotor_y, a.aspect.lo - 1e-12);
+    EXPECT_LE(p.rotor_x / p.rotor_y, a.aspect.hi + 1e-12);
+    for (double f : {p.inertia_xx / (p.mass * p.rotor_y * p.rotor_y), p.inertia_yy / (p.mass * p.rotor_x * p.rotor_x)}) {
+      EXPECT_GE(f, a.inertia_factor.lo - 1e-12);
+      EXPECT_LE(f, a.inertia_factor.hi + 1e-12);
+    }
+    const double zz = p.inertia_zz / (p.inertia_xx + p.inertia_yy);
+    EXPECT_GE(zz, a.yaw_inertia_ratio.lo - 1e-12);
+    EXPECT_LE(zz, a.yaw_inertia_ratio.hi + 1e-12);
+    const double hover = p.hoverThrust() / p.max_thrust;
+    EXPECT_GE(hover, a.hover_fraction.lo - 1e-12);
+    EXPECT_LE(hover, a.hover_fraction.hi + 1e-12);
+    EXPECT_LE(p.min_thrust, a.idle_fraction.hi * p.max_thrust + 1e-12);
+    EXPECT_GE(p.yawCoeff(), a.yaw_moment_coeff.lo - 1e-12);
+    EXPECT_LE(p.yawCoeff(), a.yaw_moment_coeff.hi + 1e-12);
+  }
+}
+
+TEST(Airframes, FlightsFlyThemAtTheirShareAndLeaveOtherDrawsAlone) {
+  Randomisation r = twoVehicles();
+  const Randomisation without = r;
+  r.airframes = someAirframes();
+  r.airframes.share = 0.25;
+  ASSERT_EQ(validate(r), "");
+  const std::vector<VehicleParams> described = describedVehicles(r);
+  ASSERT_EQ(described.size(), 14u);
+  std::vector<int> flown(described.size(), 0);
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    Rng rng(3, static_cast<std::uint64_t>(i));
+    const FlightDraw d = drawFlight(r, described, 0.002, rng);
+    ++flown[static_cast<std::size_t>(d.vehicle)];
+    // The plant is drawn around the airframe it flies.
+    const VehicleParams& base = described[static_cast<std::size_t>(d.vehicle)];
+    EXPECT_GE(d.plant.mass, 0.85 * base.mass - 1e-12);
+    EXPECT_LE(d.plant.mass, 1.15 * base.mass + 1e-12);
+  }
+  int synthetic = 0;
+  for (std::size_t v = 2; v < flown.size(); ++v) {
+    EXPECT_GT(flown[v], 0) << describedVehicleName(r, v);
+    synthetic += flown[v];
+  }
+  EXPECT_NEAR(synthetic / double(n), 0.25, 0.015);
+  // Without airframes a draw takes the stream it always took.
+  Rng a(5, 11), b(5, 11);
+  const FlightDraw plain = drawFlight(without, 0.002, a);
+  EXPECT_EQ(plain.vehicle, static_cast<int>(Rng(5, 11).next() % 2));
+  EXPECT_EQ(plain.plant.mass, drawFlight(without, describedVehicles(without), 0.002, b).plant.mass);
 }
 
 TEST(Randomisation, DrawsArePureFunctionsOfTheStream) {

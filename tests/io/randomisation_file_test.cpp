@@ -12,6 +12,7 @@ namespace quadfdi {
 namespace {
 
 const std::string kDefault = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-default.toml";
+const std::string kAirframes = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-airframes.toml";
 
 TEST(RandomisationFile, LoadsTheShippedRandomisationWithItsVehicles) {
   const Randomisation r = loadRandomisation(kDefault);
@@ -29,24 +30,91 @@ TEST(RandomisationFile, LoadsTheShippedRandomisationWithItsVehicles) {
 // The held-out airframes (configs/vehicles/held-out/, docs/results/held-out-vehicles/) are held
 // out only if the shipped training never flies them: not by name, and no training vehicle is the
 // same airframe under another name (mass or inertia within the randomisation's spread).
+// The synthetic airframes of randomisation-airframes.toml count as training vehicles too.
 TEST(RandomisationFile, TheShippedTrainingFliesNoHeldOutAirframe) {
-  const Randomisation r = loadRandomisation(kDefault);
-  int airframes = 0;  // every file of the folder, so that one added later is checked too
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/held-out")) {
-    if (entry.path().extension() != ".toml") continue;
-    ++airframes;
-    const std::string stem = entry.path().stem().string();
-    const VehicleParams held_out = loadVehicleParams(entry.path().string());
-    for (std::size_t i = 0; i < r.vehicles.size(); ++i) {
-      EXPECT_NE(r.vehicle_names[i], stem);
-      const VehicleParams& trained = r.vehicles[i];
-      const bool same_mass = std::abs(held_out.mass / trained.mass - 1.0) <= 0.15;
-      const bool same_roll_inertia = std::abs(held_out.inertia_xx / trained.inertia_xx - 1.0) <= 0.2;
-      const bool same_yaw_moment = std::abs(held_out.yaw_moment_coeff / trained.yaw_moment_coeff - 1.0) <= 0.2;
-      EXPECT_FALSE(same_mass && same_roll_inertia && same_yaw_moment) << stem << " is " << r.vehicle_names[i];
+  for (const std::string& file : {kDefault, kAirframes}) {
+    const Randomisation r = loadRandomisation(file);
+    const std::vector<VehicleParams> described = describedVehicles(r);
+    int airframes = 0;  // every file of the folder, so that one added later is checked too
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/held-out")) {
+      if (entry.path().extension() != ".toml") continue;
+      ++airframes;
+      const std::string stem = entry.path().stem().string();
+      const VehicleParams held_out = loadVehicleParams(entry.path().string());
+      for (std::size_t i = 0; i < described.size(); ++i) {
+        EXPECT_NE(describedVehicleName(r, i), stem);
+        const VehicleParams& trained = described[i];
+        const bool same_mass = std::abs(held_out.mass / trained.mass - 1.0) <= 0.15;
+        const bool same_roll_inertia = std::abs(held_out.inertia_xx / trained.inertia_xx - 1.0) <= 0.2;
+        const bool same_yaw_moment = std::abs(held_out.yaw_moment_coeff / trained.yaw_moment_coeff - 1.0) <= 0.2;
+        EXPECT_FALSE(same_mass && same_roll_inertia && same_yaw_moment) << stem << " is " << describedVehicleName(r, i) << " of " << file;
+      }
     }
+    EXPECT_GE(airframes, 2);  // x500 and solo at least
   }
-  EXPECT_GE(airframes, 2);  // x500 and solo at least
+}
+
+TEST(RandomisationFile, AirframeKeysParseRoundTripAndAreLeftOutWithoutAirframes) {
+  const Randomisation r = loadRandomisation(kAirframes);
+  EXPECT_EQ(r.airframes.count, 48);
+  EXPECT_EQ(r.airframes.share, 0.5);
+  EXPECT_EQ(r.airframes.hover_fraction.hi, 0.65);
+  EXPECT_EQ(describedVehicles(r).size(), 51u);
+  EXPECT_EQ(describedVehicleName(r, 3), "airframe-1");
+  // The text form (as model files record it) parses back to the same ranges, hence the same airframes.
+  const std::string text = randomisationToText(r);
+  const std::string library = "vehicles = [\"nominal\"]\n";
+  const Randomisation back = randomisationFromText(library + text.substr(text.find('\n') + 1), "model");
+  const std::string back_text = randomisationToText(back);
+  EXPECT_EQ(back_text.substr(back_text.find('\n')), text.substr(text.find('\n')));
+  const std::vector<VehicleParams> a = drawAirframes(r.airframes), b = drawAirframes(back.airframes);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].inertia_zz, b[i].inertia_zz);
+  EXPECT_EQ(randomisationToText(loadRandomisation(kDefault)).find("airframes."), std::string::npos);
+  auto message = [](const std::string& body) {
+    try {
+      randomisationFromText("vehicles = [\"nominal\"]\n[airframes]\n" + body, "r.toml");
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("count = 1001\n"), "r.toml:3: airframes.count must be in 0 … 1000");
+  EXPECT_EQ(message("size = [1, 2]\n"), "r.toml:3: unknown key 'airframes.size'");
+  EXPECT_EQ(message("count = 4\nshare = 1.5\n"), "r.toml: randomisation: airframes: share must be in [0, 1]");
+  EXPECT_EQ(message("count = 4\nhover_fraction = [0.5, 1.0]\n"),
+            "r.toml: randomisation: airframes: hover_fraction must stay below 1 (a vehicle hovering at full thrust cannot be controlled)");
+  EXPECT_EQ(message("count = 4\nidle_fraction = [0.0, 0.2]\nhover_fraction = [0.15, 0.5]\n"),
+            "r.toml: randomisation: airframes: idle_fraction must be 0 <= lo <= hi < hover_fraction's lo");
+  EXPECT_EQ(message("count = 4\nmass = [0.01, 5000]\n"), "r.toml: randomisation: airframes: mass must lie in [0.001, 1000] kg");
+  EXPECT_EQ(message("count = 4\nmass = [0, 2]\n"),
+            "r.toml: randomisation: airframes: mass, size_factor, aspect, inertia_factor, yaw_inertia_ratio, hover_fraction and "
+            "yaw_moment_coeff need 0 < lo <= hi");
+}
+
+// Every synthetic airframe gets its controllers designed in setup, and a controller drawn on it
+// flies it: the flyability probe keeps most first draws.
+TEST(RandomisationFile, SyntheticAirframesAreDesignedForAndFlown) {
+  RolloutConfig c;
+  c.randomisation = loadRandomisation(kAirframes);
+  c.randomisation.airframes.share = 1.0;
+  c.seed = 4;
+  c.post_fault_steps = 300;
+  const RolloutEngine engine(c);
+  ASSERT_EQ(engine.error(), "");
+  int first_draw_kept = 0, synthetic = 0;
+  const int n = 60;
+  for (int i = 0; i < n; ++i) {
+    int attempts = 0;
+    const FlightDraw d = engine.flightDraw(static_cast<std::uint64_t>(i), &attempts);
+    synthetic += d.vehicle >= 3;
+    first_draw_kept += attempts == 1;
+  }
+  EXPECT_EQ(synthetic, n);
+  EXPECT_GE(first_draw_kept, 0.9 * n);
+  TrajectoryBatch batch;
+  ASSERT_TRUE(engine.run(algorithm1Jobs(0, 40, {1.0}, {2}), 2, batch));
+  for (int t = 0; t < batch.count; ++t) EXPECT_EQ(batch.length[static_cast<std::size_t>(t)], batch.samples) << "flight " << t;
 }
 
 TEST(RandomisationFile, RefusesBadInputWithFileAndLine) {
