@@ -58,6 +58,9 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
       .choices(scaleNames());
   t->add("--seed", o.seed, "Test-set seed");
   t->add("--theta-tol", o.theta_tol, "Alarm when min_k theta_k < this (complete faults: 0.2)").above(0.0, 1.0);
+  t->add("--average-windows", o.average_windows,
+         "E1-E6: decide on the mean theta of a flight's last N windows (a causal filter: up to N samples later; 1: each window alone, the paper's)")
+      .atLeast(1);
   t->add("--threads,-j", o.threads, "Threads (0 = all cores)").atLeast(0);
   t->add("--output,-o", o.output, "Output folder");
   t->add("--quiet,-q", o.quiet, "No progress");
@@ -233,7 +236,7 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
   if (!chosen({"decisions"}))
     refuseGiven(o.given, {"randomise", "flight_hours", "faulty_per_theta"}, "only -e decisions reads it: add decisions to -e, or drop it");
   if (!chosen({"e1", "e2", "e3", "e4", "e5", "e6"}))
-    refuseGiven(o.given, {"theta_tol"}, "only E1-E6 read it (E7 and decisions run the sequential rule): add one of them to -e, or drop it");
+    refuseGiven(o.given, {"theta_tol", "average_windows"}, "only E1-E6 read it (E7 and decisions run the sequential rule): add one of them to -e, or drop it");
   std::string problem;
   const NamedScale* named = findScale(o.scale, &problem);
   require(named != nullptr, "--scale: " + problem);
@@ -242,6 +245,7 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
   in.scale = scale;
   in.seed = o.seed;
   in.theta_tol = o.theta_tol;
+  in.average_windows = o.average_windows;
   in.threads = o.threads;
   std::vector<std::unique_ptr<TrainedModel>> owned;
   std::vector<std::pair<std::string, std::string>> used;
@@ -294,7 +298,10 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   report << "- command: `" << command_line << "`\n- scale: " << scale.name << " (" << scale.flights_per_class
          << " test flights per class; the paper's protocol uses 2 000)\n- test-set seed: " << o.seed
-         << ", Θ_tol: " << o.theta_tol << "\n- machine: " << machine() << "\n- wall time: " << fmt(seconds, 1)
+         << ", Θ_tol: " << o.theta_tol
+         << (o.average_windows > 1 ? ", decisions on the mean Θ̂ of a flight's last " + std::to_string(o.average_windows) + " windows"
+                                   : std::string())
+         << "\n- machine: " << machine() << "\n- wall time: " << fmt(seconds, 1)
          << " s\n- models:\n";
   for (const auto& [role, path] : used) {
     const ModelMetadata& m = in.models[role]->metadata;

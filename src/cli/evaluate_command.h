@@ -19,6 +19,7 @@ struct EvaluateOptions {
   std::string scale = "quick";  // named scale (data/scales.h): test flights per class
   unsigned long long seed = 7;  // test-set seed
   double theta_tol = 0.2;       // alarm threshold on min_k Θ̂_k [-]
+  int average_windows = 1;      // [windows] E1–E6 decide on the mean Θ̂ of a flight's last this many (1: each alone)
   int threads = 0;              // 0 = all cores
   std::string output = "evaluation";  // folder
   // E7 (transfer matrix) and `decisions` (severity, delay against Θ, false alarms per flight hour):

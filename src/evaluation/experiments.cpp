@@ -83,8 +83,9 @@ const TrainedModel* need(const ExperimentInputs& in, const std::string& role, st
 
 // Evaluates one model on one test set, one condition per fault motor (or one for all).
 std::vector<ConditionResult> perMotor(const TrainedModel& model, const TestSetConfig& c, const TestSet& set,
-                                      double tol, DecisionRule rule, const std::string& prefix) {
-  const std::vector<WindowOutcome> outcomes = evaluateTestSet(model, c, set, tol, rule, model.metadata.symmetry);
+                                      const ExperimentInputs& in, DecisionRule rule, const std::string& prefix) {
+  const std::vector<WindowOutcome> outcomes =
+      evaluateTestSet(model, c, set, in.theta_tol, rule, model.metadata.symmetry, in.average_windows);
   std::vector<ConditionResult> out;
   for (int motor = 1; motor <= 4; ++motor)
     out.push_back(summarise(prefix + "motor " + std::to_string(motor), outcomes, c.rollout.window,
@@ -92,9 +93,10 @@ std::vector<ConditionResult> perMotor(const TrainedModel& model, const TestSetCo
   return out;
 }
 
-ConditionResult allMotors(const TrainedModel& model, const TestSetConfig& c, const TestSet& set, double tol,
-                          const std::string& name, SymmetryMode mode) {
-  const std::vector<WindowOutcome> outcomes = evaluateTestSet(model, c, set, tol, DecisionRule::kOurs, mode);
+ConditionResult allMotors(const TrainedModel& model, const TestSetConfig& c, const TestSet& set, const ExperimentInputs& in,
+                          double tol, const std::string& name, SymmetryMode mode) {
+  const std::vector<WindowOutcome> outcomes =
+      evaluateTestSet(model, c, set, tol, DecisionRule::kOurs, mode, in.average_windows);
   return summarise(name, outcomes, c.rollout.window, [](const WindowOutcome&) { return true; });
 }
 
@@ -114,7 +116,7 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
     say("generating test set");
     const TestSet set = generateTestSet(c);
     say("evaluating");
-    out.conditions = perMotor(*m, c, set, in.theta_tol, DecisionRule::kOurs, "");
+    out.conditions = perMotor(*m, c, set, in, DecisionRule::kOurs, "");
     return true;
   }
   if (id == "e2") {
@@ -130,7 +132,7 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
       for (auto [role, model] : {std::pair<const char*, const TrainedModel*>{"LSTM", lstm}, {"MLP", mlp}}) {
         std::snprintf(name, sizeof name, "%s, theta2 = %.1f", role, theta);
         say(name);
-        out.conditions.push_back(allMotors(*model, c, set, 0.95, name, model->metadata.symmetry));
+        out.conditions.push_back(allMotors(*model, c, set, in, 0.95, name, model->metadata.symmetry));
       }
     }
     return true;
@@ -169,7 +171,7 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
       const double activity = kind == ControllerKind::kCbfQp ? constraintActivity(c, set) : -1.0;
       for (const auto& [role, model] : models) {
         if (id == "e3" && role != "model-free" && models.size() > 1 && role == "residual") continue;
-        ConditionResult r = allMotors(*model, c, set, in.theta_tol,
+        ConditionResult r = allMotors(*model, c, set, in, in.theta_tol,
                                       role + ", " + (kind == ControllerKind::kLqr ? "LQR" : "CBF-QP") + ", " + params,
                                       model->metadata.symmetry);
         r.constraint_active = activity;
@@ -187,7 +189,7 @@ bool runExperiment(const std::string& id, const ExperimentInputs& in, Experiment
     const TestSet set = generateTestSet(c);
     for (SymmetryMode mode : {SymmetryMode::kExactGroup, SymmetryMode::kPaperRotation}) {
       say(std::string("symmetry ") + toString(mode));
-      out.conditions.push_back(allMotors(*m, c, set, in.theta_tol,
+      out.conditions.push_back(allMotors(*m, c, set, in, in.theta_tol,
                                          mode == SymmetryMode::kExactGroup ? "exact group" : "paper rotation map", mode));
     }
     return true;

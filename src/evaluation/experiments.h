@@ -42,6 +42,7 @@ struct ExperimentInputs {
   EvaluationScale scale;
   std::uint64_t seed = 7;  // test-set seed (training uses others)
   double theta_tol = 0.2;  // complete faults (paper)
+  int average_windows = 1;  // [windows] decide on the mean Θ̂ of a flight's last this many (evaluateTestSet); 1: the paper's
   int threads = 0;
 };
 

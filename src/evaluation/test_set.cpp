@@ -26,11 +26,31 @@ TestSet generateTestSet(const TestSetConfig& c) {
   return set;
 }
 
+std::vector<Input> averageOverFlight(const std::vector<WindowRef>& windows, const std::vector<Input>& theta, int count) {
+  std::vector<Input> out(theta.size());
+  for (std::size_t i = 0; i < theta.size(); ++i) {
+    Input sum = Input::Zero();
+    int n = 0;
+    for (std::size_t j = i + 1; j-- > 0 && n < count && windows[j].trajectory == windows[i].trajectory; ++n) sum += theta[j];
+    out[i] = sum / static_cast<double>(n);
+  }
+  return out;
+}
+
 std::vector<WindowOutcome> evaluateTestSet(const TrainedModel& model, const TestSetConfig& c, const TestSet& set,
-                                           double theta_tol, DecisionRule rule, SymmetryMode mode) {
+                                           double theta_tol, DecisionRule rule, SymmetryMode mode, int average_windows) {
   std::vector<std::array<Input, 4>> raw;
-  const std::vector<Input> theta =
+  std::vector<Input> theta =
       estimateAllMotors(model, mode, set.batch, set.windows, rule == DecisionRule::kPaper ? &raw : nullptr, c.threads);
+  if (average_windows > 1) {
+    theta = averageOverFlight(set.windows, theta, average_windows);
+    for (std::size_t map = 0; map < 4 && !raw.empty(); ++map) {
+      std::vector<Input> outputs(raw.size());
+      for (std::size_t i = 0; i < raw.size(); ++i) outputs[i] = raw[i][map];
+      outputs = averageOverFlight(set.windows, outputs, average_windows);
+      for (std::size_t i = 0; i < raw.size(); ++i) raw[i][map] = outputs[i];
+    }
+  }
   std::vector<WindowOutcome> out(set.windows.size());
   for (std::size_t i = 0; i < set.windows.size(); ++i) {
     const WindowRef& w = set.windows[i];

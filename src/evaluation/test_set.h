@@ -34,9 +34,17 @@ TestSet generateTestSet(const TestSetConfig& config);
 
 enum class DecisionRule { kOurs, kPaper };
 
-// Runs the model on every window through the symmetry maps and decides each one.
+// theta[i] replaced by the mean over window i and the windows before it of the same flight, at
+// most `count` (≥ 1) in all; `windows` are enumerated flight by flight, in time order
+// (enumerateWindows), so a mean never reaches into another flight.
+std::vector<Input> averageOverFlight(const std::vector<WindowRef>& windows, const std::vector<Input>& theta, int count);
+
+// Runs the model on every window through the symmetry maps and decides each one. With
+// `average_windows` > 1 each decision reads the mean of the flight's last that many windows' Θ̂
+// (this one included; fewer at the flight's first windows): a causal filter on the estimates,
+// which costs up to that many samples of delay. 1 decides every window alone, as the paper does.
 std::vector<WindowOutcome> evaluateTestSet(const TrainedModel& model, const TestSetConfig& config,
                                            const TestSet& set, double theta_tol, DecisionRule rule,
-                                           SymmetryMode mode);
+                                           SymmetryMode mode, int average_windows = 1);
 
 }  // namespace quadfdi

@@ -49,6 +49,10 @@ TEST(EvaluateCli, TinyReportWithTablesFiguresAndSkippedExperiments) {
             "\"identification: motor 4\"");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 102);  // header + L = 0 … 100
   EXPECT_NE(slurp(dir + "/e1.md").find("| condition | flights |"), std::string::npos);
+  // Decisions on a flight's mean Θ̂: said in the report's header.
+  const std::string averaged = run("evaluate --model " + model + " -e e1 --average-windows 4 --scale tiny -q -o " + dir + "-avg", &code);
+  ASSERT_EQ(code, 0) << averaged;
+  EXPECT_NE(slurp(dir + "-avg/REPORT.md").find("Θ_tol: 0.2, decisions on the mean Θ̂ of a flight's last 4 windows"), std::string::npos);
   // Bad input: one line, non-zero.
   const std::string bad = run("evaluate --model " + model + " -e e9 --scale tiny -o " + dir, &code);
   EXPECT_NE(code, 0);
@@ -94,6 +98,7 @@ TEST(EvaluateCli, OptionsTheChosenExperimentsWouldNotReadAreRefused) {
       {"-e e1 --vehicle " + vehicle, "--vehicle: only -e e7 and decisions read it"},
       {"-e e1 --flights-per-class 3", "--flights-per-class: only -e e7 and decisions read it"},
       {"-e e7 --flight-hours 1", "--flight-hours: only -e decisions reads it"},
+      {"-e e7 --average-windows 5", "--average-windows: only E1-E6 read it"},
       {"-e e7 decisions --theta-tol 0.3", "--theta-tol: only E1-E6 read it"},
   };
   for (const auto& [args, message] : cases) {

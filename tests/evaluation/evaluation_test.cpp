@@ -4,6 +4,7 @@
 
 #include "data/rollout.h"
 #include "evaluation/metrics.h"
+#include "evaluation/test_set.h"
 #include "networks/model.h"
 
 namespace quadfdi {
@@ -101,6 +102,28 @@ namespace {
 // The batched estimate equals one window at a time through the map of each motor (LibTorch, to
 // float round-off), motor 2's estimate is the network on the unmapped window (g₂ = identity), and
 // the thread count changes nothing.
+// The causal mean E1–E6 can decide on (evaluate --average-windows): over a flight's last windows,
+// fewer at its start, never across flights.
+TEST(AverageOverFlight, MeansTheFlightsLastWindowsOnly) {
+  const std::vector<WindowRef> windows = {{0, 100}, {0, 101}, {0, 102}, {1, 100}, {1, 101}};
+  std::vector<Input> theta;
+  for (double v : {1.0, 0.5, 0.0, 0.2, 0.4}) theta.push_back(Input::Constant(v));
+  const std::vector<Input> two = averageOverFlight(windows, theta, 2);
+  const double expected[] = {1.0, 0.75, 0.25, 0.2, 0.3};
+  for (std::size_t i = 0; i < windows.size(); ++i) EXPECT_DOUBLE_EQ(two[i](0), expected[i]) << i;
+  const std::vector<Input> all = averageOverFlight(windows, theta, 10);
+  EXPECT_DOUBLE_EQ(all[2](3), 0.5);  // flight 0's three windows
+  EXPECT_DOUBLE_EQ(all[4](3), 0.3);  // flight 1's two, nothing of flight 0
+  const std::vector<Input> one = averageOverFlight(windows, theta, 1);
+  for (std::size_t i = 0; i < windows.size(); ++i) EXPECT_EQ(one[i], theta[i]);
+  // A one-window dip naming another motor is outvoted by the windows around it.
+  std::vector<Input> blip(5, Input(0.1, 0.9, 0.9, 0.9));
+  blip[3] = Input(0.4, 0.9, 0.05, 0.9);
+  const std::vector<WindowRef> flight = {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {0, 5}};
+  EXPECT_EQ(decide(blip[3], 0.2).motor, 3);
+  EXPECT_EQ(decide(averageOverFlight(flight, blip, 4)[3], 0.2).motor, 1);
+}
+
 TEST(EstimateAllMotors, MatchesPerWindowMappedPredictions) {
   ModelMetadata m;
   m.window = 10;
