@@ -258,14 +258,7 @@ int runCalibrate(const CalibrateOptions& o) {
     rc.dt = dt;
     rc.output = model.metadata.output;
     rc.randomisation = loadRandomisation(o.randomise);
-    if (!o.vehicles.empty()) {
-      rc.randomisation.vehicles.clear();
-      rc.randomisation.vehicle_names.clear();
-      for (const std::string& v : o.vehicles) {
-        rc.randomisation.vehicles.push_back(loadVehicleParams(v));
-        rc.randomisation.vehicle_names.push_back(std::filesystem::path(v).stem().string());
-      }
-    }
+    if (!o.vehicles.empty()) flyOnlyVehicles(rc.randomisation, o.vehicles);
     rc.seed = o.seed + kFirstStream;
     rc.post_fault_steps = std::max(1, steps - T);
     std::vector<TrajectoryJob> jobs;

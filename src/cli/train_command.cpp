@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <stdexcept>
 
 #include "cli/cli_util.h"
@@ -113,14 +112,7 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   if (!o.randomise.empty()) {
     Randomisation& r = c.data.rollout.randomisation;
     r = loadRandomisation(o.randomise);
-    if (!o.vehicles.empty()) {
-      r.vehicles.clear();
-      r.vehicle_names.clear();
-      for (const std::string& v : o.vehicles) {
-        r.vehicles.push_back(loadVehicleParams(v));
-        r.vehicle_names.push_back(std::filesystem::path(v).stem().string());
-      }
-    }
+    if (!o.vehicles.empty()) flyOnlyVehicles(r, o.vehicles);
     c.model.randomisation = randomisationToText(r);
   }
   c.data.rollout.post_fault_steps = static_cast<int>(std::lround(o.post_fault / c.data.rollout.dt));

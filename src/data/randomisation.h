@@ -74,8 +74,8 @@ struct ControllerMix {
 // from their own seed, by the scaling of real airframes, and flown beside the described vehicles so
 // that training meets a continuum of sizes and control authorities instead of a handful of real
 // airframes. Each is then a described vehicle like the others: its controllers are designed on it
-// and the plant is drawn around it. Ranges span the library's and held-out airframes
-// (docs/vehicles.md), which is what they were chosen from.
+// and the plant is drawn around it. The defaults are configs/randomisation-airframes.toml's, chosen
+// from the library's and the held-out airframes (docs/data.md#synthetic-airframes).
 struct AirframeRanges {
   int count = 0;                          // [-] airframes drawn; 0 = none
   std::uint64_t seed = 1;                 // [-] the same seed and ranges give the same airframes
@@ -85,7 +85,7 @@ struct AirframeRanges {
                                           //   Crazyflie 0.15, racer 0.14, Iris 0.22, X500 0.20, Solo 0.18
   Interval aspect{0.75, 1.33};            // [-] rotor |x| / |y|, log-uniform (1: square X; racer 0.75)
   Interval inertia_factor{0.3, 0.6};      // [-] Ixx / (m·y²) and Iyy / (m·x²), drawn each: racer 0.33 / 0.50,
-                                          //   Iris 0.44 / 1.15 (its short x), X500 0.36, Crazyflie 0.58
+                                          //   Iris 0.44 / 1.15 (its short x, outside), X500 0.36, Crazyflie 0.58
   Interval yaw_inertia_ratio{0.8, 1.0};   // [-] Izz / (Ixx + Iyy): 0.81 (Solo) … 0.95 (Iris); a flat plate's is 1
   Interval hover_fraction{0.15, 0.65};    // [-] hover thrust / max thrust per motor: racer 0.15, Iris 0.52, X500 0.57
   Interval idle_fraction{0.0, 0.03};      // [-] min thrust / max thrust: Crazyflie 0, X500 0.023

@@ -138,6 +138,16 @@ Randomisation randomisationFromText(const std::string& text, const std::string& 
 
 Randomisation loadRandomisation(const std::string& path) { return randomisationFromText(readTextFile(path), path); }
 
+void flyOnlyVehicles(Randomisation& r, const std::vector<std::string>& vehicle_files) {
+  r.vehicles.clear();
+  r.vehicle_names.clear();
+  for (const std::string& v : vehicle_files) {
+    r.vehicles.push_back(loadVehicleParams(v));
+    r.vehicle_names.push_back(vehicleName(v));
+  }
+  r.airframes.count = 0;
+}
+
 std::string randomisationToText(const Randomisation& r) {
   Randomisation copy = r;
   std::string out = "vehicles = [";

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "data/randomisation.h"
 
@@ -13,6 +14,11 @@ namespace quadfdi {
 // on unknown keys, bad values or a vehicle that cannot be loaded.
 Randomisation randomisationFromText(const std::string& text, const std::string& source);
 Randomisation loadRandomisation(const std::string& path);
+
+// `--vehicle FILE …` of train and calibrate: these vehicles are flown instead of the file's, and
+// without its synthetic airframes (a user naming a vehicle means that vehicle). Throws as
+// loadVehicleParams on a file it cannot load.
+void flyOnlyVehicles(Randomisation& r, const std::vector<std::string>& vehicle_files);
 
 // The file form (vehicles by name, as recorded in model files); round-trips the ranges.
 std::string randomisationToText(const Randomisation& r);

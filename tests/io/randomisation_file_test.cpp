@@ -92,6 +92,16 @@ TEST(RandomisationFile, AirframeKeysParseRoundTripAndAreLeftOutWithoutAirframes)
             "yaw_moment_coeff need 0 < lo <= hi");
 }
 
+// train / calibrate --vehicle FILE fly that vehicle alone: the file's synthetic airframes go too.
+TEST(RandomisationFile, FlyingOnlyNamedVehiclesDropsTheAirframes) {
+  Randomisation r = loadRandomisation(kAirframes);
+  flyOnlyVehicles(r, {std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/racer250.toml"});
+  EXPECT_EQ(r.vehicle_names, std::vector<std::string>{"racer250"});
+  EXPECT_EQ(describedVehicles(r).size(), 1u);
+  EXPECT_EQ(randomisationToText(r).find("airframes."), std::string::npos);
+  EXPECT_EQ(validate(r), "");
+}
+
 // Every synthetic airframe gets its controllers designed in setup, and a controller drawn on it
 // flies it: the flyability probe keeps most first draws.
 TEST(RandomisationFile, SyntheticAirframesAreDesignedForAndFlown) {
