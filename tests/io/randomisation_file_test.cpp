@@ -57,7 +57,7 @@ TEST(RandomisationFile, TheShippedTrainingFliesNoHeldOutAirframe) {
 TEST(RandomisationFile, AirframeKeysParseRoundTripAndAreLeftOutWithoutAirframes) {
   const Randomisation r = loadRandomisation(kAirframes);
   EXPECT_EQ(r.airframes.count, 48);
-  EXPECT_EQ(r.airframes.share, 0.5);
+  EXPECT_EQ(r.airframes.share, 0.25);
   EXPECT_EQ(r.airframes.hover_fraction.hi, 0.65);
   EXPECT_EQ(describedVehicles(r).size(), 51u);
   EXPECT_EQ(describedVehicleName(r, 3), "airframe-1");
