@@ -14,6 +14,16 @@ namespace {
 const std::string kDefault = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-default.toml";
 const std::string kAirframes = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-airframes.toml";
 
+// The one-line error randomisationFromText gives for `text` (read as "r.toml"), or "no error".
+std::string refusalOf(const std::string& text) {
+  try {
+    randomisationFromText(text, "r.toml");
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 TEST(RandomisationFile, LoadsTheShippedRandomisationWithItsVehicles) {
   const Randomisation r = loadRandomisation(kDefault);
   ASSERT_EQ(r.vehicles.size(), 3u);
@@ -71,14 +81,7 @@ TEST(RandomisationFile, AirframeKeysParseRoundTripAndAreLeftOutWithoutAirframes)
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].inertia_zz, b[i].inertia_zz);
   EXPECT_EQ(randomisationToText(loadRandomisation(kDefault)).find("airframes."), std::string::npos);
-  auto message = [](const std::string& body) {
-    try {
-      randomisationFromText("vehicles = [\"nominal\"]\n[airframes]\n" + body, "r.toml");
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  auto message = [](const std::string& body) { return refusalOf("vehicles = [\"nominal\"]\n[airframes]\n" + body); };
   EXPECT_EQ(message("count = 1001\n"), "r.toml:3: airframes.count must be in 0 … 1000");
   EXPECT_EQ(message("size = [1, 2]\n"), "r.toml:3: unknown key 'airframes.size'");
   EXPECT_EQ(message("count = 4\nshare = 1.5\n"), "r.toml: randomisation: airframes: share must be in [0, 1]");
@@ -128,14 +131,7 @@ TEST(RandomisationFile, SyntheticAirframesAreDesignedForAndFlown) {
 }
 
 TEST(RandomisationFile, RefusesBadInputWithFileAndLine) {
-  auto message = [](const std::string& text) {
-    try {
-      randomisationFromText(text, "r.toml");
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  auto message = [](const std::string& text) { return refusalOf(text); };
   EXPECT_EQ(message("vehicles = [\"nominal\"]\nspeed = 3\n"), "r.toml:2: unknown key 'speed'");
   EXPECT_EQ(message("vehicles = [\"nominal\"]\n[parameters]\nmass = [1.1]\n"), "r.toml:3: 'parameters.mass' needs [lo, hi]");
   EXPECT_EQ(message("vehicles = [\"nominal\"]\n[sensors]\nrate_std = [0.1, 0.01]\n"), "r.toml:3: 'sensors.rate_std' needs 0 <= lo <= hi");
