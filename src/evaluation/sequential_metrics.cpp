@@ -26,7 +26,8 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
   long healthy_samples = 0, covered = 0;
   double abs_error = 0.0;
   const double degraded_below = config.rule.degraded_below, failed_below = config.rule.failed_below;
-  for (const FlightThetaStream& f : flights) {
+  for (int flight = 0; flight < static_cast<int>(flights.size()); ++flight) {
+    const FlightThetaStream& f = flights[static_cast<std::size_t>(flight)];
     rule.reset();
     const FlightTruth& truth = f.truth;
     const bool faulty = truth.motor > 0 && truth.fault_sample >= 0;
@@ -48,6 +49,7 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
         r.false_alarms += raised;
         r.false_alarms_at_start += raised && k < config.start_samples;
         r.false_alarms_failed += raised && s.severity == Severity::kFailed;
+        if (raised) r.false_alarm_list.push_back({flight, k, s.motor, s.severity, s.theta_est});
         r.false_escalations += status == SequentialStatus::kEscalated;
         continue;
       }

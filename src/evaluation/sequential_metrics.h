@@ -40,6 +40,15 @@ struct SeverityDetection {
   double delay_p95 = 0.0;     // [s] nearest rank
 };
 
+// One false alarm, for finding what the flights that raise them have in common.
+struct FalseAlarm {
+  int flight = 0;                       // index into the evaluated streams
+  long sample = 0;                      // [samples] stream index at which it was raised
+  int motor = 0;                        // 1–4
+  Severity severity = Severity::kHealthy;  // as raised: degraded or straight at failed
+  double theta_est = 1.0;               // [-] the rule's estimate of that motor then
+};
+
 struct SequentialEvaluation {
   SeverityDetection degraded, failed;
   int isolation_flights = 0;          // faulty flights, whatever their Θ (issue 13 scores Θ ≤ 0.8 at the 0.8 level too)
@@ -73,6 +82,7 @@ struct SequentialEvaluation {
   int flights_with_false_alarm = 0;         // flights raising at least one false alarm
   double alarmed_flights_per_hour = 0.0;    // [1/h] of them, per healthy flight hour
   double alarmed_flights_upper_bound = 0.0; // [1/h] one-sided Poisson bound on that count
+  std::vector<FalseAlarm> false_alarm_list; // every false alarm, in flight and sample order
 };
 
 SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& flights, const SequentialEvaluationConfig& config);

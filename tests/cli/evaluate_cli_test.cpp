@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 namespace {
 
@@ -86,6 +87,57 @@ TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
   EXPECT_NE(csv.find("\n0.5,2,"), std::string::npos) << csv;   // --faulty-per-theta flights at each Θ
   const std::string tradeoff = slurp(dir + "/tradeoff.csv");
   EXPECT_EQ(std::count(tradeoff.begin(), tradeoff.end(), '\n'), 9);  // header + eight target rates
+  // Every false alarm counted in the report is a row of false_alarms.csv, with its flight's draw.
+  const std::string alarms = slurp(dir + "/false_alarms.csv");
+  EXPECT_EQ(alarms.rfind("flight,t_s,motor,severity,theta_est,vehicle,controller,gain_scale,manoeuvre,", 0), 0u) << alarms;
+  const std::size_t count_at = md.find("**False alarms:** ");
+  ASSERT_NE(count_at, std::string::npos) << md;
+  const long counted = std::stol(md.substr(count_at + std::string("**False alarms:** ").size()));
+  EXPECT_EQ(std::count(alarms.begin(), alarms.end(), '\n'), counted + 1) << alarms;
+  EXPECT_EQ(md.find("**Alarmed flights**") != std::string::npos, counted > 0) << md;
+}
+
+// A calibration whose degraded level is raised to 0.999 (a healthy motor's Θ̂ sits below it half
+// the time) raises false alarms in a few healthy minutes: the report lists the alarmed flights with
+// what was drawn for them, and false_alarms.csv holds one row per alarm counted.
+TEST(EvaluateCli, DecisionsReportListsTheAlarmedFlights) {
+  const std::string dir = ::testing::TempDir() + "quadfdi_eval_alarmed";
+  const std::string src = QUADFDI_SOURCE_DIR;
+  std::string calibration = slurp(src + "/models/tcn-crazyflie2.calibration.json");
+  const std::size_t at = calibration.find("\"level\": ");  // the degraded level's: keys are sorted
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t end = calibration.find_first_of(",\n", at);
+  calibration.replace(at, end - at, "\"level\": 0.999");
+  const std::string low = ::testing::TempDir() + "quadfdi_low_threshold.calibration.json";
+  std::ofstream(low) << calibration;
+  int code = 0;
+  const std::string out = run("evaluate -e decisions --model-free " + src + "/models/tcn-crazyflie2.qfdw --calibration " + low +
+                                  " --vehicle " + src + "/configs/vehicles/crazyflie2.toml --randomise " + src +
+                                  "/configs/randomisation-default.toml --flights-per-class 1 --faulty-per-theta 1 --flight-hours 0.05 --scale tiny -q -o " + dir,
+                              &code);
+  ASSERT_EQ(code, 0) << out;
+  const std::string md = slurp(dir + "/decisions.md");
+  const std::size_t count_at = md.find("**False alarms:** ");
+  ASSERT_NE(count_at, std::string::npos) << md;
+  const long counted = std::stol(md.substr(count_at + std::string("**False alarms:** ").size()));
+  ASSERT_GT(counted, 0) << md;
+  EXPECT_NE(md.find("**Alarmed flights**"), std::string::npos) << md;
+  const std::string alarms = slurp(dir + "/false_alarms.csv");
+  EXPECT_EQ(std::count(alarms.begin(), alarms.end(), '\n'), counted + 1) << alarms;
+  // Rows name the vehicle flown and a severity, after the first second of the recording.
+  std::istringstream rows(alarms);
+  std::string row;
+  std::getline(rows, row);  // header
+  while (std::getline(rows, row)) {
+    std::vector<std::string> f;
+    std::stringstream cells(row);
+    for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
+    ASSERT_EQ(f.size(), 19u) << row;
+    EXPECT_GE(std::stod(f[1]), 1.0) << row;  // counted from 1 s into the recording
+    EXPECT_TRUE(f[3] == "degraded" || f[3] == "failed") << row;
+    EXPECT_EQ(f[5], "crazyflie2") << row;
+    EXPECT_NE(md.find("| " + f[0] + " | crazyflie2 | "), std::string::npos) << row;  // its flight is in the table
+  }
 }
 
 // Options only some experiments read are refused when none of those runs, in one line naming the

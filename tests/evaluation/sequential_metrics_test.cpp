@@ -136,6 +136,19 @@ TEST(SequentialEvaluation, FalseAlarmsAreAlsoCountedByFlight) {
   EXPECT_NEAR(r.alarmed_flights_per_hour * r.healthy_hours, 2.0, 1e-9);
   EXPECT_NEAR(r.alarmed_flights_upper_bound * r.healthy_hours, 6.295793622, 1e-6);  // χ²(0.95; 6) / 2
   EXPECT_LT(r.alarmed_flights_upper_bound, r.false_alarms_upper_bound);
+  // Each alarm is listed where it was raised (inside its dip), on the dipping motor, at its severity.
+  ASSERT_EQ(r.false_alarm_list.size(), 3u);
+  const int flight_of[] = {0, 0, 1}, motor_of[] = {1, 1, 3};
+  const long dip_of[] = {100, 1000, 500};
+  for (std::size_t i = 0; i < 3; ++i) {
+    const FalseAlarm& a = r.false_alarm_list[i];
+    EXPECT_EQ(a.flight, flight_of[i]) << i;
+    EXPECT_EQ(a.motor, motor_of[i]) << i;
+    EXPECT_GE(a.sample, dip_of[i]) << i;
+    EXPECT_LT(a.sample, dip_of[i] + 20) << i;
+    EXPECT_EQ(a.severity, Severity::kDegraded) << i;
+    EXPECT_LT(a.theta_est, c.rule.degraded_below) << i;
+  }
 }
 
 // A false `failed` and a false `degraded` ask different things of a pilot, so the report counts
@@ -158,11 +171,15 @@ TEST(SequentialEvaluation, FalseAlarmsAreSplitBySeverity) {
   EXPECT_EQ(low.false_alarms, 2);
   EXPECT_EQ(low.false_alarms_failed, 1);
   EXPECT_EQ(low.false_escalations, 0);
+  ASSERT_EQ(low.false_alarm_list.size(), 2u);
+  EXPECT_EQ(low.false_alarm_list[0].severity, Severity::kFailed);
+  EXPECT_EQ(low.false_alarm_list[1].severity, Severity::kDegraded);
   // A fault's own escalation is not a false one.
   c.rule.failed_threshold = 2.999;
   const SequentialEvaluation faulty = evaluateSequential({flight(1000, 1, 0.0, 400, 0.0, 0.0, rng)}, c);
   EXPECT_EQ(faulty.false_alarms, 0);
   EXPECT_EQ(faulty.false_escalations, 0);
+  EXPECT_TRUE(faulty.false_alarm_list.empty());
 }
 
 TEST(SequentialEvaluation, TheIntervalCoversTheTruthAtItsNominalRate) {
