@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "config_refusal.h"
 #include "detection/calibration.h"
 #include "detection/sequential.h"
 #include "io/calibration_file.h"
@@ -718,13 +719,12 @@ TEST(Calibration, FallsBackToSiegmundWithoutExcursions) {
 
 // The one-line error calibrationFromJson gives `json` as "cal.json"; a failure (and "") if it is accepted.
 std::string rejection(const std::string& json) {
-  try {
-    calibrationFromJson(json, "cal.json");
-  } catch (const ConfigError& e) {
-    return e.what();
+  const std::string refusal = test::configRefusal([&] { calibrationFromJson(json, "cal.json"); });
+  if (refusal == test::kAccepted) {
+    ADD_FAILURE() << "accepted: " << json.substr(0, 200);
+    return {};
   }
-  ADD_FAILURE() << "accepted: " << json.substr(0, 200);
-  return {};
+  return refusal;
 }
 
 // rejection() of `json` with its first `from` replaced by `to`.

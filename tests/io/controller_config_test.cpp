@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "config_refusal.h"
 #include "io/controller_config.h"
 #include "io/key_value.h"
 
@@ -7,12 +8,7 @@ namespace quadfdi {
 namespace {
 
 std::string errorOf(const std::string& text) {
-  try {
-    controllerConfigFromText(text, "c.toml", ControllerConfig{});
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return test::configRefusal([&] { controllerConfigFromText(text, "c.toml", ControllerConfig{}); });
 }
 
 TEST(ControllerConfig, PresetThenOverridesAndCbfValues) {

@@ -1,17 +1,13 @@
 #include <gtest/gtest.h>
 
+#include "config_refusal.h"
 #include "io/key_value.h"
 
 namespace quadfdi {
 namespace {
 
 std::string errorOf(const std::string& text) {
-  try {
-    parseKeyValue(text, "cfg.toml");
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
+  return test::configRefusal([&] { parseKeyValue(text, "cfg.toml"); });
 }
 
 TEST(KeyValue, ParsesSectionsCommentsAndTypes) {

@@ -2,6 +2,7 @@
 
 #include <fstream>
 
+#include "config_refusal.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
 
@@ -25,12 +26,7 @@ TEST(ParamsFile, BaseSetWithOverrides) {
 
 TEST(ParamsFile, BadInputIsAOneLineErrorWithFileAndLine) {
   auto err = [](const std::string& text) {
-    try {
-      vehicleParamsFromText(text, "v.toml");
-    } catch (const ConfigError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
+    return test::configRefusal([&] { vehicleParamsFromText(text, "v.toml"); });
   };
   EXPECT_EQ(err("mass = 0.03\nmas = 1\n").rfind("v.toml:2: unknown parameter 'mas'", 0), 0u);
   EXPECT_EQ(err("mass = heavy\n"), "v.toml:1: 'mass' needs a finite number, got 'heavy'");

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "config_refusal.h"
 #include "data/rollout.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
@@ -14,14 +15,9 @@ namespace {
 const std::string kDefault = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-default.toml";
 const std::string kAirframes = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-airframes.toml";
 
-// The one-line error randomisationFromText gives for `text` (read as "r.toml"), or "no error".
+// The one-line error randomisationFromText gives for `text` (read as "r.toml"), or test::kAccepted.
 std::string refusalOf(const std::string& text) {
-  try {
-    randomisationFromText(text, "r.toml");
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "no error";
+  return test::configRefusal([&] { randomisationFromText(text, "r.toml"); });
 }
 
 TEST(RandomisationFile, LoadsTheShippedRandomisationWithItsVehicles) {

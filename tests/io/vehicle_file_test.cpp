@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "config_refusal.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
 #include "io/vehicle_file.h"
@@ -59,12 +60,7 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 }
 
 std::string refusal(const std::string& text) {
-  try {
-    vehicleDescriptionFromText(text, "quad.toml");
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "(accepted)";
+  return test::configRefusal([&] { vehicleDescriptionFromText(text, "quad.toml"); });
 }
 
 TEST(VehicleFile, LibraryVehiclesLoadValidateAndHoverAtEquilibrium) {
@@ -156,7 +152,7 @@ TEST(VehicleFile, SmallAsymmetryIsSymmetrisedToTheMeans) {
 }
 
 TEST(VehicleFile, RefusalsNameFileLineAndWhy) {
-  EXPECT_EQ(refusal(kValid), "(accepted)");
+  EXPECT_EQ(refusal(kValid), test::kAccepted);
   // Asymmetric rotor positions (iris's raw 0.22 / 0.20 on the front arms, 4.8 %).
   std::string e = refusal(replaced(replaced(kValid, "x = 0.13\ny = 0.21", "x = 0.13\ny = 0.22"), "x = 0.13\ny = -0.21",
                                    "x = 0.13\ny = -0.22"));
