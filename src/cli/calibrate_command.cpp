@@ -306,6 +306,9 @@ int runCalibrate(const CalibrateOptions& o) {
     if (ownEstimateNoise(c)) c.estimate_noise = fitNoiseModel(healthy, 0, c.estimate_reference);
     for (std::vector<MotorTheta>& stream : healthy)
       for (MotorTheta& theta : stream) theta = ruleInput(theta, c.reference);
+    for (std::size_t f = 0; f < healthy_observable.size(); ++f)  // what the rule lets gain evidence, as in its update
+      for (std::size_t i = 0; i < healthy_observable[f].size(); ++i)
+        healthy_observable[f][i] = evidenceMask(healthy_observable[f][i], healthy[f][i], c.reference);
     c.noise = fitNoiseModel(healthy);
     c.dt = dt;
     c.flights = o.flights;

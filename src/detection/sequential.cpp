@@ -157,8 +157,21 @@ void SequentialRule::reset() {
   state_ = SequentialState{};
 }
 
-SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int samples, std::uint8_t observable) {
+std::uint8_t evidenceMask(std::uint8_t observable, const MotorTheta& rule_input, ThetaReference reference) {
+  if (reference != ThetaReference::kOthers) return observable;
+  int seen = 0;
+  bool a_seen_motor_reads_strong = false;
+  for (int k = 0; k < kMotors; ++k) {
+    if (!((observable >> k) & 1u)) continue;
+    ++seen;
+    a_seen_motor_reads_strong = a_seen_motor_reads_strong || !(rule_input[static_cast<std::size_t>(k)] < kMinOthersMedian);
+  }
+  return seen == 2 && !a_seen_motor_reads_strong ? std::uint8_t{0} : observable;
+}
+
+SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int samples, std::uint8_t gate_mask) {
   const MotorTheta theta = ruleInput(network_theta, config_.reference);
+  const std::uint8_t observable = evidenceMask(gate_mask, theta, config_.reference);
   const MotorTheta estimated = config_.estimate_reference == config_.reference ? theta : ruleInput(network_theta, config_.estimate_reference);
   const long n = std::max(1, samples);
   const double dn = static_cast<double>(n);

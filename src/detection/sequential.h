@@ -43,6 +43,16 @@ inline constexpr float kMinOthersMedian = 0.5f;
 // plant error it reads as weak motors) cancels, and a fault stands out against it. Permuting the
 // motors permutes the result.
 MotorTheta relativeToOthers(const MotorTheta& theta);
+// The motors the rule may take evidence against, from the CommandGate's mask `observable` and the
+// rule's input. Read against its siblings (kOthers), a dip the network gives several motors at once
+// cancels against the median of the other three, but only while they are observable. With just two
+// motors observable (the other two hidden at their lower limit: a saturated torque demand, such as
+// the CBF-QP's tilt limit reached in wind) a dip of both is read against the two hidden ones and
+// stands: two motors weak at once (below kMinOthersMedian, as relativeToOthers reads "weak") is
+// outside the single-fault model, so then neither gains evidence. Otherwise, and with kAbsolute,
+// the mask is kept (docs/decisions.md "Two motors left to read").
+std::uint8_t evidenceMask(std::uint8_t observable, const MotorTheta& rule_input, ThetaReference reference);
+
 // The rule's input for a network output: `theta` itself (kAbsolute) or relativeToOthers(theta).
 inline MotorTheta ruleInput(const MotorTheta& theta, ThetaReference r) {
   return r == ThetaReference::kOthers ? relativeToOthers(theta) : theta;
@@ -152,9 +162,9 @@ class SequentialRule {
 
   // One Θ̂ (the network's output; the statistics take ruleInput of it by `reference`, the estimate by
   // `estimate_reference`) that stands for `samples` ≥ 1 model samples (the detector's stride holds an
-  // estimate until the next evaluation). A motor whose bit is clear in `observable` (CommandGate) takes no
-  // evidence: its statistics may fall, not rise. No allocation.
-  SequentialStatus update(const MotorTheta& theta, int samples, std::uint8_t observable = kAllMotorsObservable);
+  // estimate until the next evaluation). `gate_mask` is the CommandGate's: a motor whose bit is clear in
+  // evidenceMask(gate_mask, reference) takes no evidence: its statistics may fall, not rise. No allocation.
+  SequentialStatus update(const MotorTheta& theta, int samples, std::uint8_t gate_mask = kAllMotorsObservable);
   const SequentialState& state() const { return state_; }
   bool active() const { return state_.severity != Severity::kHealthy; }
   // Gap or restart: every statistic, window and alarm back to the start.

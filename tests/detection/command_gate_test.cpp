@@ -69,6 +69,51 @@ TEST(CommandGate, AHiddenMotorTakesNoEvidenceButLosesWhatItHad) {
   EXPECT_NEAR(drain.degradedStatistic(0), 0.43, 1e-6);  // seen again: grows
 }
 
+TEST(CommandGate, TwoMotorsLeftToReadThatBothReadWeakGainNoEvidence) {
+  // Every mask: read against the siblings, emptied only when exactly two motors are seen and both
+  // read below kMinOthersMedian; kept whenever one of the two reads strong, and with one, three or
+  // four motors seen. The absolute reading keeps every mask as the gate gave it.
+  const MotorTheta weak{0.1f, 0.1f, 0.1f, 0.1f}, strong{0.9f, 0.9f, 0.9f, 0.9f};
+  for (int mask = 0; mask < 16; ++mask) {
+    const auto m = static_cast<std::uint8_t>(mask);
+    const int seen = (mask & 1) + ((mask >> 1) & 1) + ((mask >> 2) & 1) + ((mask >> 3) & 1);
+    EXPECT_EQ(evidenceMask(m, weak, ThetaReference::kOthers), seen == 2 ? 0 : m) << mask;
+    EXPECT_EQ(evidenceMask(m, strong, ThetaReference::kOthers), m) << mask;
+    EXPECT_EQ(evidenceMask(m, weak, ThetaReference::kAbsolute), m) << mask;
+  }
+  EXPECT_EQ(evidenceMask(0x06, MotorTheta{0.1f, 0.1f, kMinOthersMedian, 0.1f}, ThetaReference::kOthers), 0x06);  // at the bound: strong
+
+  // Motors 1 and 4 (the front pair) hidden at their lower limit while motors 2 and 3 read 0: a
+  // saturated pitch demand, not a fault (what the CBF-QP's tilt limit in wind gave the X500).
+  SequentialConfig c;
+  c.degraded_below = 0.8;
+  c.degraded_threshold = 2.999;
+  c.failed_threshold = 2.999;
+  c.reference = ThetaReference::kOthers;
+  const auto raisedAt = [](SequentialRule& rule, const MotorTheta& theta, std::uint8_t mask) {
+    for (int i = 1; i <= 50; ++i)
+      if (rule.update(theta, 1, mask) == SequentialStatus::kRaised) return i;
+    return 0;
+  };
+  SequentialRule rear_pair(c);
+  EXPECT_EQ(raisedAt(rear_pair, {0.97f, 0.0f, 0.0f, 0.97f}, 0x06), 0);
+  for (int k = 0; k < kMotors; ++k) EXPECT_EQ(rear_pair.failedStatistic(k), 0.0) << k;
+  // The same two seen, one of them strong: the other's dip is a fault's, named on it (the degraded
+  // statistic, 0.8 a sample, passes 2.999 first). So is the dip of the only motor seen, and a dip
+  // of two motors with a third one seen (the median of its siblings then stands for a seen motor).
+  SequentialRule one_weak(c), one_seen(c), three_seen(c);
+  EXPECT_EQ(raisedAt(one_weak, {0.97f, 0.0f, 0.97f, 0.97f}, 0x06), 4);
+  EXPECT_EQ(one_weak.state().motor, 2);
+  EXPECT_EQ(raisedAt(one_seen, {0.97f, 0.0f, 0.97f, 0.97f}, 0x02), 4);
+  EXPECT_EQ(one_seen.state().motor, 2);
+  EXPECT_EQ(raisedAt(three_seen, {0.97f, 0.0f, 0.0f, 0.97f}, 0x07), 4);
+  // The absolute reading keeps the pair's evidence: motor 2 (ties go to the lower motor) is named.
+  c.reference = ThetaReference::kAbsolute;
+  SequentialRule absolute(c);
+  EXPECT_EQ(raisedAt(absolute, {0.97f, 0.0f, 0.0f, 0.97f}, 0x06), 4);
+  EXPECT_EQ(absolute.state().motor, 2);
+}
+
 TEST(CommandGate, TheCalibrationCountsNoExcursionOfAHiddenMotor) {
   // One stream: motor 2 dips to 0.5 for 20 samples; the mask hides it for the first 15 of them.
   std::vector<std::vector<MotorTheta>> streams(1, std::vector<MotorTheta>(200, MotorTheta{0.97f, 0.97f, 0.97f, 0.97f}));
