@@ -43,6 +43,7 @@ inline constexpr float kMinOthersMedian = 0.5f;
 // plant error it reads as weak motors) cancels, and a fault stands out against it. Permuting the
 // motors permutes the result.
 MotorTheta relativeToOthers(const MotorTheta& theta);
+
 // The motors the rule may take evidence against, from the CommandGate's mask `observable` and the
 // rule's input. Read against its siblings (kOthers), a dip the network gives several motors at once
 // cancels against the median of the other three, but only while they are observable. With just two
@@ -163,7 +164,7 @@ class SequentialRule {
   // One Θ̂ (the network's output; the statistics take ruleInput of it by `reference`, the estimate by
   // `estimate_reference`) that stands for `samples` ≥ 1 model samples (the detector's stride holds an
   // estimate until the next evaluation). `gate_mask` is the CommandGate's: a motor whose bit is clear in
-  // evidenceMask(gate_mask, reference) takes no evidence: its statistics may fall, not rise. No allocation.
+  // evidenceMask(gate_mask, ruleInput(theta, reference), reference) takes no evidence: its statistics may fall, not rise. No allocation.
   SequentialStatus update(const MotorTheta& theta, int samples, std::uint8_t gate_mask = kAllMotorsObservable);
   const SequentialState& state() const { return state_; }
   bool active() const { return state_.severity != Severity::kHealthy; }
