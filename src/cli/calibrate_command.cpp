@@ -304,11 +304,15 @@ int runCalibrate(const CalibrateOptions& o) {
     // what the estimate reads; faulty streams stay the network's output, which the rule converts
     // itself (chooseDegradedLevel) or below (the spread).
     if (ownEstimateNoise(c)) c.estimate_noise = fitNoiseModel(healthy, 0, c.estimate_reference);
-    for (std::vector<MotorTheta>& stream : healthy)
-      for (MotorTheta& theta : stream) theta = ruleInput(theta, c.reference);
-    for (std::size_t f = 0; f < healthy_observable.size(); ++f)  // what the rule lets gain evidence, as in its update
-      for (std::size_t i = 0; i < healthy_observable[f].size(); ++i)
-        healthy_observable[f][i] = evidenceMask(healthy_observable[f][i], healthy[f][i], c.reference);
+    // One pass: each estimate becomes the rule's input, and its mask what the rule then lets gain
+    // evidence, as in its update (an empty mask vector: every motor observable, left so).
+    for (std::size_t f = 0; f < healthy.size(); ++f) {
+      std::vector<std::uint8_t>& masks = healthy_observable[f];
+      for (std::size_t i = 0; i < healthy[f].size(); ++i) {
+        healthy[f][i] = ruleInput(healthy[f][i], c.reference);
+        if (i < masks.size()) masks[i] = evidenceMask(masks[i], healthy[f][i], c.reference);
+      }
+    }
     c.noise = fitNoiseModel(healthy);
     c.dt = dt;
     c.flights = o.flights;
