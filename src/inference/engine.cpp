@@ -35,6 +35,14 @@ static inference::Kernel chooseKernel() {
   return inference::genericKernel();
 }
 
+// Subnormal weights (0 < |w| < 2^−126, FLT_MIN) are packed as zero. Training's weight decay leaves
+// dead units' weights there, and on Intel cores every multiply-add that reads one takes a microcode
+// assist: the shipped general TCN (206 subnormal weights of 19 k) ran 7.7× slower for them on the
+// project's Intel Xeon VM (docs/benchmarks.md, "Subnormal numbers"). A product with one is below
+// 2^−126·|x|, under half an ulp of any sum of normal size, so no output moves
+// (tests/inference/engine_test.cpp).
+static float flushSubnormal(float w) { return std::fpclassify(w) == FP_SUBNORMAL ? 0.0f : w; }
+
 PackedDense packDense(const DenseWeights& d) {
   if (d.in < 1 || d.out < 1 || d.weight.size() != static_cast<std::size_t>(d.in) * d.out ||
       d.bias.size() != static_cast<std::size_t>(d.out))
@@ -46,10 +54,10 @@ PackedDense packDense(const DenseWeights& d) {
   p.w.assign(static_cast<std::size_t>(p.blocks) * kRowBlock * d.in, 0.0f);
   p.b.assign(static_cast<std::size_t>(p.blocks) * kRowBlock, 0.0f);
   for (int r = 0; r < d.out; ++r) {
-    p.b[static_cast<std::size_t>(r)] = d.bias[static_cast<std::size_t>(r)];
+    p.b[static_cast<std::size_t>(r)] = flushSubnormal(d.bias[static_cast<std::size_t>(r)]);
     const int blk = r / kRowBlock, i = r % kRowBlock;
     for (int k = 0; k < d.in; ++k)
-      p.w[(static_cast<std::size_t>(blk) * d.in + k) * kRowBlock + i] = d.weight[static_cast<std::size_t>(r) * d.in + k];
+      p.w[(static_cast<std::size_t>(blk) * d.in + k) * kRowBlock + i] = flushSubnormal(d.weight[static_cast<std::size_t>(r) * d.in + k]);
   }
   return p;
 }

@@ -20,7 +20,9 @@ struct PackedDense {
   int in = 0, out = 0, blocks = 0;
   std::vector<float> w, b;
 };
-PackedDense packDense(const DenseWeights& d);  // throws std::invalid_argument on inconsistent shapes
+// Packs a layer for the kernels (rows in blocks of kRowBlock), its subnormal weights and biases as
+// zero (engine.cpp says why). Throws std::invalid_argument on inconsistent shapes.
+PackedDense packDense(const DenseWeights& d);
 
 // The TCN as a stream (docs/networks.md): each of `streams` sequences (the four symmetry-mapped
 // copies of one flight) is advanced one sample at a time, with ring buffers holding what each
