@@ -11,7 +11,7 @@ namespace quadfdi {
 namespace {
 
 void predictBatch(benchmark::State& state, Architecture arch) {
-  configureCpuThreads(1);
+  configureCpu(1);
   const int batch = static_cast<int>(state.range(0));
   ModelMetadata m;
   m.architecture = arch;

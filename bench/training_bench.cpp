@@ -11,7 +11,7 @@ namespace quadfdi {
 namespace {
 
 void trainStep(benchmark::State& state, Architecture arch) {
-  configureCpuThreads(static_cast<int>(state.range(0)));
+  configureCpu(static_cast<int>(state.range(0)));
   const int batch = static_cast<int>(state.range(1));
   ModelMetadata m;
   m.architecture = arch;
@@ -36,7 +36,7 @@ void trainStep(benchmark::State& state, Architecture arch) {
 
 // Dense step: state.range(1) trajectories of 2T + 1 samples.
 void denseTrainStep(benchmark::State& state) {
-  configureCpuThreads(static_cast<int>(state.range(0)));
+  configureCpu(static_cast<int>(state.range(0)));
   const int trajectories = static_cast<int>(state.range(1));
   ModelMetadata m;
   m.architecture = Architecture::kTcn;
@@ -63,7 +63,7 @@ void denseTrainStep(benchmark::State& state) {
 }
 
 void tcnWindowStep(benchmark::State& state) {
-  configureCpuThreads(static_cast<int>(state.range(0)));
+  configureCpu(static_cast<int>(state.range(0)));
   const int batch = static_cast<int>(state.range(1));
   ModelMetadata m;
   m.architecture = Architecture::kTcn;

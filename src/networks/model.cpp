@@ -291,10 +291,11 @@ FaultIdentifier FaultIdentifier::load(const std::string& path) {
   return FaultIdentifier(impl);
 }
 
-void configureCpuThreads(int threads) {
+void configureCpu(int threads) {
   using SetThreads = void (*)(int);
   if (auto* set_blas = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) set_blas(1);
   if (threads > 0) torch::set_num_threads(threads);
+  at::globalContext().setFlushDenormal(true);
 }
 
 bool cudaAvailable() { return torch::cuda::is_available(); }

@@ -47,8 +47,11 @@ class FaultIdentifier {
 
 // LibTorch intra-op threads (0 = all cores); OpenBLAS's own pool is pinned to one thread so the
 // two do not oversubscribe the cores (measured: 2 torch threads over an OpenBLAS pool ran 2×
-// slower than one thread).
-void configureCpuThreads(int threads);
+// slower than one thread). Subnormal floats are flushed to zero on this thread and the threads it
+// starts later (x86 FTZ/DAZ): training's weight decay leaves weights there, and each operation on
+// one costs an Intel core a microcode assist — fine-tuning the general model ran 2.4× slower for it
+// (docs/benchmarks.md, "Subnormal numbers").
+void configureCpu(int threads);
 bool cudaAvailable();
 
 // The network's weights in the plain form the inference engine and the weights file use.

@@ -494,7 +494,7 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
   // Set-up: settings, device, data source, model (fresh or from the checkpoint), optimiser.
   if (const std::string e = validate(config); !e.empty()) throw std::runtime_error("invalid training settings: " + e);
   const torch::Device device = trainingDevice(config);
-  configureCpuThreads(config.threads);
+  configureCpu(config.threads);
   Algorithm1Data data(config.data);
   if (!data.error().empty()) throw std::runtime_error("invalid data settings: " + data.error());
 
