@@ -41,10 +41,13 @@ def garwood(n, hours, confidence=0.95):
 gen = {}
 if general:
     for r in csv.DictReader(open(general)): gen[(r['vehicle'], r['condition'])] = r
-# The command and machine as the first vehicle's report states them; the date of this summary.
+# The command as the first vehicle's report states it; the machine each report names (one line
+# where they agree); the date of this summary.
 report = open(f"{root}/{vehicles[0]}/REPORT.md").read()
 command = re.search(r"^- command: `(.*)`$", report, re.M).group(1).replace(vehicles[0], "STEM")
-machine = re.search(r"^- machine: (.*)$", report, re.M).group(1)
+machines = {v: re.search(r"^- machine: (.*)$", open(f"{root}/{v}/REPORT.md").read(), re.M).group(1) for v in vehicles}
+machine = (machines[vehicles[0]] if len(set(machines.values())) == 1
+           else "; ".join(f"{v}: {m}" for v, m in machines.items()))
 out = []
 # The model each vehicle's report names (its own, or the general one where it has none), and its calibration.
 def model_of(v):
