@@ -13,7 +13,7 @@
 using namespace quadfdi;
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  configureCpuThreads(1);
+  configureCpu(1);
   return 0;
 }
 

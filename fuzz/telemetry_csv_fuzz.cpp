@@ -29,7 +29,7 @@ const TrainedModel& model(bool streaming) {
         ModelMetadata m;
         m.window = 10;
         m.hidden = 8;
-        configureCpuThreads(1);
+        configureCpu(1);
         const FaultIdentifier net = FaultIdentifier::create(m, 1);
         return std::make_unique<TrainedModel>(TrainedModel{net.metadata(), exportWeights(net)});
       }(),
