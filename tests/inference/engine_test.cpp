@@ -10,6 +10,7 @@
 #include "inference/engine.h"
 #include "inference/kernel.h"
 #include "networks/model.h"
+#include "wavy_windows.h"
 
 namespace quadfdi {
 namespace {
@@ -45,7 +46,7 @@ TEST(Packing, SubnormalWeightsAndBiasesArePackedAsZeroAndNothingElseChanges) {
 }
 
 // Each weight of every layer set to a subnormal with probability 1/5, as training's weight decay
-// leaves dead units' weights (models/tcn-randomised.qfdw: 175 of 18 k).
+// leaves dead units' weights (models/tcn-randomised.qfdw: 206 of 19 k).
 NetworkWeights withSubnormals(NetworkWeights w, bool as_zero) {
   unsigned state = 12345;
   auto touch = [&](std::vector<float>& v) {
@@ -82,8 +83,7 @@ TEST(Packing, SubnormalWeightsMoveNoOutput) {
     const NetworkWeights subnormal = withSubnormals(exported, false), zeroed = withSubnormals(exported, true);
     const FaultIdentifier reference = importWeights(m, subnormal);
     const int n = 7;
-    std::vector<float> windows(static_cast<std::size_t>(n) * static_cast<std::size_t>(m.window * m.channels()));
-    for (std::size_t i = 0; i < windows.size(); ++i) windows[i] = static_cast<float>(std::sin(0.37 * static_cast<double>(i)));
+    const std::vector<float> windows = test::wavyWindows(m, n);
     std::vector<float> exact(4 * n), with_subnormals(4 * n), with_zeros(4 * n);
     reference.predict(windows.data(), n, exact.data());
     InferenceEngine(subnormal).predict(windows.data(), n, with_subnormals.data());

@@ -11,6 +11,7 @@
 #include "networks/model.h"
 #include "networks/trainer.h"
 #include "scratch_path.h"
+#include "wavy_windows.h"
 #include "networks/tiny_training.h"
 
 namespace quadfdi {
@@ -95,11 +96,7 @@ TEST(ModelFile, SaveLoadGivesIdenticalOutputsAndMetadata) {
   }
 }
 
-std::vector<float> wavyWindows(const ModelMetadata& m, int count) {
-  std::vector<float> w(static_cast<std::size_t>(count) * static_cast<std::size_t>(m.window * m.channels()));
-  for (std::size_t i = 0; i < w.size(); ++i) w[i] = static_cast<float>(std::sin(0.37 * static_cast<double>(i)));
-  return w;
-}
+using test::wavyWindows;
 
 // The LibTorch-free engine agrees with LibTorch to float round-off, and — unlike LibTorch, whose
 // GEMM changes its summation order with the batch size — gives a window the same bits alone or
