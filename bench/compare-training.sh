@@ -4,6 +4,6 @@
 set -euo pipefail
 build=${1:-build/release}
 export OPENBLAS_NUM_THREADS=1  # both sides: LibTorch parallelises itself (see src/networks/model.h)
-"$build/bench/quadfdi_bench" --benchmark_filter=trainStep
+"$build/bench/quadfdi_bench" --benchmark_filter='trainStep/(lstm|mlp)'
 # Debian's interpreter: python3-torch is installed for it (a pyenv python3 on PATH would not see it).
 /usr/bin/python3 "$(dirname "$0")/pytorch_training.py" 3

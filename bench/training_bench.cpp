@@ -10,11 +10,12 @@
 namespace quadfdi {
 namespace {
 
-void trainStep(benchmark::State& state, Architecture arch) {
+void trainStep(benchmark::State& state, Architecture arch, FeatureSet features) {
   configureCpu(static_cast<int>(state.range(0)));
   const int batch = static_cast<int>(state.range(1));
   ModelMetadata m;
   m.architecture = arch;
+  m.features = features;
   m.window = 100;
   m.hidden = 128;
   const FaultIdentifier model = FaultIdentifier::create(m, 1);
@@ -62,31 +63,11 @@ void denseTrainStep(benchmark::State& state) {
   state.counters["threads"] = static_cast<double>(state.range(0));
 }
 
-void tcnWindowStep(benchmark::State& state) {
-  configureCpu(static_cast<int>(state.range(0)));
-  const int batch = static_cast<int>(state.range(1));
-  ModelMetadata m;
-  m.architecture = Architecture::kTcn;
-  m.features = FeatureSet::kModelFreeHeading;
-  m.window = 100;
-  const FaultIdentifier model = FaultIdentifier::create(m, 1);
-  auto& net = model.impl()->net;
-  torch::optim::Adam opt(net->parameters(), torch::optim::AdamOptions(5e-4).weight_decay(1e-5));
-  torch::manual_seed(0);
-  const torch::Tensor x = torch::randn({batch, m.window, m.channels()});
-  const torch::Tensor y = torch::rand({batch, 4});
-  for (auto _ : state) {
-    opt.zero_grad();
-    const torch::Tensor loss = torch::relu((net->forward(x) - y).norm(2, 1) - 0.01).mean();
-    loss.backward();
-    opt.step();
-    benchmark::DoNotOptimize(loss.item<float>());
-  }
-  state.SetItemsProcessed(state.iterations() * batch);
-  state.counters["threads"] = static_cast<double>(state.range(0));
-}
-
-BENCHMARK(tcnWindowStep)->Args({2, 512})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(trainStep, tcn, Architecture::kTcn, FeatureSet::kModelFreeHeading)
+    ->Args({2, 512})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
 BENCHMARK(denseTrainStep)
     ->Args({1, 32})
     ->Args({2, 8})
@@ -96,13 +77,13 @@ BENCHMARK(denseTrainStep)
     ->UseRealTime()
     ->MinTime(2.0);
 
-BENCHMARK_CAPTURE(trainStep, lstm, Architecture::kLstm)
+BENCHMARK_CAPTURE(trainStep, lstm, Architecture::kLstm, FeatureSet::kModelFree)
     ->Args({1, 512})
     ->Args({2, 512})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(3.0);
-BENCHMARK_CAPTURE(trainStep, mlp, Architecture::kMlp)
+BENCHMARK_CAPTURE(trainStep, mlp, Architecture::kMlp, FeatureSet::kModelFree)
     ->Args({1, 512})
     ->Args({2, 512})
     ->Unit(benchmark::kMillisecond)
