@@ -397,6 +397,16 @@ struct HeldoutScore {
   double accuracy = 0.0;  // fraction with max_i |Θ̂_i − Θ_i| ≤ kIdentificationTolerance
 };
 
+// Sums over the held-out windows → their means (zeros for an empty set).
+HeldoutScore meanScore(double loss_sum, int correct, std::size_t windows) {
+  HeldoutScore score;
+  if (windows == 0) return score;
+  const auto n = static_cast<double>(windows);
+  score.loss = loss_sum / n;
+  score.accuracy = static_cast<double>(correct) / n;
+  return score;
+}
+
 HeldoutScore evaluateHeldout(const TrainConfig& config, const HeldoutSet& heldout, FaultIdentifier::Impl& impl,
                              const torch::Device& device, Minibatch& mb) {
   const ModelMetadata& meta = impl.metadata;
@@ -415,12 +425,7 @@ HeldoutScore evaluateHeldout(const TrainConfig& config, const HeldoutSet& heldou
       correct += ((pred - y).abs().amax(1) <= kIdentificationTolerance).sum().item<int>();
     }
   }
-  HeldoutScore score;
-  if (heldout.windows.empty()) return score;
-  const auto n = static_cast<double>(heldout.windows.size());
-  score.loss = loss_sum / n;
-  score.accuracy = static_cast<double>(correct) / n;
-  return score;
+  return meanScore(loss_sum, correct, heldout.windows.size());
 }
 
 // kSequences: the same windows and the same numbers (to float round-off), from one forward pass
@@ -460,12 +465,7 @@ HeldoutScore evaluateHeldoutDense(const TrainConfig& config, const HeldoutSet& h
       correct += worst <= kIdentificationTolerance ? 1 : 0;
     }
   }
-  HeldoutScore score;
-  if (heldout.windows.empty()) return score;
-  const auto n = static_cast<double>(heldout.windows.size());
-  score.loss = loss_sum / n;
-  score.accuracy = static_cast<double>(correct) / n;
-  return score;
+  return meanScore(loss_sum, correct, heldout.windows.size());
 }
 
 // Writes the checkpoint from the CPU (LibTorch archives), then moves the net back to `device`.
