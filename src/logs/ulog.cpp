@@ -32,6 +32,33 @@ T load(const std::uint8_t* p) {
   return v;
 }
 
+// The body INFO, INFO_MULTIPLE, PARAMETER and PARAMETER_DEFAULT messages share, after the flag
+// byte the multi and default kinds lead with (skip): uint8 key_len, the key "type name", the value.
+struct KeyedValue {
+  std::string key;
+  bool typed = false;      // the key has a space: "type name"
+  std::string type, name;  // empty unless typed
+  const std::uint8_t* value = nullptr;
+  std::size_t value_len = 0;  // [bytes]
+};
+
+// False when the message is too short for its key.
+bool readKeyedValue(const std::uint8_t* p, std::size_t n, std::size_t skip, KeyedValue& kv) {
+  if (n < skip + 1) return false;
+  const std::size_t key_len = p[skip];
+  if (n < skip + 1 + key_len) return false;
+  kv.key.assign(reinterpret_cast<const char*>(p + skip + 1), key_len);
+  kv.value = p + skip + 1 + key_len;
+  kv.value_len = n - skip - 1 - key_len;
+  const std::size_t space = kv.key.find(' ');
+  kv.typed = space != std::string::npos;
+  if (kv.typed) {
+    kv.type = kv.key.substr(0, space);
+    kv.name = kv.key.substr(space + 1);
+  }
+  return true;
+}
+
 struct BasicType {
   const char* name;
   FieldType type;
@@ -446,18 +473,13 @@ bool UlogReader::handleFormat(std::size_t offset, const std::uint8_t* p, std::si
 }
 
 void UlogReader::handleInfo(const std::uint8_t* p, std::size_t n, bool multi) {
-  const std::size_t skip = multi ? 1 : 0;
-  if (n < skip + 1) return;
+  KeyedValue kv;
+  if (!readKeyedValue(p, n, multi ? 1 : 0, kv) || !kv.typed) return;
   const bool continued = multi && p[0] != 0;
-  const std::size_t key_len = p[skip];
-  if (n < skip + 1 + key_len) return;
-  const std::string key(reinterpret_cast<const char*>(p + skip + 1), key_len);
-  const std::uint8_t* value = p + skip + 1 + key_len;
-  const std::size_t value_len = n - skip - 1 - key_len;
-  const std::size_t space = key.find(' ');
-  if (space == std::string::npos) return;
-  const std::string type = key.substr(0, space);
-  const std::string name = key.substr(space + 1);
+  const std::string& type = kv.type;
+  const std::string& name = kv.name;
+  const std::uint8_t* value = kv.value;
+  const std::size_t value_len = kv.value_len;
   std::string text;
   if (type.rfind("char[", 0) == 0) {
     text.assign(reinterpret_cast<const char*>(value), value_len);
@@ -497,21 +519,16 @@ void UlogReader::handleInfo(const std::uint8_t* p, std::size_t n, bool multi) {
 }
 
 void UlogReader::handleParameter(std::size_t offset, const std::uint8_t* p, std::size_t n, bool is_default) {
-  const std::size_t skip = is_default ? 1 : 0;
-  if (n < skip + 1) return;
+  KeyedValue kv;
+  if (!readKeyedValue(p, n, is_default ? 1 : 0, kv)) return;
   const std::uint8_t default_types = is_default ? p[0] : 0;
-  const std::size_t key_len = p[skip];
-  if (n < skip + 1 + key_len) return;
-  const std::string key(reinterpret_cast<const char*>(p + skip + 1), key_len);
-  const std::uint8_t* value = p + skip + 1 + key_len;
-  const std::size_t value_len = n - skip - 1 - key_len;
-  const std::size_t space = key.find(' ');
-  if (space == std::string::npos || value_len < 4) {
-    warn(at(offset) + "parameter message without a 4-byte value ('" + key + "'); skipped");
+  if (!kv.typed || kv.value_len < 4) {
+    warn(at(offset) + "parameter message without a 4-byte value ('" + kv.key + "'); skipped");
     return;
   }
-  const std::string type = key.substr(0, space);
-  const std::string name = key.substr(space + 1);
+  const std::string& type = kv.type;
+  const std::string& name = kv.name;
+  const std::uint8_t* value = kv.value;
   double v = 0.0;
   if (type == "float")
     v = static_cast<double>(load<float>(value));

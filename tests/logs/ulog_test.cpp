@@ -205,6 +205,44 @@ TEST(UlogRoundTrip, ParametersInfoMessagesDropouts) {
   EXPECT_EQ(log.find("t")->rows(), 2u);
 }
 
+// Info and parameter messages share one body (key length, "type name", value); a broken one is
+// skipped — a parameter with a warning naming its byte offset — and the rest of the log is read.
+TEST(UlogRoundTrip, BrokenInfoAndParameterMessagesAreSkipped) {
+  const auto keyedBody = [](std::vector<std::uint8_t> head, const std::string& key, std::size_t value_bytes) {
+    head.push_back(static_cast<std::uint8_t>(key.size()));
+    head.insert(head.end(), key.begin(), key.end());
+    head.insert(head.end(), value_bytes, std::uint8_t{0});
+    return head;
+  };
+  UlogWriter w(1);
+  w.flagBits();
+  const std::size_t no_space_at = w.size();
+  w.message('P', keyedBody({}, "SDLOG_PROFILE", 4));  // no type in the key
+  const std::size_t short_value_at = w.size();
+  w.message('P', keyedBody({}, "float MPC_XY_P", 2));                   // a 2-byte value
+  w.message('Q', std::vector<std::uint8_t>{2, 40, 'i', 'n', 't'});      // key longer than the message
+  w.message('I', keyedBody({}, "ver_hw", 4));                           // no type in the key
+  w.message('M', keyedBody({0}, "char[4] perf", 0));                     // an empty value is still a value
+  w.paramInt("COM_ARM", 1);
+  w.format("t:uint64_t timestamp;float v;");
+  w.subscribe(0, 0, "t");
+  w.data(0, UlogPayload().put<std::uint64_t>(2000).put(1.0f));
+  DecodedLog log;
+  const LogIssue issue = readUlog(span(w.bytes()), log);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  EXPECT_EQ(log.find("t")->rows(), 1u);
+  ASSERT_EQ(log.warnings.size(), 2u);
+  EXPECT_EQ(log.warnings[0], "byte " + std::to_string(no_space_at) +
+                                 ": parameter message without a 4-byte value ('SDLOG_PROFILE'); skipped");
+  EXPECT_EQ(log.warnings[1], "byte " + std::to_string(short_value_at) +
+                                 ": parameter message without a 4-byte value ('float MPC_XY_P'); skipped");
+  EXPECT_EQ(log.parameters.size(), 1u);
+  EXPECT_EQ(log.parameters.at("COM_ARM"), 1);
+  EXPECT_TRUE(log.default_parameters.empty());
+  EXPECT_EQ(log.info.count("ver_hw"), 0u);
+  EXPECT_EQ(log.info.at("perf"), "");
+}
+
 TEST(UlogRoundTrip, UnsubscribeThenResubscribeContinuesTheTopic) {
   UlogWriter w;
   w.format("t:uint64_t timestamp;float v;");
