@@ -476,46 +476,42 @@ void UlogReader::handleInfo(const std::uint8_t* p, std::size_t n, bool multi) {
   KeyedValue kv;
   if (!readKeyedValue(p, n, multi ? 1 : 0, kv) || !kv.typed) return;
   const bool continued = multi && p[0] != 0;
-  const std::string& type = kv.type;
-  const std::string& name = kv.name;
-  const std::uint8_t* value = kv.value;
-  const std::size_t value_len = kv.value_len;
   std::string text;
-  if (type.rfind("char[", 0) == 0) {
-    text.assign(reinterpret_cast<const char*>(value), value_len);
-  } else if (const BasicType* b = findBasicType(type); b && value_len >= b->size) {
+  if (kv.type.rfind("char[", 0) == 0) {
+    text.assign(reinterpret_cast<const char*>(kv.value), kv.value_len);
+  } else if (const BasicType* b = findBasicType(kv.type); b && kv.value_len >= b->size) {
     switch (b->type) {
-      case FieldType::kInt32: text = std::to_string(load<std::int32_t>(value)); break;
-      case FieldType::kUInt32: text = std::to_string(load<std::uint32_t>(value)); break;
-      case FieldType::kInt64: text = std::to_string(load<std::int64_t>(value)); break;
-      case FieldType::kUInt64: text = std::to_string(load<std::uint64_t>(value)); break;
-      case FieldType::kInt8: text = std::to_string(load<std::int8_t>(value)); break;
-      case FieldType::kUInt8: text = std::to_string(load<std::uint8_t>(value)); break;
-      case FieldType::kInt16: text = std::to_string(load<std::int16_t>(value)); break;
-      case FieldType::kUInt16: text = std::to_string(load<std::uint16_t>(value)); break;
-      case FieldType::kFloat: text = std::to_string(load<float>(value)); break;
-      case FieldType::kDouble: text = std::to_string(load<double>(value)); break;
-      case FieldType::kBool: text = value[0] ? "true" : "false"; break;
-      case FieldType::kChar: text.assign(1, static_cast<char>(value[0])); break;
+      case FieldType::kInt32: text = std::to_string(load<std::int32_t>(kv.value)); break;
+      case FieldType::kUInt32: text = std::to_string(load<std::uint32_t>(kv.value)); break;
+      case FieldType::kInt64: text = std::to_string(load<std::int64_t>(kv.value)); break;
+      case FieldType::kUInt64: text = std::to_string(load<std::uint64_t>(kv.value)); break;
+      case FieldType::kInt8: text = std::to_string(load<std::int8_t>(kv.value)); break;
+      case FieldType::kUInt8: text = std::to_string(load<std::uint8_t>(kv.value)); break;
+      case FieldType::kInt16: text = std::to_string(load<std::int16_t>(kv.value)); break;
+      case FieldType::kUInt16: text = std::to_string(load<std::uint16_t>(kv.value)); break;
+      case FieldType::kFloat: text = std::to_string(load<float>(kv.value)); break;
+      case FieldType::kDouble: text = std::to_string(load<double>(kv.value)); break;
+      case FieldType::kBool: text = kv.value[0] ? "true" : "false"; break;
+      case FieldType::kChar: text.assign(1, static_cast<char>(kv.value[0])); break;
     }
   } else {
     // Another type (an array of numbers, …): kept as raw bytes.
-    text.assign(reinterpret_cast<const char*>(value), value_len);
+    text.assign(reinterpret_cast<const char*>(kv.value), kv.value_len);
   }
   if (!multi) {
-    out_.info[name] = std::move(text);
+    out_.info[kv.name] = std::move(text);
     return;
   }
   // Multi info: continued parts are appended to the previous entry of the key; a new entry of a
   // key already seen is stored as "key[1]", "key[2]", ….
-  int& count = multi_info_count_[name];
-  if (continued && count > 0 && last_multi_key_ == name) {
-    out_.info[count == 1 ? name : name + "[" + std::to_string(count - 1) + "]"] += text;
+  int& count = multi_info_count_[kv.name];
+  if (continued && count > 0 && last_multi_key_ == kv.name) {
+    out_.info[count == 1 ? kv.name : kv.name + "[" + std::to_string(count - 1) + "]"] += text;
     return;
   }
-  out_.info[count == 0 ? name : name + "[" + std::to_string(count) + "]"] = std::move(text);
+  out_.info[count == 0 ? kv.name : kv.name + "[" + std::to_string(count) + "]"] = std::move(text);
   ++count;
-  last_multi_key_ = name;
+  last_multi_key_ = kv.name;
 }
 
 void UlogReader::handleParameter(std::size_t offset, const std::uint8_t* p, std::size_t n, bool is_default) {
@@ -526,28 +522,25 @@ void UlogReader::handleParameter(std::size_t offset, const std::uint8_t* p, std:
     warn(at(offset) + "parameter message without a 4-byte value ('" + kv.key + "'); skipped");
     return;
   }
-  const std::string& type = kv.type;
-  const std::string& name = kv.name;
-  const std::uint8_t* value = kv.value;
   double v = 0.0;
-  if (type == "float")
-    v = static_cast<double>(load<float>(value));
-  else if (type == "int32_t")
-    v = load<std::int32_t>(value);
+  if (kv.type == "float")
+    v = static_cast<double>(load<float>(kv.value));
+  else if (kv.type == "int32_t")
+    v = load<std::int32_t>(kv.value);
   else {
-    warn(at(offset) + "parameter '" + name + "' of type '" + type + "' (the spec allows float and int32_t); skipped");
+    warn(at(offset) + "parameter '" + kv.name + "' of type '" + kv.type + "' (the spec allows float and int32_t); skipped");
     return;
   }
   if (!is_default) {
-    out_.parameters[name] = v;
+    out_.parameters[kv.name] = v;
     return;
   }
   // The configuration (airframe) default (bit 1) is what applies to this vehicle; the system-wide
   // one (bit 0) is kept only where no configuration default was logged.
   if (default_types & 2u)
-    out_.default_parameters[name] = v;
+    out_.default_parameters[kv.name] = v;
   else if (default_types & 1u)
-    out_.default_parameters.emplace(name, v);
+    out_.default_parameters.emplace(kv.name, v);
 }
 
 void UlogReader::handleLogging(const std::uint8_t* p, std::size_t n, bool tagged) {

@@ -208,21 +208,15 @@ TEST(UlogRoundTrip, ParametersInfoMessagesDropouts) {
 // Info and parameter messages share one body (key length, "type name", value); a broken one is
 // skipped — a parameter with a warning naming its byte offset — and the rest of the log is read.
 TEST(UlogRoundTrip, BrokenInfoAndParameterMessagesAreSkipped) {
-  const auto keyedBody = [](std::vector<std::uint8_t> head, const std::string& key, std::size_t value_bytes) {
-    head.push_back(static_cast<std::uint8_t>(key.size()));
-    head.insert(head.end(), key.begin(), key.end());
-    head.insert(head.end(), value_bytes, std::uint8_t{0});
-    return head;
-  };
   UlogWriter w(1);
   w.flagBits();
   const std::size_t no_space_at = w.size();
-  w.message('P', keyedBody({}, "SDLOG_PROFILE", 4));  // no type in the key
+  w.keyed('P', {}, "SDLOG_PROFILE", std::vector<std::uint8_t>(4));  // no type in the key
   const std::size_t short_value_at = w.size();
-  w.message('P', keyedBody({}, "float MPC_XY_P", 2));                   // a 2-byte value
-  w.message('Q', std::vector<std::uint8_t>{2, 40, 'i', 'n', 't'});      // key longer than the message
-  w.message('I', keyedBody({}, "ver_hw", 4));                           // no type in the key
-  w.message('M', keyedBody({0}, "char[4] perf", 0));                     // an empty value is still a value
+  w.keyed('P', {}, "float MPC_XY_P", std::vector<std::uint8_t>(2));  // a 2-byte value
+  w.message('Q', std::vector<std::uint8_t>{2, 40, 'i', 'n', 't'});  // key longer than the message
+  w.keyed('I', {}, "ver_hw", std::vector<std::uint8_t>(4));  // no type in the key
+  w.keyed('M', {0}, "char[4] perf", std::string());  // an empty value is still a value
   w.paramInt("COM_ARM", 1);
   w.format("t:uint64_t timestamp;float v;");
   w.subscribe(0, 0, "t");

@@ -120,6 +120,17 @@ class UlogWriter {
     return message(type, std::vector<std::uint8_t>(body.begin(), body.end()));
   }
 
+  // An info or parameter message: the head (flag byte, if any), key length, key, value bytes.
+  UlogWriter& keyed(char type, std::vector<std::uint8_t> head, const std::string& key, const std::vector<std::uint8_t>& value) {
+    head.push_back(static_cast<std::uint8_t>(key.size()));
+    append(head, key);
+    append(head, value);
+    return message(type, head);
+  }
+  UlogWriter& keyed(char type, std::vector<std::uint8_t> head, const std::string& key, const std::string& value) {
+    return keyed(type, std::move(head), key, std::vector<std::uint8_t>(value.begin(), value.end()));
+  }
+
   std::size_t size() const { return bytes_.size(); }
   const std::vector<std::uint8_t>& bytes() const { return bytes_; }
   std::vector<std::uint8_t>& mutableBytes() { return bytes_; }
@@ -140,15 +151,6 @@ class UlogWriter {
     to.insert(to.end(), from.begin(), from.end());
   }
   static void append(std::vector<std::uint8_t>& to, const std::string& from) { to.insert(to.end(), from.begin(), from.end()); }
-  UlogWriter& keyed(char type, std::vector<std::uint8_t> head, const std::string& key, const std::vector<std::uint8_t>& value) {
-    head.push_back(static_cast<std::uint8_t>(key.size()));
-    append(head, key);
-    append(head, value);
-    return message(type, head);
-  }
-  UlogWriter& keyed(char type, std::vector<std::uint8_t> head, const std::string& key, const std::string& value) {
-    return keyed(type, std::move(head), key, std::vector<std::uint8_t>(value.begin(), value.end()));
-  }
 
   std::vector<std::uint8_t> bytes_;
 };
