@@ -58,6 +58,10 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
          "Learning rate factor per outer iteration: iteration j runs at learning-rate * decay^j (1 = constant)")
       .range(1e-3, 1.0);
   t->add("--passes", o.passes, "Passes over the buffer per outer iteration").atLeast(1).defaultText("from --scale");
+  t->add("--buffer-windows", o.buffer_windows,
+         "N_buf: windows the FIFO buffer keeps; larger draws minibatches from several iterations' flights")
+      .atLeast(1)
+      .defaultText("from --scale");
   t->add("--max-minibatches", o.max_minibatches, "Cap on minibatches per outer iteration, 0 = none")
       .atLeast(0)
       .defaultText("from --scale");
@@ -100,6 +104,7 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
 
   TrainConfig c;
   c.data.scale = scale->data;
+  if (o.buffer_windows) c.data.scale.buffer_windows = static_cast<std::size_t>(*o.buffer_windows);
   c.data.thetas = o.thetas;
   c.data.motors = {2};
   c.data.threads = o.threads;

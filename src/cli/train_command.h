@@ -30,6 +30,7 @@ struct TrainOptions {
   double learning_rate = 5e-4;                  // Adam step size (authors' code)
   double learning_rate_decay = 1.0;             // per outer iteration; 1 = constant
   std::optional<int> passes;                    // over the buffer per outer iteration
+  std::optional<int> buffer_windows;            // N_buf [windows]; unset: the scale's
   std::optional<int> max_minibatches;           // per outer iteration; 0 = no cap
   std::optional<int> min_iterations;            // N_m
   std::optional<int> max_iterations;            // N_M

@@ -17,6 +17,7 @@
 
 #include <string>
 #include <utility>
+#include <vector>
 #include <thread>
 
 namespace {
@@ -184,6 +185,40 @@ TEST(TrainCli, StartFromFineTunesAFinishedModelAndRefusesAnother) {
   EXPECT_NE(absent.exit_code, 0);
   EXPECT_EQ(std::count(absent.out.begin(), absent.out.end(), '\n'), 1) << absent.out;
   EXPECT_NE(absent.out.find(missing), std::string::npos) << absent.out;
+}
+
+// --buffer-windows sets N_buf: the log's buffer column grows over iterations while it is large
+// (minibatches then come from several iterations' flights) and stops at it once full.
+TEST(TrainCli, BufferWindowsSetsTheBufferCapacity) {
+  const auto bufferColumn = [](const std::string& log_path) {
+    std::ifstream log(log_path);
+    std::string line;
+    std::getline(log, line);  // header: iteration,loss,heldout_loss,heldout_accuracy,buffer_windows,…
+    std::vector<long> sizes;
+    while (std::getline(log, line)) {
+      std::size_t at = 0;
+      for (int comma = 0; comma < 4; ++comma) at = line.find(',', at) + 1;
+      sizes.push_back(std::stol(line.substr(at)));
+    }
+    return sizes;
+  };
+  const std::string large = temp("buffer_large.qfdw"), small = temp("buffer_small.qfdw");
+  // Five tiny iterations fly more windows than the tiny scale's own buffer (20 000) keeps.
+  const std::string args = "train --max-iterations 5 --min-iterations 5" + std::string(kFast);
+  ASSERT_EQ(run(args + " --buffer-windows 10000000 -o " + large).exit_code, 0);
+  const std::vector<long> grown = bufferColumn(large + ".log.csv");
+  ASSERT_EQ(grown.size(), 5u);
+  EXPECT_GT(grown[0], 1000);
+  for (std::size_t i = 1; i < grown.size(); ++i)  // nothing dropped: each iteration's windows added
+    EXPECT_GT(grown[i], grown[i - 1] + grown[0] / 2) << "iteration " << i + 1;
+  EXPECT_GT(grown[4], 20000);
+  ASSERT_EQ(run(args + " --buffer-windows 1000 -o " + small).exit_code, 0);
+  EXPECT_EQ(bufferColumn(small + ".log.csv"), std::vector<long>(5, 1000));
+
+  const Result zero = run("train --buffer-windows 0 -o " + temp("buffer_zero.qfdw") + kFast);
+  EXPECT_NE(zero.exit_code, 0);
+  EXPECT_EQ(std::count(zero.out.begin(), zero.out.end(), '\n'), 1) << zero.out;
+  EXPECT_NE(zero.out.find("--buffer-windows"), std::string::npos) << zero.out;
 }
 
 TEST(GenerateCli, SigtermLeavesNoOutputAndNoTemporaryFile) {
