@@ -77,7 +77,9 @@ out.append("## E7, transfer matrix\n")
 out.append("Per cell 220 flights (20 healthy; 5 per motor and Θ ∈ {0, 0.1, …, 0.9}), estimator errors Gauss–Markov "
            "(training saw white ones); held-out cells fly PID gains ×0.5 / ×2 (training: ×0.7–1.4), figure-eights at 2–3 m/s "
            "(training: none, ≤ 2 m/s), plant errors beyond the training spreads, or wind stronger than training's (6–8 m/s, "
-           "turbulence σ 2 m/s, 4–5 m/s gusts; training: ≤ 5 m/s, σ ≤ 1.5 m/s, gusts ≤ 3 m/s); the other cells fly in still air. "
+           "turbulence σ 2 m/s, 4–5 m/s gusts; training: ≤ 5 m/s, σ ≤ 1.5 m/s, gusts ≤ 3 m/s), or a control law training never "
+           "flies (the geometric SE(3) controller, docs/control.md#geometric; added 2026-11-28, its rows by `evaluate -e e7` "
+           "as each REPORT.md says); the other cells fly in still air. "
            + ("In brackets, for a STEM-calibrated run: the same flights with the shipped calibration (STEM)."
               if held_out else
               "In brackets: the general model `models/tcn-randomised.qfdw` on the same flights with the same code (no bracket: "

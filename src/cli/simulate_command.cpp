@@ -28,9 +28,10 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   t->addConfigFile(o.config);
   t->recordGivenIn(o.given);
   t->add("--controller", o.controller,
-         "Controller: lqr, cbf (LQR filtered by the CBF-QP safety filter), or pid (cascaded PID "
-         "in the style of PX4 and the Crazyflie, docs/control.md)")
-      .choices({"lqr", "cbf", "pid"});
+         "Controller: lqr, cbf (LQR filtered by the CBF-QP safety filter), pid (cascaded PID "
+         "in the style of PX4 and the Crazyflie), or geometric (Lee's SE(3) tracking law, the Crazyflie's "
+         "Mellinger controller; docs/control.md)")
+      .choices({"lqr", "cbf", "pid", "geometric"});
   t->add("--params", o.params,
          "Plant parameters: nominal, perturbed, perturbed-strong, or a parameter FILE "
          "(see configs/vehicle-example.toml)");
@@ -128,8 +129,9 @@ int runSimulate(const SimulateOptions& o) {
   if (o.controller_config.empty() || given("cbf_min_altitude")) cc.cbf.min_altitude = o.cbf_min_altitude;
   if (o.controller_config.empty() || given("cbf_max_tilt")) cc.cbf.max_tilt = o.cbf_max_tilt;
   // Options this flight would not read are refused, not ignored.
-  if (cc.kind == ControllerKind::kPid)
-    refuseGiven(o.given, {"lqr_weights"}, "is the LQR's (and the CBF-QP's, which filters it); --controller pid does not read it");
+  if (cc.kind == ControllerKind::kPid || cc.kind == ControllerKind::kGeometric)
+    refuseGiven(o.given, {"lqr_weights"}, std::string("is the LQR's (and the CBF-QP's, which filters it); --controller ") +
+                                              toString(cc.kind) + " does not read it");
   if (cc.kind != ControllerKind::kCbfQp)
     refuseGiven(o.given, {"cbf_min_altitude", "cbf_max_tilt"}, "is the CBF-QP filter's; give --controller cbf");
   if (o.motor == 0) refuseGiven(o.given, {"theta", "fault_step"}, "needs --motor N (without it the flight is healthy)");

@@ -9,6 +9,7 @@ const char* toString(ControllerKind k) {
     case ControllerKind::kLqr: return "lqr";
     case ControllerKind::kCbfQp: return "cbf";
     case ControllerKind::kPid: return "pid";
+    case ControllerKind::kGeometric: return "geometric";
   }
   return "?";
 }
@@ -17,6 +18,7 @@ bool parseControllerKind(const std::string& text, ControllerKind& kind) {
   if (text == "lqr") { kind = ControllerKind::kLqr; return true; }
   if (text == "cbf" || text == "cbf-qp") { kind = ControllerKind::kCbfQp; return true; }
   if (text == "pid") { kind = ControllerKind::kPid; return true; }
+  if (text == "geometric") { kind = ControllerKind::kGeometric; return true; }
   return false;
 }
 
@@ -26,16 +28,20 @@ ControllerBuild makeController(const VehicleParams& design_params, const Control
     build.error = "controller design parameters: " + problem;
     return build;
   }
-  if (config.kind == ControllerKind::kPid) {
+  if (config.kind == ControllerKind::kPid || config.kind == ControllerKind::kGeometric) {
     if (!(dt > 0.0) || !std::isfinite(dt)) {
       build.error = "time step must be finite and > 0";
       return build;
     }
-    if (const std::string problem = validate(config.pid); !problem.empty()) {
+    const bool pid = config.kind == ControllerKind::kPid;
+    if (const std::string problem = pid ? validate(config.pid) : validate(config.geometric); !problem.empty()) {
       build.error = problem;
       return build;
     }
-    build.controller = std::make_unique<PidController>(design_params, config.pid, dt);
+    if (pid)
+      build.controller = std::make_unique<PidController>(design_params, config.pid, dt);
+    else
+      build.controller = std::make_unique<GeometricController>(design_params, config.geometric, dt);
     return build;
   }
   build.lqr = designLqr(design_params, config.lqr, dt);

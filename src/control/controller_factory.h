@@ -5,20 +5,22 @@
 #include <string>
 
 #include "control/cbf_qp.h"
+#include "control/geometric.h"
 #include "control/lqr.h"
 #include "control/pid.h"
 
 namespace quadfdi {
 
-enum class ControllerKind { kLqr, kCbfQp, kPid };
+enum class ControllerKind { kLqr, kCbfQp, kPid, kGeometric };
 const char* toString(ControllerKind k);
-bool parseControllerKind(const std::string& text, ControllerKind& kind);  // "lqr" | "cbf" | "pid"
+bool parseControllerKind(const std::string& text, ControllerKind& kind);  // "lqr" | "cbf" | "pid" | "geometric"
 
 struct ControllerConfig {
   ControllerKind kind = ControllerKind::kLqr;
   LqrConfig lqr = LqrConfig::bryson();
   CbfConfig cbf;
   PidConfig pid;
+  GeometricConfig geometric;
 };
 
 struct ControllerBuild {

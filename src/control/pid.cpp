@@ -47,6 +47,21 @@ std::string validate(const PidConfig& c) {
   return {};
 }
 
+bool limitThrustVector(Vec3& force, double min_vertical, double max_tilt) {
+  bool limited = false;
+  if (force.z() < min_vertical) {
+    force.z() = min_vertical;
+    limited = true;
+  }
+  const double horizontal = std::hypot(force.x(), force.y());
+  const double max_horizontal = force.z() * std::tan(max_tilt);
+  if (horizontal > max_horizontal) {
+    force.head<2>() *= max_horizontal / horizontal;
+    limited = true;
+  }
+  return limited;
+}
+
 MotorAllocator::Matrix mixMatrixOf(const RigidBodyModel& m) {
   MotorAllocator::Matrix mix;
   for (int j = 0; j < kInputDim; ++j) {
@@ -169,17 +184,7 @@ void PidController::positionLoop(const Vec3& p, const Vec3& v) {
   // least the minimum collective, tilt at most max_tilt (horizontal part scaled), magnitude at
   // most the maximum collective keeping the vertical part first.
   Vec3 force = mass_ * (acceleration + Vec3(0.0, 0.0, gravity_));
-  bool limited = false;
-  if (force.z() < min_collective_) {
-    force.z() = min_collective_;
-    limited = true;
-  }
-  const double horizontal = std::hypot(force.x(), force.y());
-  const double max_horizontal_tilt = force.z() * std::tan(config_.max_tilt);
-  if (horizontal > max_horizontal_tilt) {
-    force.head<2>() *= max_horizontal_tilt / horizontal;
-    limited = true;
-  }
+  bool limited = limitThrustVector(force, min_collective_, config_.max_tilt);
   if (force.norm() > max_collective_) {
     if (force.z() >= max_collective_) {
       force = Vec3(0.0, 0.0, max_collective_);

@@ -107,6 +107,11 @@ class MotorAllocator {
   double min_thrust_ = 0.0, max_thrust_ = 0.0;  // [N]
 };
 
+// The thrust vector's limits, PX4 PositionControl's, shared by the PID and the geometric law: the
+// vertical part at least `min_vertical` [N], the angle to vertical at most `max_tilt` [rad] (the
+// horizontal part scaled). True when either acted.
+bool limitThrustVector(Vec3& force, double min_vertical, double max_tilt);
+
 // The mix matrix of a model, rows (collective, τx, τy, τz) per motor: the only use of the rotor
 // levers in the PID (RigidBodyModel::roll_lever, pitch_lever).
 MotorAllocator::Matrix mixMatrixOf(const RigidBodyModel& model);

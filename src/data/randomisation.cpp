@@ -53,6 +53,7 @@ const char* toString(DrawnController c) {
     case DrawnController::kLqr: return "lqr";
     case DrawnController::kPid: return "pid";
     case DrawnController::kCbfQp: return "cbf";
+    case DrawnController::kGeometric: return "geometric";
   }
   return "?";
 }
@@ -84,9 +85,9 @@ std::string validate(const Randomisation& r) {
     return "randomisation: manoeuvre speed and size ranges must be 0 <= lo <= hi";
   if (!(m.max_lateral_accel > 0.0)) return "randomisation: max lateral acceleration must be > 0";
   const ControllerMix& c = r.controllers;
-  for (double w : {c.lqr, c.pid, c.cbf})
+  for (double w : {c.lqr, c.pid, c.cbf, c.geometric})
     if (!(w >= 0.0) || !std::isfinite(w)) return "randomisation: controller weights must be >= 0";
-  if (!(c.lqr + c.pid + c.cbf > 0.0)) return "randomisation: some controller weight must be > 0";
+  if (!(c.lqr + c.pid + c.cbf + c.geometric > 0.0)) return "randomisation: some controller weight must be > 0";
   if (!validInterval(c.gain_scale) || !(c.gain_scale.lo > 0.0)) return "randomisation: gain scale range must be 0 < lo <= hi";
   if (!validInterval(r.preroll_seconds)) return "randomisation: pre-roll range must be 0 <= lo <= hi";
   const WindRanges& w = r.wind;
@@ -203,7 +204,8 @@ FlightDraw drawFlight(const Randomisation& r, const std::vector<VehicleParams>& 
   d.sensors.estimate_error_tau = draw(s.estimate_error_tau, rng);
 
   const ControllerMix& c = r.controllers;
-  const double controller_weights[3] = {c.lqr, c.pid, c.cbf};
+  // One uniform draw whatever the weights: a zero weight added at the end changes no flight.
+  const double controller_weights[4] = {c.lqr, c.pid, c.cbf, c.geometric};
   d.controller = static_cast<DrawnController>(pick(controller_weights, rng));
   // Gains spread log-uniformly: ×2 and ×½ are equally likely departures.
   d.gain_scale = std::exp(draw({std::log(c.gain_scale.lo), std::log(c.gain_scale.hi)}, rng));

@@ -68,6 +68,9 @@ struct ManoeuvreMix {
 struct ControllerMix {
   double lqr = 1.0, pid = 0.0, cbf = 0.0;  // [-] weights
   Interval gain_scale{1.0, 1.0};           // [-] PID loop bandwidths and LQR speed multiplied by this
+  // [-] weight of the geometric SE(3) controller (control/geometric.h); 0 in every shipped
+  // training mix, so that E7 holds it out. Last, so that {lqr, pid, cbf, gain_scale} still reads.
+  double geometric = 0.0;
 };
 
 // Synthetic quad-X airframes (docs/data.md#synthetic-airframes): `count` descriptions drawn once,
@@ -126,7 +129,7 @@ std::string describedVehicleName(const Randomisation& r, std::size_t index);
 // probe, which flies the pre-roll too, may then redraw a marginal flight).
 void delayPreroll(Randomisation& r, double seconds);
 
-enum class DrawnController { kLqr, kPid, kCbfQp };
+enum class DrawnController { kLqr, kPid, kCbfQp, kGeometric };
 const char* toString(DrawnController c);
 
 struct ManoeuvreDraw {

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <thread>
 
+#include "control/geometric.h"
 #include "control/pid.h"
 #include "data/residual.h"
 #include "simulation/sensor_model.h"
@@ -151,6 +152,8 @@ std::string validate(const RolloutConfig& c) {
   if (c.preroll_max_steps < 0) return "pre-roll must be >= 0 steps";
   if (c.controller.kind == ControllerKind::kPid || c.randomisation.controllers.pid > 0.0)
     if (const std::string problem = validate(c.controller.pid); !problem.empty()) return problem;
+  if (c.controller.kind == ControllerKind::kGeometric || c.randomisation.controllers.geometric > 0.0)
+    if (const std::string problem = validate(c.controller.geometric); !problem.empty()) return problem;
   if (c.post_fault_steps < 0 || c.post_fault_steps > 1000000) return "post-fault steps must be in 0 … 1000000";
   if (c.randomisation.enabled())
     if (const std::string problem = validate(c.randomisation); !problem.empty()) return problem;
@@ -198,6 +201,8 @@ std::unique_ptr<Controller> RolloutEngine::makeWorkerController() const {
     return std::make_unique<LqrController>(config_.controller_model, lqr_.gain);
   if (config_.controller.kind == ControllerKind::kPid)
     return std::make_unique<PidController>(config_.controller_model, config_.controller.pid, config_.dt);
+  if (config_.controller.kind == ControllerKind::kGeometric)
+    return std::make_unique<GeometricController>(config_.controller_model, config_.controller.geometric, config_.dt);
   return std::make_unique<CbfQpController>(config_.controller_model, lqr_.gain, config_.controller.cbf);
 }
 
@@ -268,6 +273,9 @@ std::unique_ptr<Controller> RolloutEngine::makeFlightController(const FlightDraw
   const VehicleParams& described = described_[static_cast<std::size_t>(d.vehicle)];
   if (d.controller == DrawnController::kPid)
     return std::make_unique<PidController>(described, scaledPid(config_.controller.pid, d.gain_scale), config_.dt);
+  if (d.controller == DrawnController::kGeometric)
+    return std::make_unique<GeometricController>(described, scaledGeometric(config_.controller.geometric, d.gain_scale),
+                                                 config_.dt);
   std::size_t level = 0;
   for (std::size_t i = 1; i < lqr_gain_levels_.size(); ++i)
     if (std::abs(std::log(lqr_gain_levels_[i] / d.gain_scale)) < std::abs(std::log(lqr_gain_levels_[level] / d.gain_scale)))

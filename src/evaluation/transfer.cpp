@@ -8,8 +8,11 @@ namespace {
 Randomisation pinned(DrawnController controller, double gain, ManoeuvreKind manoeuvre, const SensorRanges& sensors) {
   Randomisation r;
   r.sensors = sensors;
-  r.controllers = {controller == DrawnController::kLqr ? 1.0 : 0.0, controller == DrawnController::kPid ? 1.0 : 0.0,
-                   controller == DrawnController::kCbfQp ? 1.0 : 0.0, {gain, gain}};
+  r.controllers.lqr = controller == DrawnController::kLqr ? 1.0 : 0.0;
+  r.controllers.pid = controller == DrawnController::kPid ? 1.0 : 0.0;
+  r.controllers.cbf = controller == DrawnController::kCbfQp ? 1.0 : 0.0;
+  r.controllers.geometric = controller == DrawnController::kGeometric ? 1.0 : 0.0;
+  r.controllers.gain_scale = {gain, gain};
   r.manoeuvres.hover = manoeuvre == ManoeuvreKind::kHover ? 1.0 : 0.0;
   r.manoeuvres.point_to_point = manoeuvre == ManoeuvreKind::kPointToPoint ? 1.0 : 0.0;
   r.manoeuvres.circle = manoeuvre == ManoeuvreKind::kCircle ? 1.0 : 0.0;
@@ -50,6 +53,10 @@ std::vector<TransferCondition> e7Conditions(const SensorRanges& sensors) {
   gusty.randomisation.wind.gust_peak = {5.0, 5.0};
   gusty.randomisation.wind.gust_duration = {1.0, 1.0};
   c.push_back(gusty);
+  // Another control law, not another gain: no training mix flies it (control/geometric.h). Last, so
+  // that every earlier cell keeps its seed (runTransfer: seed + 1000·vehicle + cell).
+  c.push_back({"Geometric SE(3) (Mellinger), circle", true,
+               pinned(DrawnController::kGeometric, 1.0, ManoeuvreKind::kCircle, sensors)});
   return c;
 }
 

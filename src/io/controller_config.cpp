@@ -5,43 +5,76 @@
 namespace quadfdi {
 namespace {
 
-// One [pid] key; every PidConfig field is a key of the same name.
-void setPidKey(const KeyValueDocument& doc, const KeyValueEntry& e, PidConfig& pid) {
-  const std::string name = e.key.substr(4);
-  struct IntKey { const char* name; int PidConfig::*field; };
-  struct NumberKey { const char* name; double PidConfig::*field; };
-  static const IntKey kInts[] = {{"position_divisor", &PidConfig::position_divisor},
-                                 {"attitude_divisor", &PidConfig::attitude_divisor},
-                                 {"rate_divisor", &PidConfig::rate_divisor}};
-  static const NumberKey kNumbers[] = {
-      {"position_gain_xy", &PidConfig::position_gain_xy}, {"position_gain_z", &PidConfig::position_gain_z},
-      {"velocity_gain_xy", &PidConfig::velocity_gain_xy}, {"velocity_integral_xy", &PidConfig::velocity_integral_xy},
-      {"velocity_derivative_xy", &PidConfig::velocity_derivative_xy}, {"velocity_gain_z", &PidConfig::velocity_gain_z},
-      {"velocity_integral_z", &PidConfig::velocity_integral_z}, {"velocity_derivative_z", &PidConfig::velocity_derivative_z},
-      {"velocity_integral_limit", &PidConfig::velocity_integral_limit},
-      {"velocity_derivative_cutoff", &PidConfig::velocity_derivative_cutoff}, {"max_tilt", &PidConfig::max_tilt},
-      {"min_thrust_fraction", &PidConfig::min_thrust_fraction}, {"attitude_gain_rp", &PidConfig::attitude_gain_rp},
-      {"attitude_gain_yaw", &PidConfig::attitude_gain_yaw}, {"yaw_weight", &PidConfig::yaw_weight},
-      {"max_rate_rp", &PidConfig::max_rate_rp}, {"max_rate_yaw", &PidConfig::max_rate_yaw},
-      {"rate_gain_rp", &PidConfig::rate_gain_rp}, {"rate_integral_rp", &PidConfig::rate_integral_rp},
-      {"rate_derivative_rp", &PidConfig::rate_derivative_rp}, {"rate_gain_yaw", &PidConfig::rate_gain_yaw},
-      {"rate_integral_yaw", &PidConfig::rate_integral_yaw}, {"rate_integral_limit", &PidConfig::rate_integral_limit}};
-  for (const IntKey& k : kInts)
+template <typename Config>
+struct IntKey {
+  const char* name;
+  int Config::*field;
+};
+template <typename Config>
+struct NumberKey {
+  const char* name;
+  double Config::*field;
+};
+
+// One key of a section ("pid.", "geometric."): every field of its config struct is a key of the
+// same name; each value is checked by the struct's own validate().
+template <typename Config, std::size_t Ints, std::size_t Numbers>
+void setSectionKey(const KeyValueDocument& doc, const KeyValueEntry& e, std::size_t prefix,
+                   const IntKey<Config> (&ints)[Ints], const NumberKey<Config> (&numbers)[Numbers], Config& config) {
+  const std::string name = e.key.substr(prefix);
+  for (const IntKey<Config>& k : ints)
     if (name == k.name) {
       const long long v = doc.integer(e);
       if (v < 1 || v > 1000) doc.fail(e, "'" + e.key + "' must be an integer in 1 … 1000 (steps)");
-      pid.*k.field = static_cast<int>(v);
+      config.*k.field = static_cast<int>(v);
       return;
     }
-  for (const NumberKey& k : kNumbers)
+  for (const NumberKey<Config>& k : numbers)
     if (name == k.name) {
-      PidConfig trial = pid;
+      Config trial = config;
       trial.*k.field = doc.number(e);
       if (const std::string problem = validate(trial); !problem.empty()) doc.fail(e, problem);
-      pid = trial;
+      config = trial;
       return;
     }
   doc.fail(e, "unknown key '" + e.key + "'");
+}
+
+void setPidKey(const KeyValueDocument& doc, const KeyValueEntry& e, PidConfig& pid) {
+  using P = PidConfig;
+  static const IntKey<P> kInts[] = {{"position_divisor", &P::position_divisor},
+                                    {"attitude_divisor", &P::attitude_divisor},
+                                    {"rate_divisor", &P::rate_divisor}};
+  static const NumberKey<P> kNumbers[] = {
+      {"position_gain_xy", &P::position_gain_xy}, {"position_gain_z", &P::position_gain_z},
+      {"velocity_gain_xy", &P::velocity_gain_xy}, {"velocity_integral_xy", &P::velocity_integral_xy},
+      {"velocity_derivative_xy", &P::velocity_derivative_xy}, {"velocity_gain_z", &P::velocity_gain_z},
+      {"velocity_integral_z", &P::velocity_integral_z}, {"velocity_derivative_z", &P::velocity_derivative_z},
+      {"velocity_integral_limit", &P::velocity_integral_limit},
+      {"velocity_derivative_cutoff", &P::velocity_derivative_cutoff}, {"max_tilt", &P::max_tilt},
+      {"min_thrust_fraction", &P::min_thrust_fraction}, {"attitude_gain_rp", &P::attitude_gain_rp},
+      {"attitude_gain_yaw", &P::attitude_gain_yaw}, {"yaw_weight", &P::yaw_weight},
+      {"max_rate_rp", &P::max_rate_rp}, {"max_rate_yaw", &P::max_rate_yaw},
+      {"rate_gain_rp", &P::rate_gain_rp}, {"rate_integral_rp", &P::rate_integral_rp},
+      {"rate_derivative_rp", &P::rate_derivative_rp}, {"rate_gain_yaw", &P::rate_gain_yaw},
+      {"rate_integral_yaw", &P::rate_integral_yaw}, {"rate_integral_limit", &P::rate_integral_limit}};
+  setSectionKey(doc, e, 4, kInts, kNumbers, pid);
+}
+
+void setGeometricKey(const KeyValueDocument& doc, const KeyValueEntry& e, GeometricConfig& geometric) {
+  using G = GeometricConfig;
+  static const IntKey<G> kInts[] = {{"position_divisor", &G::position_divisor}};
+  static const NumberKey<G> kNumbers[] = {
+      {"position_frequency_xy", &G::position_frequency_xy}, {"position_damping_xy", &G::position_damping_xy},
+      {"position_frequency_z", &G::position_frequency_z}, {"position_damping_z", &G::position_damping_z},
+      {"position_integral", &G::position_integral}, {"position_integral_limit_xy", &G::position_integral_limit_xy},
+      {"position_integral_limit_z", &G::position_integral_limit_z}, {"max_tilt", &G::max_tilt},
+      {"min_thrust_fraction", &G::min_thrust_fraction}, {"attitude_frequency_rp", &G::attitude_frequency_rp},
+      {"attitude_damping_rp", &G::attitude_damping_rp}, {"attitude_frequency_yaw", &G::attitude_frequency_yaw},
+      {"attitude_damping_yaw", &G::attitude_damping_yaw}, {"attitude_integral_rp", &G::attitude_integral_rp},
+      {"attitude_integral_yaw", &G::attitude_integral_yaw}, {"attitude_integral_limit", &G::attitude_integral_limit},
+      {"attitude_integral_band", &G::attitude_integral_band}};
+  setSectionKey(doc, e, 10, kInts, kNumbers, geometric);
 }
 
 }  // namespace
@@ -68,7 +101,7 @@ ControllerConfig controllerConfigFromText(const std::string& text, const std::st
     if (k == "controller") {
       const std::string kind = doc.string(e);
       if (!parseControllerKind(kind, c.kind))
-        doc.fail(e, "controller must be \"lqr\", \"cbf\" or \"pid\", got '" + kind + "'");
+        doc.fail(e, "controller must be \"lqr\", \"cbf\", \"pid\" or \"geometric\", got '" + kind + "'");
     } else if (k == "lqr.q_diag") {
       const auto q = doc.numberList(e);
       if (q.size() != kStateDim) doc.fail(e, "lqr.q_diag needs 12 values (state.h order), got " + std::to_string(q.size()));
@@ -108,6 +141,8 @@ ControllerConfig controllerConfigFromText(const std::string& text, const std::st
       c.cbf.tilt_alpha2 = positive(e);
     } else if (k.rfind("pid.", 0) == 0) {
       setPidKey(doc, e, c.pid);
+    } else if (k.rfind("geometric.", 0) == 0) {
+      setGeometricKey(doc, e, c.geometric);
     } else {
       doc.fail(e, "unknown key '" + k + "'");
     }

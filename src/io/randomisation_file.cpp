@@ -56,6 +56,7 @@ std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
           {"controllers.lqr", &r.controllers.lqr},
           {"controllers.pid", &r.controllers.pid},
           {"controllers.cbf", &r.controllers.cbf},
+          {"controllers.geometric", &r.controllers.geometric},
           {"airframes.share", &r.airframes.share}};
 }
 

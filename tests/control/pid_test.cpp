@@ -1,6 +1,6 @@
-// The cascaded PID (src/control/pid.*): hover, trajectory tracking with and without
-// feed-forward, equivariance under the exact symmetry group, loop-rate holding, the allocator's
-// priorities, and no heap allocation in compute().
+// The cascaded PID (src/control/pid.*): trajectory tracking with and without feed-forward, the
+// integrator, loop-rate holding, the allocator's priorities, and no heap allocation in compute().
+// Exact hover, gains that scale with the airframe and equivariance: tracking_controllers_test.cpp.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -16,151 +16,28 @@
 #include "model/integrator.h"
 #include "simulation/closed_loop.h"
 #include "symmetry/symmetry.h"
+#include "closed_loop_support.h"
 #include "heap_counter.h"  // include once per test executable: compute() must not allocate
 #include "test_support.h"
 
 namespace quadfdi {
 namespace {
 
-constexpr double kDt = 0.002;
+constexpr double kDt = test::kControlDt;
+using test::Flight;
+using test::fly;
+using test::mapped;
+using test::spec;
+using test::startOf;
+using test::trackingError;
+using test::TrackingError;
+using test::withoutFeedForward;
 
 std::unique_ptr<Controller> makePid(const VehicleParams& design, const PidConfig& pid = {}) {
   ControllerConfig cc;
   cc.kind = ControllerKind::kPid;
   cc.pid = pid;
-  ControllerBuild build = makeController(design, cc, kDt);
-  if (!build.controller) throw std::runtime_error(build.error);
-  return std::move(build.controller);
-}
-
-// A flight driven by an arbitrary reference function (the simulator's loop, written out so the
-// reference can be mapped or stripped of its feed-forward).
-struct Flight {
-  std::vector<State> states;
-  std::vector<Input> commands;
-  std::vector<Reference> references;
-  bool cut = false;
-};
-
-Flight fly(Controller& ctrl, const VehicleParams& plant, const State& x0, int steps,
-           const std::function<Reference(double)>& reference, const Input& theta = Input::Ones()) {
-  const RigidBodyModel model = RigidBodyModel::fromParams(plant);
-  PlantState ps;
-  ps.x = x0;
-  ps.rotor_thrust = Input::Constant(plant.hoverThrust());
-  ctrl.reset();
-  Flight f;
-  ControlStep step;
-  for (int k = 0; k < steps; ++k) {
-    const Reference r = reference(k * kDt);
-    ctrl.setReference(r);
-    ctrl.compute(ps.x, step);
-    f.states.push_back(ps.x);
-    f.commands.push_back(step.u_cmd);
-    f.references.push_back(r);
-    stepPlant(model, Integrator::kRk4, kDt, plant.motor_time_constant, theta.cwiseProduct(step.u_cmd), ps);
-    if (checkState(ps.x, StateBounds{}) != StepStatus::kOk) {
-      f.cut = true;
-      break;
-    }
-  }
-  return f;
-}
-
-struct TrackingError {
-  double rms = 0.0;  // [m]
-  double max = 0.0;  // [m]
-};
-
-TrackingError trackingError(const Flight& f, int from_step) {
-  TrackingError e;
-  int n = 0;
-  for (std::size_t k = static_cast<std::size_t>(from_step); k < f.states.size(); ++k) {
-    const double d = (f.states[k].head<3>() - f.references[k].position).norm();
-    e.rms += d * d;
-    e.max = std::max(e.max, d);
-    ++n;
-  }
-  e.rms = std::sqrt(e.rms / std::max(n, 1));
-  return e;
-}
-
-Reference withoutFeedForward(Reference r) {
-  r.velocity.setZero();
-  r.acceleration.setZero();
-  r.yaw_rate = 0.0;
-  return r;
-}
-
-
-Reference mapped(const Reference& r, const SymmetryMap& g) {
-  const Mat3 s = g.state_map.block<3, 3>(idx::kPos, idx::kPos);
-  const double yaw_sign = g.state_map(idx::kYaw, idx::kYaw);
-  Reference m;
-  m.position = s * r.position;
-  m.velocity = s * r.velocity;
-  m.acceleration = s * r.acceleration;
-  m.yaw = yaw_sign * r.yaw;
-  m.yaw_rate = yaw_sign * r.yaw_rate;
-  return m;
-}
-
-TrajectorySpec spec(TrajectoryKind kind, double speed) {
-  TrajectorySpec s;
-  s.kind = kind;
-  s.start = Vec3(0.0, 0.0, 1.0);
-  s.goal = Vec3(2.0, 1.0, 1.5);
-  s.radius = 1.0;
-  s.speed = speed;
-  s.yaw_mode = YawMode::kFacingVelocity;
-  return s;
-}
-
-State startOf(const TrajectorySpec& s) {
-  const Reference r = referenceAt(s, 0.0);
-  State x = test::hoverState(r.position);
-  x(idx::kYaw) = r.yaw;
-  return x;
-}
-
-TEST(Pid, HoldsHoverAtEquilibriumExactly) {
-  for (const VehicleParams& p : {nominalParams(), perturbedParams()}) {
-    auto ctrl = makePid(p);
-    ctrl->setGoal(Vec3(0.3, -0.2, 1.0));
-    const Flight f = fly(*ctrl, p, test::hoverState(Vec3(0.3, -0.2, 1.0)), 2000,
-                         [](double) { return hoverReference(Vec3(0.3, -0.2, 1.0)); });
-    ASSERT_FALSE(f.cut);
-    for (std::size_t k = 0; k < f.states.size(); ++k) {
-      ASSERT_LT((f.states[k].head<3>() - Vec3(0.3, -0.2, 1.0)).norm(), 1e-12) << "step " << k;
-      ASSERT_LT((f.commands[k] - Input::Constant(p.hoverThrust())).cwiseAbs().maxCoeff(), 1e-15) << "step " << k;
-    }
-  }
-}
-
-// Gains are bandwidths: a vehicle twice as heavy, with twice the inertia and twice the thrust,
-// flies the same path (same accelerations), to round-off, with the same default gains.
-TEST(Pid, GainsScaleWithTheAirframe) {
-  const VehicleParams p = nominalParams();
-  VehicleParams heavy = p;
-  heavy.mass *= 2.0;
-  heavy.inertia_xx *= 2.0;
-  heavy.inertia_yy *= 2.0;
-  heavy.inertia_zz *= 2.0;
-  heavy.min_thrust *= 2.0;
-  heavy.max_thrust *= 2.0;
-  State x0 = test::hoverState(Vec3(0.5, -0.4, 0.8));
-  x0(idx::kRoll) = 0.2;
-  x0(idx::kYaw) = 0.3;
-  auto a = makePid(p), b = makePid(heavy);
-  const auto goal = [](double) { return hoverReference(Vec3(0.0, 0.0, 1.0)); };
-  const Flight fa = fly(*a, p, x0, 3000, goal), fb = fly(*b, heavy, x0, 3000, goal);
-  ASSERT_FALSE(fa.cut);
-  ASSERT_EQ(fa.states.size(), fb.states.size());
-  for (std::size_t k = 0; k < fa.states.size(); ++k) {
-    ASSERT_LT((fa.states[k] - fb.states[k]).cwiseAbs().maxCoeff(), 1e-9) << "step " << k;
-    ASSERT_LT((2.0 * fa.commands[k] - fb.commands[k]).cwiseAbs().maxCoeff(), 1e-9) << "step " << k;
-  }
-  EXPECT_LT((fa.states.back().head<3>() - Vec3(0, 0, 1)).norm(), 0.03);
+  return test::builtController(design, cc);
 }
 
 // The design model is 30 % too light: the velocity integrator supplies the missing thrust.
@@ -227,36 +104,6 @@ TEST(Pid, HoverTrajectoryIsSetGoal) {
   ClosedLoopSimulator(p, settings).run(*ctrl, x0, &b);
   ASSERT_EQ(a.size(), b.size());
   for (int k = 0; k < a.size(); ++k) ASSERT_EQ(a.states[static_cast<std::size_t>(k)], b.states[static_cast<std::size_t>(k)]);
-}
-
-// Flying the mapped reference from the mapped start with the mapped fault gives the mapped
-// flight and the permuted motor commands, for every element of the exact group.
-TEST(Pid, EquivariantUnderTheExactSymmetryGroup) {
-  const VehicleParams p = perturbedParams();  // Ixx ≠ Iyy: the group is still exact
-  const TrajectorySpec s = spec(TrajectoryKind::kFigureEight, 1.5);
-  State x0 = startOf(s);
-  x0.segment<3>(idx::kVel) = Vec3(0.3, -0.2, 0.1);
-  x0(idx::kRoll) = 0.15;
-  x0(idx::kPitch) = -0.1;
-  x0.segment<3>(idx::kRate) = Vec3(0.5, -0.3, 0.2);
-  for (int motor = 1; motor <= 4; ++motor) {
-    Input theta = Input::Ones();
-    theta(motor - 1) = 0.8;
-    const SymmetryMap g = mapMotorToMotor2(motor, SymmetryMode::kExactGroup);
-    auto a = makePid(p), b = makePid(p);
-    const Flight f = fly(*a, p, x0, 2500, [&](double t) { return referenceAt(s, t); }, theta);
-    const Flight m = fly(*b, p, g.applyToState(x0), 2500, [&](double t) { return mapped(referenceAt(s, t), g); },
-                         g.applyToTheta(theta));
-    ASSERT_FALSE(f.cut) << "motor " << motor << " cut after " << f.states.size();
-    ASSERT_EQ(f.states.size(), m.states.size());
-    double worst_state = 0.0, worst_command = 0.0;
-    for (std::size_t k = 0; k < f.states.size(); ++k) {
-      worst_state = std::max(worst_state, (g.applyToState(f.states[k]) - m.states[k]).cwiseAbs().maxCoeff());
-      worst_command = std::max(worst_command, (g.applyToInput(f.commands[k]) - m.commands[k]).cwiseAbs().maxCoeff());
-    }
-    EXPECT_LT(worst_state, 1e-9) << "motor " << motor;
-    EXPECT_LT(worst_command, 1e-9) << "motor " << motor;
-  }
 }
 
 TEST(Pid, EachLoopHoldsItsOutputBetweenUpdates) {

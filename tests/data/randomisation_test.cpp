@@ -119,7 +119,7 @@ TEST(Randomisation, DrawsArePureFunctionsOfTheStream) {
 
 TEST(Randomisation, DrawsStayInsideTheirRangesAndFollowTheWeights) {
   const Randomisation r = twoVehicles();
-  int counts[3] = {0, 0, 0}, manoeuvres[4] = {0, 0, 0, 0}, vehicles[2] = {0, 0};
+  int counts[4] = {0, 0, 0, 0}, manoeuvres[4] = {0, 0, 0, 0}, vehicles[2] = {0, 0};
   const int n = 20000;
   for (int i = 0; i < n; ++i) {
     Rng rng(1, static_cast<std::uint64_t>(i));
@@ -149,6 +149,7 @@ TEST(Randomisation, DrawsStayInsideTheirRangesAndFollowTheWeights) {
   EXPECT_NEAR(counts[0] / double(n), 0.35, 0.015);
   EXPECT_NEAR(counts[1] / double(n), 0.45, 0.015);
   EXPECT_NEAR(counts[2] / double(n), 0.20, 0.015);
+  EXPECT_EQ(counts[3], 0);      // the geometric controller's weight is 0: never drawn
   EXPECT_EQ(manoeuvres[3], 0);  // weight 0: never drawn
   EXPECT_NEAR(manoeuvres[0] / double(n), 0.4, 0.015);
   EXPECT_NEAR(vehicles[0] / double(n), 0.5, 0.015);

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cstdio>
 
 #include "evaluation/flight_streams.h"
@@ -95,7 +97,7 @@ TEST(Transfer, ConditionsPinOneControllerAndManoeuvreAndCellsCountTheirFlights) 
   for (const TransferCondition& c : conditions) {
     held_out += c.held_out;
     const ControllerMix& m = c.randomisation.controllers;
-    EXPECT_EQ((m.lqr > 0) + (m.pid > 0) + (m.cbf > 0), 1) << c.name;
+    EXPECT_EQ((m.lqr > 0) + (m.pid > 0) + (m.cbf > 0) + (m.geometric > 0), 1) << c.name;
     EXPECT_EQ(m.gain_scale.lo, m.gain_scale.hi) << c.name;
     Randomisation r = c.randomisation;
     r.vehicles = {nominalParams()};
@@ -103,6 +105,9 @@ TEST(Transfer, ConditionsPinOneControllerAndManoeuvreAndCellsCountTheirFlights) 
     EXPECT_EQ(validate(r), "") << c.name;
   }
   EXPECT_GE(held_out, 4);
+  // A control law training never flies is among them (docs/decisions.md, E7).
+  EXPECT_TRUE(std::any_of(conditions.begin(), conditions.end(),
+                          [](const TransferCondition& c) { return c.held_out && c.randomisation.controllers.geometric > 0; }));
   TransferConfig config;
   config.vehicles = {nominalParams()};
   config.vehicle_names = {"nominal"};

@@ -37,6 +37,13 @@ TEST(ControllerConfig, ShippedExampleEqualsTheDefaults) {
   EXPECT_EQ(c.pid.max_tilt, d.pid.max_tilt);
   EXPECT_EQ(c.pid.rate_integral_limit, d.pid.rate_integral_limit);
   EXPECT_EQ(c.pid.velocity_derivative_cutoff, d.pid.velocity_derivative_cutoff);
+  EXPECT_EQ(c.geometric.position_divisor, d.geometric.position_divisor);
+  EXPECT_EQ(c.geometric.position_frequency_xy, d.geometric.position_frequency_xy);
+  EXPECT_EQ(c.geometric.position_integral, d.geometric.position_integral);
+  EXPECT_EQ(c.geometric.attitude_frequency_rp, d.geometric.attitude_frequency_rp);
+  EXPECT_EQ(c.geometric.attitude_integral_rp, d.geometric.attitude_integral_rp);
+  EXPECT_EQ(c.geometric.attitude_integral_yaw, d.geometric.attitude_integral_yaw);
+  EXPECT_EQ(c.geometric.attitude_integral_limit, d.geometric.attitude_integral_limit);
 }
 
 TEST(ControllerConfig, PidKeys) {
@@ -53,6 +60,20 @@ TEST(ControllerConfig, PidKeys) {
   EXPECT_EQ(c.pid.position_gain_xy, PidConfig{}.position_gain_xy);
 }
 
+TEST(ControllerConfig, GeometricKeys) {
+  const ControllerConfig c = controllerConfigFromText(
+      "controller = \"geometric\"\n[geometric]\nposition_divisor = 5\nattitude_frequency_rp = 12\n"
+      "attitude_integral_yaw = 0\nmax_tilt = 0.5\n",
+      "c.toml", ControllerConfig{});
+  EXPECT_EQ(c.kind, ControllerKind::kGeometric);
+  EXPECT_EQ(c.geometric.position_divisor, 5);
+  EXPECT_EQ(c.geometric.attitude_frequency_rp, 12.0);
+  EXPECT_EQ(c.geometric.attitude_integral_yaw, 0.0);
+  EXPECT_EQ(c.geometric.max_tilt, 0.5);
+  EXPECT_EQ(c.geometric.position_frequency_xy, GeometricConfig{}.position_frequency_xy);
+  EXPECT_EQ(c.pid.rate_gain_rp, PidConfig{}.rate_gain_rp);  // the PID's section untouched
+}
+
 TEST(ControllerConfig, BadValuesNameFileAndLine) {
   EXPECT_EQ(errorOf("[lqr]\nq_diag = [1, 2]\n"), "c.toml:2: lqr.q_diag needs 12 values (state.h order), got 2");
   EXPECT_EQ(errorOf("[lqr]\nr_diag = [1, 0, 1, 1]\n"), "c.toml:2: lqr.r_diag values must be > 0");
@@ -65,7 +86,15 @@ TEST(ControllerConfig, BadValuesNameFileAndLine) {
   EXPECT_EQ(errorOf("[pid]\nrate_gain_rp = -3\n"), "c.toml:2: PID gains and limits must be finite and >= 0");
   EXPECT_EQ(errorOf("[pid]\nvelocity_derivative_cutoff = -5\n"), "c.toml:2: PID gains and limits must be finite and >= 0");
   EXPECT_EQ(errorOf("[pid]\nrate_gain = 3\n"), "c.toml:2: unknown key 'pid.rate_gain'");
-  EXPECT_EQ(errorOf("controller = \"mpc\"\n"), "c.toml:1: controller must be \"lqr\", \"cbf\" or \"pid\", got 'mpc'");
+  EXPECT_EQ(errorOf("controller = \"mpc\"\n"),
+            "c.toml:1: controller must be \"lqr\", \"cbf\", \"pid\" or \"geometric\", got 'mpc'");
+  EXPECT_EQ(errorOf("[geometric]\nattitude_damping_rp = 0\n"),
+            "c.toml:2: geometric frequencies and damping ratios must be finite and > 0");
+  EXPECT_EQ(errorOf("[geometric]\n\nposition_divisor = 0\n"),
+            "c.toml:3: 'geometric.position_divisor' must be an integer in 1 … 1000 (steps)");
+  EXPECT_EQ(errorOf("[geometric]\nattitude_integral_limit = 2\n"),
+            "c.toml:2: geometric attitude_integral_limit must lie in [0, 1]");
+  EXPECT_EQ(errorOf("[geometric]\nrate_gain_rp = 30\n"), "c.toml:2: unknown key 'geometric.rate_gain_rp'");
 }
 
 }  // namespace

@@ -222,5 +222,40 @@ TEST(RandomisationFile, RandomisedHealthyFlightsStayUpAndAreThreadIndependent) {
   for (float u : one.inputs) ASSERT_TRUE(std::isfinite(u));
 }
 
+// E7 holds the geometric controller out: no shipped randomisation flies it, and the key reads.
+TEST(RandomisationFile, TheShippedTrainingFliesNoGeometricControllerAndTheKeyReads) {
+  for (const std::string& file : {kDefault, kAirframes}) EXPECT_EQ(loadRandomisation(file).controllers.geometric, 0.0) << file;
+  const Randomisation r = randomisationFromText(
+      "vehicles = [\"nominal\"]\ncontrollers.lqr = 0\ncontrollers.geometric = 2\n", "r.toml");
+  EXPECT_EQ(r.controllers.geometric, 2.0);
+  EXPECT_EQ(refusalOf("vehicles = [\"nominal\"]\ncontrollers.lqr = 0\n"),
+            "r.toml: randomisation: some controller weight must be > 0");
+}
+
+// The same healthy flights as above under the geometric controller alone, its gains spread as
+// E7's PID cells are (×0.5 … ×2): every one stays up, on every library vehicle.
+TEST(RandomisationFile, GeometricControllerFliesTheRandomisedFlights) {
+  RolloutConfig c;
+  c.randomisation = loadRandomisation(kDefault);
+  c.randomisation.manoeuvres.figure_eight = 0.2;
+  c.randomisation.controllers.lqr = c.randomisation.controllers.pid = c.randomisation.controllers.cbf = 0.0;
+  c.randomisation.controllers.geometric = 1.0;
+  c.randomisation.controllers.gain_scale = {0.5, 2.0};
+  c.seed = 3;
+  c.post_fault_steps = 300;
+  const RolloutEngine engine(c);
+  ASSERT_EQ(engine.error(), "");
+  TrajectoryBatch batch;
+  ASSERT_TRUE(engine.run(algorithm1Jobs(0, 60, {1.0}, {2}), 2, batch));
+  for (int t = 0; t < batch.count; ++t) {
+    const FlightDraw d = engine.flightDraw(batch.scenario_index[static_cast<std::size_t>(t)]);
+    ASSERT_EQ(d.controller, DrawnController::kGeometric);
+    EXPECT_EQ(batch.length[static_cast<std::size_t>(t)], batch.samples)
+        << "cut: " << c.randomisation.vehicle_names[static_cast<std::size_t>(d.vehicle)] << " gain " << d.gain_scale
+        << " manoeuvre " << toString(d.manoeuvre.kind) << " speed " << d.manoeuvre.speed;
+  }
+  for (float u : batch.inputs) ASSERT_TRUE(std::isfinite(u));
+}
+
 }  // namespace
 }  // namespace quadfdi
