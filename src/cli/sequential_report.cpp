@@ -3,7 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <initializer_list>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include "evaluation/flight_streams.h"
 #include "evaluation/transfer.h"
@@ -119,6 +122,21 @@ std::string transferReport(const SequentialReportInputs& in, const ReportProgres
 }
 
 namespace {
+// "LQR, PID, CBF-QP; hover, point-to-point, circle": the controllers and manoeuvres the flights draw
+// (weight > 0), in the randomisation's order.
+std::string mixSummary(const Randomisation& r) {
+  auto join = [](std::initializer_list<std::pair<double, const char*>> items) {
+    std::string out;
+    for (const auto& [weight, name] : items)
+      if (weight > 0.0) out += (out.empty() ? "" : ", ") + std::string(name);
+    return out;
+  };
+  const ControllerMix& c = r.controllers;
+  const ManoeuvreMix& m = r.manoeuvres;
+  return join({{c.lqr, "LQR"}, {c.pid, "PID"}, {c.cbf, "CBF-QP"}, {c.geometric, "geometric SE(3)"}}) + "; " +
+         join({{m.hover, "hover"}, {m.point_to_point, "point-to-point"}, {m.circle, "circle"}, {m.figure_eight, "figure-eight"}});
+}
+
 // "; wind …" with the randomisation's wind ranges, empty in still air.
 std::string windSummary(const WindRanges& w) {
   if (!w.enabled()) return "";
@@ -226,7 +244,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   std::ostringstream md, csv;
   md << "### Decisions: severity against Θ, false alarms per flight hour (issue 14)\n\n"
      << "Model `" << in.model_path << "`; " << ruleLine(in) << ". Flights: the randomisation `" << in.randomise_path
-     << "` over " << vehicleList(in.vehicle_names) << " (LQR, PID, CBF-QP; hover, point-to-point, circle; estimator noise, lag and delay; plant errors"
+     << "` over " << vehicleList(in.vehicle_names) << " (" << mixSummary(base.randomisation) << "; estimator noise, lag and delay; plant errors"
      << windSummary(base.randomisation.wind) << ").\n\n"
      << "**False alarms:** " << h.false_alarms << " in " << num(h.healthy_hours, 2) << " healthy flight hours (" << flights
      << " flights of " << num(kFlightSeconds, 0) << " s) = " << num(h.false_alarms_per_hour, 3) << " per flight hour, one-sided 95 % upper bound "

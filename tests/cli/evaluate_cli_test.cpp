@@ -76,6 +76,8 @@ TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
   ASSERT_EQ(code, 0) << out;
   const std::string md = slurp(dir + "/decisions.md");
   EXPECT_NE(md.find("; wind 0–5 m/s, turbulence σ ≤ 1.5 m/s, gusts ≤ 3.0 m/s, rotor drag 0.15–0.35 /s)"), std::string::npos) << md;
+  // The controllers and manoeuvres named are the randomisation's (weight > 0).
+  EXPECT_NE(md.find("(LQR, PID, CBF-QP; hover, point-to-point, circle; estimator noise"), std::string::npos) << md;
   EXPECT_NE(md.find("healthy flight hours (1 flights of 60 s)"), std::string::npos) << md;
   EXPECT_NE(md.find("one-sided 95 % upper bound"), std::string::npos) << md;
   // The rate counts from 1 s into each recording (as the calibration); the rest is reported apart.
@@ -99,7 +101,8 @@ TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
 
 // A calibration whose degraded level is raised to 0.999 (a healthy motor's Θ̂ sits below it half
 // the time) raises false alarms in a few healthy minutes: the report lists the alarmed flights with
-// what was drawn for them, and false_alarms.csv holds one row per alarm counted.
+// what was drawn for them, and false_alarms.csv holds one row per alarm counted. The flights are
+// configs/randomisation-geometric.toml's, whose one controller the report and the rows name.
 TEST(EvaluateCli, DecisionsReportListsTheAlarmedFlights) {
   const std::string dir = ::testing::TempDir() + "quadfdi_eval_alarmed";
   const std::string src = QUADFDI_SOURCE_DIR;
@@ -113,7 +116,7 @@ TEST(EvaluateCli, DecisionsReportListsTheAlarmedFlights) {
   int code = 0;
   const std::string out = run("evaluate -e decisions --model-free " + src + "/models/tcn-crazyflie2.qfdw --calibration " + low +
                                   " --vehicle " + src + "/configs/vehicles/crazyflie2.toml --randomise " + src +
-                                  "/configs/randomisation-default.toml --flights-per-class 1 --faulty-per-theta 1 --flight-hours 0.05 --scale tiny -q -o " + dir,
+                                  "/configs/randomisation-geometric.toml --flights-per-class 1 --faulty-per-theta 1 --flight-hours 0.05 --scale tiny -q -o " + dir,
                               &code);
   ASSERT_EQ(code, 0) << out;
   const std::string md = slurp(dir + "/decisions.md");
@@ -121,6 +124,7 @@ TEST(EvaluateCli, DecisionsReportListsTheAlarmedFlights) {
   ASSERT_NE(count_at, std::string::npos) << md;
   const long counted = std::stol(md.substr(count_at + std::string("**False alarms:** ").size()));
   ASSERT_GT(counted, 0) << md;
+  EXPECT_NE(md.find("(geometric SE(3); hover, point-to-point, circle; estimator noise"), std::string::npos) << md;
   EXPECT_NE(md.find("**Alarmed flights**"), std::string::npos) << md;
   const std::string alarms = slurp(dir + "/false_alarms.csv");
   EXPECT_EQ(std::count(alarms.begin(), alarms.end(), '\n'), counted + 1) << alarms;
@@ -136,6 +140,7 @@ TEST(EvaluateCli, DecisionsReportListsTheAlarmedFlights) {
     EXPECT_GE(std::stod(f[1]), 1.0) << row;  // counted from 1 s into the recording
     EXPECT_TRUE(f[3] == "degraded" || f[3] == "failed") << row;
     EXPECT_EQ(f[5], "crazyflie2") << row;
+    EXPECT_EQ(f[6], "geometric") << row;
     EXPECT_NE(md.find("| " + f[0] + " | crazyflie2 | "), std::string::npos) << row;  // its flight is in the table
   }
 }
