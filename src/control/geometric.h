@@ -4,13 +4,14 @@
 // controller_mellinger and of many research simulators (docs/control.md, "Geometric").
 //
 //   position PID ─► desired force F (world) ─► collective f = F·(R e₃), desired axes R_d
-//   ─► attitude PD on the rotation-matrix error e_R = ½ (R_dᵀR − RᵀR_d)^∨ and e_Ω ─► torques
+//   ─► attitude PID on the rotation-matrix error e_R = ½ (R_dᵀR − RᵀR_d)^∨ and e_Ω ─► torques
 //   ─► allocation through the inverse mix matrix; thrust capped from the top, then clipped
 //
-// Unlike the cascaded PID (control/pid.h) there is no body-rate loop and no rate integrator: the
-// torque is one PD law on the attitude error, and the allocator keeps the torques by lowering all
-// four motors when one would exceed its maximum (the Crazyflie's powerDistributionCap), so the
-// commands it produces have another shape. quadfdi never trains on it by default; E7 holds it out.
+// Unlike the cascaded PID (control/pid.h) there is no body-rate loop: the torque is one law on the
+// attitude error (PD, plus an integral only near the setpoint), and the allocator keeps the torques
+// by lowering all four motors when one would exceed its maximum (the Crazyflie's
+// powerDistributionCap), so the commands it produces have another shape. No shipped model is
+// trained on it; E7 holds it out.
 #pragma once
 
 #include "control/controller.h"
