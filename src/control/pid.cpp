@@ -47,6 +47,14 @@ std::string validate(const PidConfig& c) {
   return {};
 }
 
+PidConfig scaledPid(PidConfig c, double s) {
+  for (double* g : {&c.position_gain_xy, &c.position_gain_z, &c.velocity_gain_xy, &c.velocity_gain_z, &c.attitude_gain_rp,
+                    &c.attitude_gain_yaw, &c.rate_gain_rp, &c.rate_gain_yaw})
+    *g *= s;
+  for (double* g : {&c.velocity_integral_xy, &c.velocity_integral_z, &c.rate_integral_rp, &c.rate_integral_yaw}) *g *= s * s;
+  return c;
+}
+
 bool limitThrustVector(Vec3& force, double min_vertical, double max_tilt) {
   bool limited = false;
   if (force.z() < min_vertical) {

@@ -78,6 +78,10 @@ struct PidConfig {
 
 // Empty when valid, else a one-line description of the first problem.
 std::string validate(const PidConfig& config);
+// Every loop bandwidth multiplied by `scale` (integral gains, which are bandwidth², by scale²),
+// keeping the derivative ratios: the same controller tuned `scale` times faster; the
+// randomisation's gain spread (as scaledGeometric, control/geometric.h).
+PidConfig scaledPid(PidConfig config, double scale);
 
 // Per-motor allocation with PX4-like priorities, through the inverse mix matrix of a model.
 class MotorAllocator {

@@ -67,16 +67,6 @@ LqrConfig lqrConfigFor(const VehicleParams& v, double s) {
   return c;
 }
 
-// The PID with every loop bandwidth multiplied by s (integral gains, which are bandwidth², by s²),
-// keeping the derivative ratios: the same controller tuned s times faster.
-PidConfig scaledPid(PidConfig c, double s) {
-  for (double* g : {&c.position_gain_xy, &c.position_gain_z, &c.velocity_gain_xy, &c.velocity_gain_z, &c.attitude_gain_rp,
-                    &c.attitude_gain_yaw, &c.rate_gain_rp, &c.rate_gain_yaw})
-    *g *= s;
-  for (double* g : {&c.velocity_integral_xy, &c.velocity_integral_z, &c.rate_integral_rp, &c.rate_integral_yaw}) *g *= s * s;
-  return c;
-}
-
 // The manoeuvre a draw describes, anchored at the scenario's goal (the circle and the
 // point-to-point path start there; the figure-eight is centred there).
 TrajectorySpec trajectoryFor(const ManoeuvreDraw& m, const Vec3& anchor) {
