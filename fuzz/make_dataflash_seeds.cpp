@@ -20,7 +20,8 @@ void save(const std::string& dir, const char* name, const std::vector<std::uint8
   if (!f || std::fwrite(b.data(), 1, b.size(), f) != b.size() || std::fclose(f) != 0) std::perror(path.c_str());
 }
 
-DataflashWriter copter(int rows, bool fmtu) {
+// frame_type: ArduPilot's FRAME_TYPE (1 X; 12 Betaflight order: the extractor maps motors by it).
+DataflashWriter copter(int rows, bool fmtu, int frame_type = 1) {
   DataflashWriter w;
   w.fmt(30, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
   w.fmt(31, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
@@ -38,7 +39,7 @@ DataflashWriter copter(int rows, bool fmtu) {
   w.parm(0, "MOT_THST_EXPO", 0.65);
   w.parm(0, "MOT_PWM_MIN", 1000);
   w.parm(0, "MOT_PWM_MAX", 2000);
-  w.parm(0, "FRAME_TYPE", 1);
+  w.parm(0, "FRAME_TYPE", frame_type);
   w.msg(0, "ArduCopter V4.5.1 (abcdef12)");
   w.write(33, {100ull, 10});
   w.write(34, {100ull, 1, 0u, 0, 0});
@@ -64,6 +65,7 @@ int main(int argc, char** argv) {
   const std::string dir = argv[1];
   save(dir, "copter-fmtu.bin", copter(4, true).bytes);
   save(dir, "copter-plain.bin", copter(3, false).bytes);
+  save(dir, "copter-bf-x.bin", copter(3, true, 12).bytes);
   {
     DataflashWriter w;  // every format character, TimeMS, VER
     w.fmt(200, "ALL", "QbBhHiIfdcCeELMq", "TimeUS,b,B,h,H,i,I,f,d,c,C,e,E,L,M,q");

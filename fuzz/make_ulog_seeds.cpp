@@ -18,10 +18,21 @@ void save(const std::string& dir, const std::string& name, const std::vector<std
 }
 
 // The PX4 topics the extractor reads, a few rows of each.
-UlogWriter px4Flight(bool motors, int rows) {
+// With `geometry`, the control allocation's rotor table (PX4 ≥ 1.13), numbered clockwise from the
+// front right rather than PX4's quad-X order, so the extractor maps the motors by it.
+UlogWriter px4Flight(bool motors, int rows, bool geometry = false) {
   UlogWriter w(1, 5000);
   w.flagBits();
   w.info("sys_name", "PX4");
+  if (geometry) {
+    w.paramInt("CA_AIRFRAME", 0);
+    w.paramInt("CA_ROTOR_COUNT", 4);
+    const float rotors[4][3] = {{0.1f, 0.1f, 0.05f}, {-0.1f, 0.1f, -0.05f}, {-0.1f, -0.1f, 0.05f}, {0.1f, -0.1f, -0.05f}};
+    for (int i = 0; i < 4; ++i) {
+      const std::string r = "CA_ROTOR" + std::to_string(i) + "_";
+      w.paramFloat(r + "PX", rotors[i][0]).paramFloat(r + "PY", rotors[i][1]).paramFloat(r + "KM", rotors[i][2]);
+    }
+  }
   w.paramFloat("THR_MDL_FAC", 0.3f);
   w.paramInt("PWM_MAIN_MIN", 1000);
   w.paramInt("PWM_MAIN_MAX", 2000);
@@ -61,6 +72,7 @@ int main(int argc, char** argv) {
   const std::string dir = argv[1];
   save(dir, "px4-actuator-motors.ulg", px4Flight(true, 6).bytes());
   save(dir, "px4-actuator-outputs.ulg", px4Flight(false, 6).bytes());
+  save(dir, "px4-rotor-geometry.ulg", px4Flight(true, 6, true).bytes());
   {
     std::vector<std::uint8_t> b = px4Flight(true, 4).bytes();
     b.resize(b.size() - 7);

@@ -12,6 +12,7 @@
 #include "cli/cli_util.h"
 #include "cli/options.h"
 #include "cli/detection_plot.h"
+#include "core/motor_numbering.h"
 #include "detection/session.h"
 #include "io/atomic_file.h"
 #include "io/calibration_file.h"
@@ -122,7 +123,8 @@ std::string fmtMs(double seconds) {
 // JSON Lines on a stream; warnings on stderr.
 class JsonLinesSink : public DetectionSink {
  public:
-  JsonLinesSink(std::ostream& out, bool quiet, bool severity) : out_(out), quiet_(quiet), severity_(severity) {}
+  JsonLinesSink(std::ostream& out, bool quiet, bool severity, MotorNumbering numbering)
+      : out_(out), quiet_(quiet), severity_(severity), numbering_(std::move(numbering)) {}
   void output(const DetectorOutput& d) override {
     char buf[256];
     const int n = std::snprintf(buf, sizeof buf, "{\"t\": %.10g, \"theta\": [%.4f, %.4f, %.4f, %.4f], \"alarm\": %s, \"motor\": ", d.t,
@@ -137,6 +139,13 @@ class JsonLinesSink : public DetectionSink {
                                                 toString(d.severity), d.theta_est, d.theta_lo, d.theta_hi)
                                 : std::snprintf(more, sizeof more, ", \"severity\": \"healthy\", \"theta_est\": null, \"theta_lo\": null, \"theta_hi\": null");
       out_.write(more, m);
+      // Which motor to look at (added keys): its position, and its number in the autopilot's own
+      // numbering (the log's, else the --vehicle description's, else quadfdi's).
+      if (d.motor > 0)
+        out_ << ", \"motor_position\": \"" << motorPosition(d.motor) << "\", \"autopilot_motor\": "
+             << numbering_.autopilot_motor[static_cast<std::size_t>(d.motor - 1)];
+      else
+        out_ << ", \"motor_position\": null, \"autopilot_motor\": null";
     }
     out_ << "}\n";
   }
@@ -149,6 +158,7 @@ class JsonLinesSink : public DetectionSink {
   std::ostream& out_;
   bool quiet_;
   bool severity_;  // sequential rule: the severity keys
+  MotorNumbering numbering_;
 };
 
 // Keeps every output for the plot, then passes it on.
@@ -231,7 +241,14 @@ int runDetect(const DetectOptions& o) {
   require(o.max_input_period > 0.0 && o.max_gap >= o.max_input_period, "--max-gap must be at least --max-input-period (> 0)");
   // Checked for every input: with a CSV the description only picks the model, and a missing or
   // broken one must be refused ("FILE:LINE: problem"), not read as "no model of its own".
-  if (!o.log.vehicle.empty()) loadVehicleDescription(o.log.vehicle);
+  // The motor numbers a pilot reads: a CSV is in quadfdi's numbering, which the description's
+  // [motor.N] table (its autopilot's numbering) translates; a log's extractor overrides both.
+  MotorNumbering numbering;
+  if (!o.log.vehicle.empty()) {
+    const VehicleDescription vehicle = loadVehicleDescription(o.log.vehicle);
+    numbering.name = vehicle.motor_numbering.substr(0, vehicle.motor_numbering.find(" ("));
+    numbering.autopilot_motor = vehicle.autopilot_motor_of_quadfdi_motor;
+  }
   // The other rule's options are warned about, not refused: a config file may serve both rules.
   if (!o.quiet) {
     const std::string unread = sequential ? firstGiven(o.log.given, {"raise_below", "raise_after", "clear_above"})
@@ -319,6 +336,7 @@ int runDetect(const DetectOptions& o) {
   } else {
     log = openFlightLog(o.input, format, o.log, m.dt, o.max_gap);  // throws one line naming file, byte, topic
     source = log.source.get();
+    numbering = log.source->report().numbering;
     if (!o.quiet)
       for (const std::string& w : log.warnings) std::fprintf(stderr, "detect: warning: %s\n", w.c_str());
   }
@@ -326,7 +344,7 @@ int runDetect(const DetectOptions& o) {
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;
-  JsonLinesSink json(out, o.quiet, sequential);
+  JsonLinesSink json(out, o.quiet, sequential, numbering);
   std::vector<DetectorOutput> recorded;
   RecordingSink sink(json, o.plot.empty() ? nullptr : &recorded);
   SessionConfig session;
@@ -387,6 +405,13 @@ int runDetect(const DetectOptions& o) {
                    "over %ld samples\n",
                    s.first_alarm_motor, s.first_alarm_t, static_cast<double>(s.first_alarm_theta),
                    static_cast<double>(s.lowest_theta), s.alarms_raised, s.alarms_raised == 1 ? "" : "s", s.input_samples);
+    if (s.alarms_raised > 0)
+      std::fprintf(stderr, "detect: motor %d is the %s motor%s\n", s.first_alarm_motor, motorPosition(s.first_alarm_motor),
+                   numbering.name == MotorNumbering{}.name
+                       ? " (quadfdi's numbering: 1 front-right, 2 back-right, 3 back-left, 4 front-left)"
+                       : (": " + numbering.name + " motor " +
+                          std::to_string(numbering.autopilot_motor[static_cast<std::size_t>(s.first_alarm_motor - 1)]))
+                             .c_str());
   }
   return 0;
 }

@@ -7,21 +7,11 @@
 #include <set>
 #include <sstream>
 
+#include "core/motor_numbering.h"
 #include "io/key_value.h"
 
 namespace quadfdi {
 namespace {
-
-// Quadrant of a rotor in the file's FRD frame → quadfdi motor (1 FR, 2 BR, 3 BL, 4 FL).
-int quadfdiMotorAt(double x, double y_right) {
-  if (x > 0.0) return y_right > 0.0 ? 1 : 4;
-  return y_right > 0.0 ? 2 : 3;
-}
-
-const char* quadrantName(int quadfdi_motor) {
-  static const char* names[] = {"front-right", "back-right", "back-left", "front-left"};
-  return names[quadfdi_motor - 1];
-}
 
 std::string percent(double fraction) {
   char buf[32];
@@ -200,11 +190,11 @@ VehicleDescription vehicleDescriptionFromText(const std::string& text, const std
   std::array<int, 4> autopilot_of{0, 0, 0, 0};
   for (int m = 1; m <= 4; ++m) {
     const RotorDescription& rotor = d.rotors[static_cast<std::size_t>(m - 1)];
-    const int q = quadfdiMotorAt(rotor.x, rotor.y);
+    const int q = quadfdiMotorAtFrd(rotor.x, rotor.y);
     int& owner = autopilot_of[static_cast<std::size_t>(q - 1)];
     if (owner != 0)
       r.failAt(line_of[static_cast<std::size_t>(m - 1)],
-               "motors " + std::to_string(owner) + " and " + std::to_string(m) + " are both " + quadrantName(q) +
+               "motors " + std::to_string(owner) + " and " + std::to_string(m) + " are both " + motorPosition(q) +
                    " (duplicate motor position): a quad X has exactly one rotor in each quadrant");
     owner = m;
     d.quadfdi_motor_of_autopilot_motor[static_cast<std::size_t>(m - 1)] = q;
@@ -241,8 +231,8 @@ VehicleDescription vehicleDescriptionFromText(const std::string& text, const std
   auto lineOfQ = [&](int quadfdi_motor) { return line_of[static_cast<std::size_t>(autopilot_of[static_cast<std::size_t>(quadfdi_motor - 1)] - 1)]; };
   for (const auto& [q1, q2] : {std::pair<int, int>{1, 3}, std::pair<int, int>{2, 4}})
     if (spinOf(q1) != spinOf(q2))
-      r.failAt(lineOfQ(q2), "wrong spin pattern: the diagonal rotors " + std::string(quadrantName(q1)) + " (motor " +
-                                std::to_string(autopilot_of[static_cast<std::size_t>(q1 - 1)]) + ") and " + quadrantName(q2) +
+      r.failAt(lineOfQ(q2), "wrong spin pattern: the diagonal rotors " + std::string(motorPosition(q1)) + " (motor " +
+                                std::to_string(autopilot_of[static_cast<std::size_t>(q1 - 1)]) + ") and " + motorPosition(q2) +
                                 " (motor " + std::to_string(autopilot_of[static_cast<std::size_t>(q2 - 1)]) +
                                 ") must spin the same way, or hovering needs a yaw moment");
   if (!spinOf(1))

@@ -14,8 +14,38 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
 
-// quadfdi motor k+1 ← ArduPilot motor kApMotorOf[k] (see the header: 1 FR, 4 BR, 2 BL, 3 FL).
-constexpr std::array<int, kMotors> kApMotorOf = {1, 4, 2, 3};
+// The quad frames ArduPilot flies as an X with the standard spins (front-right and back-left
+// counter-clockwise), which differ only in how the outputs are numbered. Source:
+// AP_MotorsMatrix::setup_quad_matrix (angles clockwise from the nose: 45° front-right, 135°
+// back-right, −135° back-left, −45° front-left) and the motor_frame_type enum of AP_Motors_Class.h.
+struct ApQuadX {
+  int frame_type;                         // [-] FRAME_TYPE
+  const char* name;                       // ArduPilot's frame string
+  std::array<int, kMotors> ap_motor_of;   // [-] ArduPilot motor (1-based) at quadfdi motor k + 1 (FR, BR, BL, FL)
+  const char* layout;                     // for the import report
+};
+constexpr ApQuadX kApQuadX[] = {
+    {1, "X", {1, 4, 2, 3}, "1 FR CCW, 2 BL CCW, 3 FL CW, 4 BR CW"},
+    {12, "BF_X", {2, 1, 3, 4}, "1 BR CW, 2 FR CCW, 3 BL CCW, 4 FL CW (Betaflight's order)"},
+    {13, "DJI_X", {1, 4, 3, 2}, "1 FR CCW, 2 FL CW, 3 BL CCW, 4 BR CW (DJI's order)"},
+    {14, "CW_X", {1, 2, 3, 4}, "1 FR CCW, 2 BR CW, 3 BL CCW, 4 FL CW (clockwise from the front right)"},
+};
+
+// Why another quad frame type is refused, or nullptr for an X above.
+const char* refusedQuadFrame(int frame_type) {
+  switch (frame_type) {
+    case 3: case 18:  // H, BF_X_REV: the X's rotor positions with every spin reversed
+      return "the X's rotor positions with every propeller spinning the other way (props-out: front-right and back-left "
+             "clockwise); quadfdi's model and its trained networks assume the standard pattern, so a mirrored one is "
+             "refused rather than silently mis-isolated";
+    case 0: case 6: case 16: return "a plus frame (rotors on the body axes); quadfdi handles quad X frames";
+    case 17: return "an X without differential yaw torque (NYT_X); quadfdi's model needs the rotors' yaw moments";
+    default:
+      for (const ApQuadX& f : kApQuadX)
+        if (f.frame_type == frame_type) return nullptr;
+      return "not a quad X (ArduPilot's X frames are FRAME_TYPE 1, 12, 13 and 14)";
+  }
+}
 // SRV_Channel::k_motor1 = 33 … k_motor4 = 36 (SERVOn_FUNCTION values).
 constexpr int kServoFunctionMotor1 = 33;
 // RCOU logs outputs C1..C14 (AP_Logger Write_RCOUT).
@@ -108,10 +138,15 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   if (have && frame_class != 1.0)
     return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_CLASS is " + fmt(frame_class) + ", not 1 (quad); only quad X is supported"};
   const double frame_type = param(log, "FRAME_TYPE", 1.0, &have);
-  if (have && frame_type != 1.0)
-    return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_TYPE is " + fmt(frame_type) + ", not 1 (X); only quad X is supported"};
-  out.conventions.push_back(std::string("frame: ArduPilot quad X (FRAME_CLASS 1, FRAME_TYPE 1") +
-                            (have ? ", from the log)" : ", assumed: not in the log)"));
+  const int type = frame_type >= 0.0 && frame_type <= 255.0 && frame_type == std::floor(frame_type) ? static_cast<int>(frame_type) : -1;
+  if (const char* why = refusedQuadFrame(type))
+    return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_TYPE is " + fmt(frame_type) + ": " + why};
+  const ApQuadX* frame = &kApQuadX[0];
+  for (const ApQuadX& f : kApQuadX)
+    if (f.frame_type == type) frame = &f;
+  out.conventions.push_back("frame: ArduPilot quad " + std::string(frame->name) + " (FRAME_CLASS 1, FRAME_TYPE " +
+                            std::to_string(type) + (have ? ", from the log)" : ", assumed: not in the log)"));
+  out.numbering = {"ArduPilot", frame->ap_motor_of};
   out.conventions.push_back("time: TimeUS [µs since boot] → t = TimeUS·1e-6 s");
 
   // Attitude.
@@ -185,7 +220,7 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   std::array<int, kMotors> channel{};
   std::string channel_note;
   for (int k = 0; k < kMotors; ++k) {
-    const int ap_motor = kApMotorOf[static_cast<std::size_t>(k)];
+    const int ap_motor = frame->ap_motor_of[static_cast<std::size_t>(k)];
     int ch = ap_motor;  // default SERVOn_FUNCTION: output n = motor n
     for (int n = 1; n <= kRcouChannels; ++n) {
       bool found = false;
@@ -233,8 +268,8 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   out.command.source = {"RCOU", "C" + std::to_string(channel[0]) + ",C" + std::to_string(channel[1]) + ",C" +
                                     std::to_string(channel[2]) + ",C" + std::to_string(channel[3]),
                         "PWM → thrust fraction (MOT_THST_EXPO curve inverted); AP quad-X order → quadfdi"};
-  out.conventions.push_back("motors: ArduPilot quad X (1 FR CCW, 2 BL CCW, 3 FL CW, 4 BR CW) → quadfdi (1 FR, 2 BR, 3 BL, 4 FL): " +
-                            channel_note);
+  out.conventions.push_back("motors: ArduPilot quad " + std::string(frame->name) + " (" + frame->layout +
+                            ") → quadfdi (1 FR, 2 BR, 3 BL, 4 FL): " + channel_note);
   out.conventions.push_back("commands: RCOU PWM [µs] → a = (pwm − " + fmt(map.pwm_min) + ")/(" + fmt(map.pwm_max) + " − " +
                             fmt(map.pwm_min) + ") (" + pwm_source + "), x = (a − " + fmt(map.spin_min) + ")/(" +
                             fmt(map.spin_max) + " − " + fmt(map.spin_min) + ") in [0, 1] (MOT_SPIN_MIN/MAX " +

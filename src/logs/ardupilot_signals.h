@@ -22,11 +22,14 @@
 //    at 45° front-right CCW, 2 at −135° back-left CCW, 3 at −45° front-left CW, 4 at 135°
 //    back-right CW. quadfdi 1 FR, 2 BR, 3 BL, 4 FL ← ArduPilot motors 1, 4, 2, 3. Spin
 //    directions agree (quadfdi τz = κ(−f1 + f2 − f3 + f4): FR and BL CCW seen from above).
+//    The same X numbered Betaflight's way (FRAME_TYPE 12: ← 2, 1, 3, 4), DJI's (13: ← 1, 4, 3, 2)
+//    or clockwise (14: ← 1, 2, 3, 4) is read too; FlightSignals::numbering keeps ArduPilot's
+//    numbers so that `detect` names the motor as the pilot's autopilot does.
 //  * states: EV Id 10 ARMED, 11 DISARMED, 17 LAND_COMPLETE_MAYBE, 18 LAND_COMPLETE,
 //    28 NOT_LANDED (AP_Logger.h enum LogEvent) and ARM ArmState (1 armed, 0 disarmed); one
 //    FlightStateEvent per change, starting disarmed and landed.
-// A missing ATT, position or RCOU, or a frame that is not quad X (FRAME_CLASS 1, FRAME_TYPE 1
-// where logged), comes back as a LogIssue (status kMissingSignal for a missing message or field, kCorrupt for
+// A missing ATT, position or RCOU, or a frame that is not a quad X with the standard spins
+// (FRAME_CLASS 1, FRAME_TYPE 1, 12, 13 or 14 where logged; H and BF_X_REV are props-out), comes back as a LogIssue (status kMissingSignal for a missing message or field, kCorrupt for
 // unusable parameters or another frame; topic = the message or PARM).
 #pragma once
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/motor_numbering.h"
 #include "core/types.h"
 
 namespace quadfdi {
@@ -48,6 +49,7 @@ struct FlightSignals {
   SignalSeries<3> attitude;        // roll, pitch, yaw [rad], ZYX, body x forward, y left, z up
   SignalSeries<kMotors> command;   // per motor, quadfdi numbering (1 FR, 2 BR, 3 BL, 4 FL)
   CommandKind command_kind = CommandKind::kThrustFraction;
+  MotorNumbering numbering;        // the autopilot's own motor numbers, for reporting a motor to its pilot
   std::vector<FlightStateEvent> states;  // in time order
   std::vector<std::string> conventions;  // one line per convention applied, for the report
 };

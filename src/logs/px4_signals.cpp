@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,8 @@
 // quadfdi (README): 1 front right, 2 back right, 3 back left, 4 front left; yaw torque
 // κ(−f1 + f2 − f3 + f4) makes 1 and 3 the CCW propellers — the same spins as PX4's.
 //   quadfdi 1 (FR) = PX4 1,  quadfdi 2 (BR) = PX4 4,  quadfdi 3 (BL) = PX4 2,  quadfdi 4 (FL) = PX4 3
+// That is the default; a log with the control allocation's geometry (CA_ROTORn_PX/PY/KM) is read
+// by it instead (motorTable below), and FlightSignals::numbering keeps PX4's numbers for reporting.
 //
 // Thrust. PX4 models thrust against the motor signal as rel_thrust = (1 − f)·x + f·x² with
 // f = THR_MDL_FAC and x the normalised signal in [0, 1]. actuator_motors.control is the thrust
@@ -138,23 +141,95 @@ LogIssue extractAttitude(const DecodedLog& log, FlightSignals& out) {
   return {};
 }
 
-std::string motorTable(const Px4SignalOptions& o) {
+std::string motorTableText(const std::array<int, kMotors>& table) {
   std::string s;
   for (int k = 0; k < kMotors; ++k)
-    s += (k ? ", " : "") + std::to_string(k + 1) + "←PX4 " + std::to_string(o.px4_motor_for_quadfdi[static_cast<std::size_t>(k)] + 1);
+    s += (k ? ", " : "") + std::to_string(k + 1) + "←PX4 " + std::to_string(table[static_cast<std::size_t>(k)] + 1);
   return s;
 }
 
-LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options, FlightSignals& out) {
-  for (int index : options.px4_motor_for_quadfdi)
+std::string number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+// The PX4 motor (0-based) at each quadfdi motor, from the control allocation's geometry when the
+// log has it (PX4 ≥ 1.13 logs every parameter: CA_AIRFRAME, CA_ROTOR_COUNT, CA_ROTORn_PX/PY [m,
+// FRD] and CA_ROTORn_KM, positive for a counter-clockwise rotor — PX4 parameter reference), else
+// options.px4_motor_for_quadfdi. So an airframe whose outputs PX4 numbers unlike its quad X is read
+// as it flies, and a frame the model does not describe is refused by its parameters.
+LogIssue motorTable(const DecodedLog& log, const Px4SignalOptions& options, std::array<int, kMotors>& table, std::string& note) {
+  table = options.px4_motor_for_quadfdi;
+  for (int index : table)
     if (index < 0 || index > 15)
       return missing("", "px4_motor_for_quadfdi holds " + std::to_string(index) + ", not a PX4 motor index 0..15", LogStatus::kCorrupt);
+  // A frame the parameters rule out: the log's parameters are the "topic" of the message.
+  const auto refuse = [](const std::string& what) { return LogIssue{LogStatus::kCorrupt, 0, "parameters", what}; };
+  bool found = false;
+  const double count = parameter(log, "CA_ROTOR_COUNT", 0.0, found);
+  if (!options.motor_table_from_parameters || !found) {
+    note = options.motor_table_from_parameters ? " (PX4's quad-X numbering: the log has no CA_ROTOR_COUNT)" : "";
+    return {};
+  }
+  const double airframe = parameter(log, "CA_AIRFRAME", 0.0, found);
+  if (airframe != 0.0)
+    return refuse("CA_AIRFRAME is " + number(airframe) + ", not 0 (multicopter): quadfdi reads quad X multicopters");
+  if (count != 4.0)
+    return refuse("CA_ROTOR_COUNT is " + number(count) + ": quadfdi's model is a quad X (4 rotors)");
+  std::array<int, kMotors> px4_at{-1, -1, -1, -1};
+  std::array<bool, kMotors> ccw{};
+  std::array<bool, kMotors> spin_known{};
+  for (int i = 0; i < kMotors; ++i) {
+    const std::string rotor = "CA_ROTOR" + std::to_string(i) + "_";
+    bool has_x = false, has_y = false, has_km = false;
+    const double x = parameter(log, rotor + "PX", 0.0, has_x);
+    const double y = parameter(log, rotor + "PY", 0.0, has_y);
+    const double km = parameter(log, rotor + "KM", 0.0, has_km);
+    if (!has_x || !has_y)
+      return refuse("CA_ROTOR_COUNT is 4 but the log has no " + rotor + (has_x ? "PY" : "PX"));
+    const int q = quadfdiMotorAtFrd(x, y);
+    if (q == 0)
+      return refuse("rotor " + std::to_string(i) + " (PX4 motor " + std::to_string(i + 1) + ") is at " + rotor + "PX " +
+                             number(x) + ", " + rotor + "PY " + number(y) +
+                             ", on a body axis: quadfdi reads quad X frames, not plus frames");
+    int& owner = px4_at[static_cast<std::size_t>(q - 1)];
+    if (owner >= 0)
+      return refuse("PX4 motors " + std::to_string(owner + 1) + " and " + std::to_string(i + 1) + " are both " +
+                             motorPosition(q) + " (CA_ROTORn_PX/PY): a quad X has one rotor in each quadrant");
+    owner = i;
+    spin_known[static_cast<std::size_t>(q - 1)] = has_km && km != 0.0;
+    ccw[static_cast<std::size_t>(q - 1)] = km > 0.0;
+  }
+  // quadfdi's model (and every trained network): front-right and back-left counter-clockwise.
+  for (int q = 1; q <= kMotors; ++q) {
+    const std::size_t k = static_cast<std::size_t>(q - 1);
+    const bool want_ccw = q == 1 || q == 3;
+    if (spin_known[k] && ccw[k] != want_ccw)
+      return refuse("PX4 motor " + std::to_string(px4_at[k] + 1) + " (" + motorPosition(q) + ") spins " +
+                             (ccw[k] ? "counter-clockwise" : "clockwise") + " (CA_ROTOR" + std::to_string(px4_at[k]) +
+                             "_KM " + (ccw[k] ? "> 0" : "< 0") +
+                             "): quadfdi's model and its trained networks assume the standard quad X pattern "
+                             "(front-right and back-left counter-clockwise seen from above)");
+  }
+  table = px4_at;
+  const bool all_known = spin_known[0] && spin_known[1] && spin_known[2] && spin_known[3];
+  note = std::string(" (from the log's CA_ROTORn_PX/PY") + (all_known ? ", spins checked by CA_ROTORn_KM)" : "; a KM of 0 left a spin unchecked)");
+  return {};
+}
+
+LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options, FlightSignals& out) {
+  std::array<int, kMotors> table{};
+  std::string table_note;
+  if (LogIssue e = motorTable(log, options, table, table_note); !e.ok()) return e;
+  out.numbering.name = "PX4";
+  for (std::size_t k = 0; k < kMotors; ++k) out.numbering.autopilot_motor[k] = table[k] + 1;
   out.command_kind = CommandKind::kThrustFraction;
   std::size_t skipped = 0;
   const LogTopic* motors = options.prefer_actuator_motors ? findNonEmpty(log, "actuator_motors") : nullptr;
   if (motors) {
     std::vector<std::string> names;
-    for (int index : options.px4_motor_for_quadfdi) names.push_back("control[" + std::to_string(index) + "]");
+    for (int index : table) names.push_back("control[" + std::to_string(index) + "]");
     std::vector<const std::vector<double>*> c;
     if (LogIssue e = columnsOf(*motors, names, c); !e.ok()) return e;
     for (std::size_t r = 0; r < motors->rows(); ++r) {
@@ -175,7 +250,7 @@ LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options,
                      "the log has neither actuator_motors nor actuator_outputs (instance " +
                          std::to_string(options.outputs_instance) + ") data (needed for motor commands)");
     std::vector<std::string> names;
-    for (int index : options.px4_motor_for_quadfdi) names.push_back("output[" + std::to_string(index) + "]");
+    for (int index : table) names.push_back("output[" + std::to_string(index) + "]");
     std::vector<const std::vector<double>*> c;
     if (LogIssue e = columnsOf(*outputs, names, c); !e.ok()) return e;
     bool has_factor = false;
@@ -183,7 +258,7 @@ LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options,
     std::array<double, kMotors> lo{}, hi{};
     std::string limits;
     for (std::size_t k = 0; k < kMotors; ++k) {
-      const int channel = options.px4_motor_for_quadfdi[k];
+      const int channel = table[k];
       std::string lo_source, hi_source;
       lo[k] = pwmLimit(log, "MIN", channel, options.default_pwm_min, lo_source);
       hi[k] = pwmLimit(log, "MAX", channel, options.default_pwm_max, hi_source);
@@ -211,7 +286,7 @@ LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options,
                               (has_factor ? "" : options.default_thrust_model_factor == 0.0 ? " (not in the log: assumed 0, linear)"
                                                                               : " (not in the log: the vehicle description's)"));
   }
-  out.conventions.push_back("motors: PX4 quad-X order mapped to quadfdi's: " + motorTable(options));
+  out.conventions.push_back("motors: PX4's numbering mapped to quadfdi's: " + motorTableText(table) + table_note);
   noteSkipped(out, out.command.source.topic, skipped);
   return {};
 }

@@ -17,7 +17,10 @@ struct Px4SignalOptions {
   double default_thrust_model_factor = 0.0;  // [-] THR_MDL_FAC when the log has none (PX4's default 0, linear;
                                              //     a vehicle description's thrust curve, `--vehicle`)
   // PX4 motor (0-based) that drives quadfdi motor k + 1; the default is PX4's quad-X (see the .cpp).
+  // Used when the log has no control-allocation geometry (CA_ROTOR_COUNT, CA_ROTORn_PX/PY/KM), or
+  // when motor_table_from_parameters is false.
   std::array<int, kMotors> px4_motor_for_quadfdi = {0, 3, 1, 2};  // [-] indices into control[] / output[]
+  bool motor_table_from_parameters = true;  // [-] the table from the log's CA_ROTORn_* (PX4 ≥ 1.13) where logged
 };
 
 // Position (vehicle_local_position), attitude (vehicle_attitude), per-motor commands

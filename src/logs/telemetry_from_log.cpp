@@ -151,6 +151,9 @@ std::string ImportReport::text() const {
          " s; " + r.method + (r.source.note.empty() ? "" : "; " + r.source.note) + "\n";
   s += "conventions:\n";
   for (const std::string& c : conventions) s += "  - " + c + "\n";
+  s += "motors (quadfdi's number: position, the autopilot's number):";
+  for (int m = 1; m <= kMotors; ++m) s += std::string(m > 1 ? ";" : "") + " " + std::to_string(m) + ": " + motorForPilot(numbering, m);
+  s += "\n";
   s += "thrust: " + thrust + "\n";
   s += "phases (" + phase_rule + "):\n";
   for (std::size_t i = 0; i < phases.size(); ++i) {
@@ -198,6 +201,7 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
                                                     : "unknown";
   rep.dt = o.dt;
   rep.conventions = signals.conventions;
+  rep.numbering = signals.numbering;
   if (!(o.dt > 0.0)) return {"", "the model's sample period must be > 0"};
 
   // --- Rates. ---

@@ -99,6 +99,7 @@ struct ImportReport {
   std::string format;  // "PX4 ULog", …
   std::vector<SignalReport> signals;
   std::vector<std::string> conventions;  // the extractor's lines, then ours
+  MotorNumbering numbering;              // the autopilot's motor numbers (FlightSignals::numbering)
   std::string thrust;                    // how commands became newtons
   double thrust_factor = 1.0;            // [N] per unit command (1 for kThrustNewton)
   bool hover_calibrated = false;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <utility>
 #include <string>
@@ -59,12 +60,15 @@ TEST(DetectCli, FindsTheFaultyMotorAndWritesOneLinePerSample) {
   EXPECT_EQ(static_cast<int>(json.size()), rows - 99);  // from the first full window on
   EXPECT_EQ(json.front().rfind("{\"t\": 0.198, \"theta\": [", 0), 0u) << json.front();
   EXPECT_NE(json.front().find("\"alarm\": false, \"motor\": null, \"severity\": \"healthy\", \"theta_est\": null, "
-                              "\"theta_lo\": null, \"theta_hi\": null}"),
+                              "\"theta_lo\": null, \"theta_hi\": null, \"motor_position\": null, \"autopilot_motor\": null}"),
             std::string::npos)
       << json.front();
   EXPECT_NE(json.back().find("\"alarm\": true, \"motor\": 3, \"severity\": \"failed\", \"theta_est\": 0."), std::string::npos)
       << json.back();
+  // Which motor to look at: a CSV is in quadfdi's numbering, so its own number and position.
+  EXPECT_NE(json.back().find(", \"motor_position\": \"back-left\", \"autopilot_motor\": 3}"), std::string::npos) << json.back();
   EXPECT_NE(r.out.find(": failed, Θ̂ = 0."), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("detect: motor 3 is the back-left motor (quadfdi's numbering: 1 front-right"), std::string::npos) << r.out;
 }
 
 // Issue 14: the sequential rule adds keys after the four old ones; the persistence rule writes
@@ -369,13 +373,23 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
   ASSERT_EQ(own.exit_code, 0) << own.out;
   EXPECT_NE(own.out.find("/models/tcn-racer250.qfdw (for --vehicle"), std::string::npos) << own.out;
   EXPECT_NE(own.out.find("FAULT in motor 2 at t = 1."), std::string::npos) << own.out.substr(own.out.size() - 400);
+  // The racer's description numbers its motors as Betaflight does: quadfdi's back-right motor 2 is
+  // its motor 1, in the summary and in every alarmed line.
+  EXPECT_NE(own.out.find("detect: motor 2 is the back-right motor: Betaflight QUAD X motor 1\n"), std::string::npos)
+      << own.out.substr(own.out.size() - 400);
+  EXPECT_NE(own.out.find("\"motor_position\": \"back-right\", \"autopilot_motor\": 1}"), std::string::npos);
+  EXPECT_EQ(own.out.find("\"motor_position\": \"back-right\", \"autopilot_motor\": 2}"), std::string::npos);
   // The same description under a name no shipped model has (a user's own vehicle): the general model.
   const std::string mine = temp("my-racer.toml");
   std::ofstream(mine) << readFile(src + "/configs/vehicles/racer250.toml");
   const CommandResult general = run("detect -q --vehicle " + mine + " --input " + csv, false);
   const CommandResult plain = run("detect -q --input " + csv, false);
   ASSERT_EQ(general.exit_code, 0);
-  EXPECT_EQ(general.out, plain.out);  // no shipped model for that file name: the general model, the same output
+  // No shipped model for that file name: the general model, the same output but for the motor
+  // numbers the description's Betaflight numbering gives.
+  const auto withoutAutopilotNumbers = [](std::string s) { return std::regex_replace(s, std::regex(", \"autopilot_motor\": [0-9]"), ""); };
+  EXPECT_NE(general.out, plain.out);
+  EXPECT_EQ(withoutAutopilotNumbers(general.out), withoutAutopilotNumbers(plain.out));
   const CommandResult told = run("detect --vehicle " + mine + " --input " + csv + " --output -", true);
   EXPECT_NE(told.out.find("/models/tcn-randomised.qfdw (the general model: no models/tcn-" +
                              std::filesystem::path(mine).stem().string() + ".qfdw for --vehicle " + mine + ")"),
@@ -383,7 +397,7 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
       << told.out.substr(0, 400);
   const CommandResult named =
       run("detect -q --model " + src + "/models/tcn-randomised.qfdw --vehicle " + src + "/configs/vehicles/racer250.toml --input " + csv, false);
-  EXPECT_EQ(named.out, plain.out);
+  EXPECT_EQ(withoutAutopilotNumbers(named.out), withoutAutopilotNumbers(plain.out));
   EXPECT_NE(named.out, run("detect -q --vehicle " + src + "/configs/vehicles/racer250.toml --input " + csv, false).out);
   // A description that does not read is refused in one line naming it, whatever the input, and
   // an existing output is kept.

@@ -50,6 +50,10 @@ TEST(LogCli, DetectReadsAPx4LogByItsMagicAndNamesTheFaultAndThePhase) {
   const CommandResult r = run("detect --input " + faultyUlog() + " --max-thrust 0.15 --output " + out);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_TRUE(contains(r.out, "FAULT in motor 3 at t = 4.0")) << r.out;
+  // quadfdi's back-left motor 3 is PX4's motor 2: the pilot is told which one to replace.
+  EXPECT_TRUE(contains(r.out, "detect: motor 3 is the back-left motor: PX4 motor 2\n")) << r.out;
+  EXPECT_TRUE(contains(readFile(out), "\"motor\": 3, \"severity\": \"failed\"")) << "no failed line";
+  EXPECT_TRUE(contains(readFile(out), "\"motor_position\": \"back-left\", \"autopilot_motor\": 2}"));
   EXPECT_TRUE(contains(r.out, "PX4 ULog, evaluated 1 of 1 airborne phase")) << r.out;
   EXPECT_TRUE(contains(r.out, "thrust fractions (actuator_motors) × the motor's maximum thrust 0.15 N")) << r.out;
   EXPECT_GT(countLines(readFile(out)), 500);
@@ -78,7 +82,9 @@ TEST(LogCli, ImportWritesCsvThatDetectsTheSameAndPrintsTheReport) {
   ASSERT_EQ(r.exit_code, 0) << r.out;
   for (const char* part : {"format: PX4 ULog", "attitude: vehicle_attitude", "250 Hz", "position: vehicle_local_position",
                            "50.0 Hz", "commands: actuator_motors", "zero-order hold", "thrust: thrust fractions",
-                           "phases (the autopilot's armed/landed events)", "take-off at", "rows written to"})
+                           "phases (the autopilot's armed/landed events)", "take-off at", "rows written to",
+                           "motors (quadfdi's number: position, the autopilot's number): 1: front-right, PX4 motor 1; "
+                           "2: back-right, PX4 motor 4; 3: back-left, PX4 motor 2; 4: front-left, PX4 motor 3\n"})
     EXPECT_TRUE(contains(r.out, part)) << part << "\n" << r.out;
   EXPECT_EQ(readFile(csv).rfind("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n", 0), 0u);
   const CommandResult d = run("detect --input " + csv + " --output " + temp("imported.jsonl"));

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "logs/dataflash.h"
@@ -303,14 +304,53 @@ TEST(ArdupilotSignals, MissingMessagesAreNamed) {
   }
 }
 
-TEST(ArdupilotSignals, OtherFramesAreRefused) {
+TEST(ArdupilotSignals, EveryXNumberingPutsEachMotorInItsQuadrant) {
+  // The same physical X numbered four ways (AP_MotorsMatrix::setup_quad_matrix): the output of the
+  // motor at each quadrant carries that quadrant's PWM, and each must land on quadfdi's motor there.
+  struct Frame {
+    int type;
+    std::array<int, 4> ap_motor_of;  // ArduPilot motor at quadfdi 1 FR, 2 BR, 3 BL, 4 FL
+  };
+  const Frame frames[] = {{1, {1, 4, 2, 3}}, {12, {2, 1, 3, 4}}, {13, {1, 4, 3, 2}}, {14, {1, 2, 3, 4}}};
+  const std::array<int, 4> quadrant_pwm = {1300, 1400, 1500, 1600};  // FR, BR, BL, FL
+  ArdupilotThrustMap map;  // the defaults: the log has no MOT_* parameters
+  for (const Frame& f : frames) {
+    SCOPED_TRACE(f.type);
+    DataflashWriter w = apLog();
+    w.parm(0, "FRAME_CLASS", 1);
+    w.parm(0, "FRAME_TYPE", f.type);
+    std::array<int, 4> outputs{};  // C1..C4 = motors 1..4 (default SERVOn_FUNCTION)
+    for (std::size_t q = 0; q < 4; ++q) outputs[static_cast<std::size_t>(f.ap_motor_of[q] - 1)] = quadrant_pwm[q];
+    att(w, 1000, 0, 0, 0);
+    xkf1(w, 1000, 0, 0, 0, 0);
+    rcou(w, 1000, outputs);
+    FlightSignals s;
+    const LogIssue issue = extract(w, s);
+    ASSERT_TRUE(issue.ok()) << issue.message;
+    for (std::size_t q = 0; q < 4; ++q) EXPECT_DOUBLE_EQ(s.command.v[0][q], map.thrustFraction(quadrant_pwm[q])) << "quadfdi motor " << q + 1;
+    EXPECT_EQ(s.numbering.name, "ArduPilot");
+    EXPECT_EQ(s.numbering.autopilot_motor, f.ap_motor_of);
+  }
+}
+
+TEST(ArdupilotSignals, FramesTheModelDoesNotDescribeAreRefused) {
+  const std::pair<int, const char*> cases[] = {
+      {3, "props-out"}, {18, "props-out"}, {0, "plus frame"}, {17, "NYT_X"}, {19, "not a quad X"}, {2, "not a quad X"}};
+  for (const auto& [type, expect] : cases) {
+    SCOPED_TRACE(type);
+    DataflashWriter w = completeLog();
+    w.parm(0, "FRAME_TYPE", type);
+    FlightSignals s;
+    const LogIssue issue = extract(w, s);
+    EXPECT_EQ(issue.status, LogStatus::kCorrupt);
+    EXPECT_EQ(issue.topic, "PARM");
+    EXPECT_NE(issue.message.find("FRAME_TYPE is " + std::to_string(type) + ": "), std::string::npos) << issue.message;
+    EXPECT_NE(issue.message.find(expect), std::string::npos) << issue.message;
+  }
   DataflashWriter w = completeLog();
-  w.parm(0, "FRAME_TYPE", 13);  // DJI X: another motor numbering
+  w.parm(0, "FRAME_CLASS", 2);  // hexa
   FlightSignals s;
-  const LogIssue issue = extract(w, s);
-  EXPECT_EQ(issue.status, LogStatus::kCorrupt);
-  EXPECT_EQ(issue.topic, "PARM");
-  EXPECT_NE(issue.message.find("FRAME_TYPE"), std::string::npos);
+  EXPECT_NE(extract(w, s).message.find("FRAME_CLASS is 2"), std::string::npos);
 }
 
 TEST(ArdupilotSignals, NonIncreasingTimesAreDropped) {

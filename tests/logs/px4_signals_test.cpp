@@ -146,6 +146,106 @@ TEST(Px4Signals, ActuatorMotorsInQuadfdiOrder) {
   EXPECT_EQ(s.command.v[1][3], 0.0);  // negative (reverse) clamped
 }
 
+// The control allocation's geometry as PX4 ≥ 1.13 logs it: rotor i at (px, py) [m, FRD], km > 0
+// counter-clockwise.
+struct Rotor {
+  float px, py, km;
+};
+UlogWriter withGeometry(const std::vector<Rotor>& rotors, int airframe = 0) {
+  UlogWriter w;
+  w.paramInt("CA_AIRFRAME", airframe);
+  w.paramInt("CA_ROTOR_COUNT", static_cast<std::int32_t>(rotors.size()));
+  for (std::size_t i = 0; i < rotors.size(); ++i) {
+    const std::string r = "CA_ROTOR" + std::to_string(i) + "_";
+    w.paramFloat(r + "PX", rotors[i].px).paramFloat(r + "PY", rotors[i].py).paramFloat(r + "KM", rotors[i].km);
+  }
+  return w;
+}
+
+Px4Flight twoLevelSamples() {
+  Px4Flight f;
+  f.attitude.assign(2, px4Quaternion(0, 0, 0));
+  f.ned = {{0, 0, 0}, {0, 0, 0}};
+  f.motors = {{0.1f, 0.2f, 0.3f, 0.4f}, {0.1f, 0.2f, 0.3f, 0.4f}};
+  return f;
+}
+
+TEST(Px4Signals, MotorTableFromTheLogsRotorGeometry) {
+  // PX4's own quad X (the gz_x500 airframe's numbers): the same table as the default.
+  {
+    LogIssue issue;
+    const FlightSignals s = extract(
+        writeFlight(twoLevelSamples(), withGeometry({{0.13f, 0.22f, 0.05f}, {-0.13f, -0.20f, 0.05f}, {0.13f, -0.22f, -0.05f}, {-0.13f, 0.20f, -0.05f}})),
+        issue);
+    ASSERT_TRUE(issue.ok()) << issue.message;
+    EXPECT_EQ(s.numbering.name, "PX4");
+    EXPECT_EQ(s.numbering.autopilot_motor, (std::array<int, 4>{1, 4, 2, 3}));
+    EXPECT_FLOAT_EQ(static_cast<float>(s.command.v[0][1]), 0.4f);  // back-right = PX4 motor 4
+  }
+  // A custom airframe numbered clockwise from the front right: motor i + 1 is quadfdi's i + 1.
+  {
+    LogIssue issue;
+    const FlightSignals s = extract(
+        writeFlight(twoLevelSamples(), withGeometry({{0.1f, 0.1f, 0.05f}, {-0.1f, 0.1f, -0.05f}, {-0.1f, -0.1f, 0.05f}, {0.1f, -0.1f, -0.05f}})),
+        issue);
+    ASSERT_TRUE(issue.ok()) << issue.message;
+    EXPECT_EQ(s.numbering.autopilot_motor, (std::array<int, 4>{1, 2, 3, 4}));
+    for (std::size_t k = 0; k < 4; ++k) EXPECT_FLOAT_EQ(static_cast<float>(s.command.v[0][k]), 0.1f * static_cast<float>(k + 1));
+    bool noted = false;
+    for (const std::string& c : s.conventions) noted = noted || c.find("CA_ROTORn_PX/PY") != std::string::npos;
+    EXPECT_TRUE(noted);
+  }
+  // No geometry in the log (PX4 before 1.13): PX4's quad-X table, said so.
+  {
+    LogIssue issue;
+    const FlightSignals s = extract(writeFlight(twoLevelSamples()), issue);
+    ASSERT_TRUE(issue.ok()) << issue.message;
+    EXPECT_EQ(s.numbering.autopilot_motor, (std::array<int, 4>{1, 4, 2, 3}));
+    bool noted = false;
+    for (const std::string& c : s.conventions) noted = noted || c.find("PX4's quad-X numbering: the log has no CA_ROTOR_COUNT") != std::string::npos;
+    EXPECT_TRUE(noted);
+  }
+}
+
+TEST(Px4Signals, FramesTheModelDoesNotDescribeAreRefusedByTheirParameters) {
+  const std::vector<Rotor> x = {{0.13f, 0.22f, 0.05f}, {-0.13f, -0.20f, 0.05f}, {0.13f, -0.22f, -0.05f}, {-0.13f, 0.20f, -0.05f}};
+  struct Case {
+    UlogWriter writer;
+    const char* expect;
+  };
+  std::vector<Rotor> hexa = x;
+  hexa.push_back({0.0f, 0.25f, 0.05f});
+  hexa.push_back({0.0f, -0.25f, -0.05f});
+  std::vector<Rotor> plus = x;
+  plus[0] = {0.25f, 0.0f, 0.05f};
+  std::vector<Rotor> twice = x;
+  twice[3] = {0.13f, 0.22f, -0.05f};  // a second front-right rotor
+  std::vector<Rotor> props_out = x;
+  for (Rotor& r : props_out) r.km = -r.km;
+  const Case cases[] = {
+      {withGeometry(hexa), "CA_ROTOR_COUNT is 6"},
+      {withGeometry(x, 2), "CA_AIRFRAME is 2"},
+      {withGeometry(plus), "on a body axis"},
+      {withGeometry(twice), "PX4 motors 1 and 4 are both front-right"},
+      {withGeometry(props_out), "PX4 motor 1 (front-right) spins clockwise"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.expect);
+    LogIssue issue;
+    extract(writeFlight(twoLevelSamples(), c.writer), issue);
+    EXPECT_EQ(issue.status, LogStatus::kCorrupt);
+    EXPECT_EQ(issue.topic, "parameters");
+    EXPECT_NE(issue.message.find(c.expect), std::string::npos) << issue.message;
+  }
+  // Asked not to read the geometry: the configured table, whatever the parameters say.
+  Px4SignalOptions o;
+  o.motor_table_from_parameters = false;
+  LogIssue issue;
+  const FlightSignals s = extract(writeFlight(twoLevelSamples(), withGeometry(hexa)), issue, o);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  EXPECT_EQ(s.numbering.autopilot_motor, (std::array<int, 4>{1, 4, 2, 3}));
+}
+
 TEST(Px4Signals, ActuatorOutputsPwmAndThrustModel) {
   Px4Flight f;
   f.with_motors = false;
