@@ -38,6 +38,7 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
     const Severity expected = is_failed ? Severity::kFailed : Severity::kDegraded;
     bool found_degraded = false, found_failed = false;
     const long false_alarms_before = r.false_alarms;
+    bool degraded_alarm_open = false;  // a false alarm raised as degraded has not escalated yet
     for (long k = 0; k < static_cast<long>(f.theta.size()); ++k) {
       const SequentialStatus status = rule.update(
           f.theta[static_cast<std::size_t>(k)], 1, f.observable.empty() ? kAllMotorsObservable : f.observable[static_cast<std::size_t>(k)]);
@@ -50,7 +51,14 @@ SequentialEvaluation evaluateSequential(const std::vector<FlightThetaStream>& fl
         r.false_alarms_at_start += raised && k < config.start_samples;
         r.false_alarms_failed += raised && s.severity == Severity::kFailed;
         if (raised) r.false_alarm_list.push_back({flight, k, s.motor, s.severity, s.theta_est});
-        r.false_escalations += status == SequentialStatus::kEscalated;
+        // Once per alarm raised as degraded: a failed alarm that returns to degraded and fails again
+        // is not a new escalation.
+        if (raised) degraded_alarm_open = s.severity == Severity::kDegraded;
+        if (status == SequentialStatus::kCleared) degraded_alarm_open = false;
+        if (status == SequentialStatus::kEscalated && degraded_alarm_open) {
+          ++r.false_escalations;
+          degraded_alarm_open = false;
+        }
         continue;
       }
       const long since = k - truth.fault_sample;

@@ -73,7 +73,7 @@ struct SequentialEvaluation {
   // What a pilot would have been told: a false `failed` asks for a landing now, a false `degraded`
   // for a check after the flight, so the two are counted apart.
   long false_alarms_failed = 0;       // … of false_alarms, raised straight at `failed`
-  long false_escalations = 0;         // escalations degraded → failed in healthy time
+  long false_escalations = 0;         // false alarms raised as degraded that escalated to failed (once each)
   double healthy_hours = 0.0;         // [h] healthy flight time
   double false_alarms_per_hour = 0.0;       // [1/h]
   double false_alarms_upper_bound = 0.0;    // [1/h] one-sided Poisson (Garwood) bound at `confidence`

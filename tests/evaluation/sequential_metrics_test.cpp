@@ -182,6 +182,26 @@ TEST(SequentialEvaluation, FalseAlarmsAreSplitBySeverity) {
   EXPECT_TRUE(faulty.false_alarm_list.empty());
 }
 
+// An alarm that returns from failed to degraded and fails again is one alarm: "escalated" counts
+// the false alarms raised as degraded that reached failed, not every degraded → failed step.
+TEST(SequentialEvaluation, AnAlarmEscalatesOnceHoweverOftenItFlaps) {
+  SequentialEvaluationConfig c = handCountConfig();
+  c.rule.clear_after = 50;
+  Rng rng(4, 0);
+  FlightThetaStream f = flight(1000, 0, 1.0, -1, 0.0, 0.0, rng);
+  // Motor 2: a deep dip, 80 samples between the levels (back to degraded), a second deep dip.
+  for (int k = 100; k < 300; ++k) f.theta[static_cast<std::size_t>(k)][1] = (k < 120 || (k >= 200 && k < 220)) ? 0.0f : 0.5f;
+  const SequentialEvaluation equal = evaluateSequential({f}, c);  // raised degraded, escalated, back, again
+  EXPECT_EQ(equal.false_alarms, 1);
+  EXPECT_EQ(equal.false_alarms_failed, 0);
+  EXPECT_EQ(equal.false_escalations, 1);
+  c.rule.failed_threshold = 0.5;  // raised straight at failed, back to degraded, failed again
+  const SequentialEvaluation low = evaluateSequential({f}, c);
+  EXPECT_EQ(low.false_alarms, 1);
+  EXPECT_EQ(low.false_alarms_failed, 1);
+  EXPECT_EQ(low.false_escalations, 0);
+}
+
 TEST(SequentialEvaluation, TheIntervalCoversTheTruthAtItsNominalRate) {
   // Noise matching the rule's noise model, no model error: the 90 % interval must cover Θ in
   // 85–95 % of the samples after the fault has been flown through.
