@@ -68,7 +68,8 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
       "columns ignored; any rate down to 125 Hz, resampled to the model's) or a flight log (PX4 ULog,\n"
       "ArduPilot DataFlash, Crazyflie micro-SD: recognised from its content, airborne phases only), writes\n"
       "one JSON object per sample from the first full window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"}\n"
-      "and, with the sequential rule (default), \"severity\", \"theta_est\", \"theta_lo\", \"theta_hi\". A summary goes to stderr.");
+      "and, with the sequential rule (default), \"severity\", \"theta_est\", \"theta_lo\", \"theta_hi\", \"motor_position\",\n"
+      "\"autopilot_motor\". A summary goes to stderr.");
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->add("--model,-m", o.model,
@@ -107,6 +108,11 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   t->add("--max-input-period", o.max_input_period, "Refuse logs sampled coarser than this [s]").above(0.0);
   t->add("--max-gap", o.max_gap, "A longer hole in the log restarts the detector [s]").above(0.0);
   t->add("--quiet,-q", o.quiet, "No summary or warnings on stderr (errors still go there)");
+  t->add("--csv-numbering", o.csv_numbering,
+         "Telemetry CSV: whose motor numbers u1..u4 are in: quadfdi (1 front-right, 2 back-right, 3 back-left, 4 "
+         "front-left) or vehicle (the --vehicle description's [motor.N] numbering, e.g. PX4's, as a simulator of that "
+         "autopilot writes them); outputs keep quadfdi's `motor` and add the vehicle's `autopilot_motor`")
+      .choices({"quadfdi", "vehicle"});
   addLogInputOptions(*t, o.log);
   attachOptions(*cmd, t);
   return cmd;
@@ -159,6 +165,28 @@ class JsonLinesSink : public DetectionSink {
   bool quiet_;
   bool severity_;  // sequential rule: the severity keys
   MotorNumbering numbering_;
+};
+
+// A telemetry CSV written in an autopilot's motor numbering (--csv-numbering vehicle): u1..u4
+// reordered into quadfdi's, quadfdi motor k + 1 taking the column of autopilot motor
+// autopilot_motor[k]. Everything else passes through.
+class RenumberedSource : public SampleSource {
+ public:
+  RenumberedSource(SampleSource& in, const std::array<int, kMotors>& autopilot_motor) : in_(in), autopilot_motor_(autopilot_motor) {}
+  Next next(TelemetrySample& sample, std::string& problem) override {
+    const Next n = in_.next(sample, problem);
+    if (n == Next::kSample) {
+      const std::array<double, kInputDim> u = sample.u;
+      for (std::size_t k = 0; k < kMotors; ++k) sample.u[k] = u[static_cast<std::size_t>(autopilot_motor_[k] - 1)];
+    }
+    return n;
+  }
+  std::string where() const override { return in_.where(); }
+  bool moreReady() const override { return in_.moreReady(); }
+
+ private:
+  SampleSource& in_;
+  std::array<int, kMotors> autopilot_motor_;
 };
 
 // Keeps every output for the plot, then passes it on.
@@ -239,7 +267,7 @@ int runDetect(const DetectOptions& o) {
   require(o.watch >= o.raise_below, "--watch must not be below --raise-below (the alarm must be decided at full rate)");
   require(!o.failed_below || !o.degraded_below || *o.failed_below < *o.degraded_below, "--failed-below must be below --degraded-below");
   require(o.max_input_period > 0.0 && o.max_gap >= o.max_input_period, "--max-gap must be at least --max-input-period (> 0)");
-  // Checked for every input: with a CSV the description only picks the model, and a missing or
+  // Checked for every input: with a CSV the description picks the model and numbers the motors, and a missing or
   // broken one must be refused ("FILE:LINE: problem"), not read as "no model of its own".
   // The motor numbers a pilot reads: a CSV is in quadfdi's numbering, which the description's
   // [motor.N] table (its autopilot's numbering) translates; a log's extractor overrides both.
@@ -249,6 +277,11 @@ int runDetect(const DetectOptions& o) {
     numbering.name = vehicle.motor_numbering.substr(0, vehicle.motor_numbering.find(" ("));
     numbering.autopilot_motor = vehicle.autopilot_motor_of_quadfdi_motor;
   }
+  const bool renumber = o.csv_numbering == "vehicle";  // checked before any work or message
+  if (renumber && o.log.vehicle.empty())
+    throw ConfigError("--csv-numbering vehicle: needs --vehicle FILE, whose [motor.N] sections give the numbering");
+  if (const std::string format = renumber ? resolveInputFormat(o.input, o.log.format) : "csv"; format != "csv")
+    throw ConfigError("--csv-numbering: reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering");
   // The other rule's options are warned about, not refused: a config file may serve both rules.
   if (!o.quiet) {
     const std::string unread = sequential ? firstGiven(o.log.given, {"raise_below", "raise_after", "clear_above"})
@@ -313,17 +346,18 @@ int runDetect(const DetectOptions& o) {
   const bool live = o.input == "-";
   const std::string format = resolveInputFormat(o.input, o.log.format);
   refuseOptionsUnreadBy(format, o.log);
-  // With a telemetry CSV a vehicle description only chooses the model and its calibration: say so
+  // With a telemetry CSV a vehicle description chooses the model and its calibration (and numbers the motors): say so
   // when it chose neither, rather than let it look as if the detector knew the airframe.
-  if (!o.quiet && format == "csv" && !o.log.vehicle.empty() && choice.source != DetectModelChoice::Source::kVehicle &&
+  if (!o.quiet && format == "csv" && !o.log.vehicle.empty() && !renumber && choice.source != DetectModelChoice::Source::kVehicle &&
       choice.source != DetectModelChoice::Source::kGeneral && !vehicle_calibration)
-    std::fprintf(stderr, "detect: warning: --vehicle %s is not used: the model is given and has no calibration for it (%s); "
-                         "calibrate one (quadfdi calibrate --randomise … --vehicle) or drop --vehicle\n",
+    std::fprintf(stderr, "detect: warning: --vehicle %s only names the motors in its numbering: the model is given and has no "
+                         "calibration for it (%s); calibrate one (quadfdi calibrate --randomise … --vehicle)\n",
                  o.log.vehicle.c_str(), vehicleCalibrationPath(model_path, o.log.vehicle).c_str());
   std::ios::sync_with_stdio(false);  // buffered standard input: the reader asks it what is waiting
   std::ifstream file;
   const std::string name = live ? std::string("<stdin>") : o.input;
   std::unique_ptr<TelemetryReader> csv;
+  std::unique_ptr<RenumberedSource> renumbered;
   OpenedLog log;
   SampleSource* source = nullptr;
   if (format == "csv") {
@@ -333,6 +367,12 @@ int runDetect(const DetectOptions& o) {
     }
     csv = std::make_unique<TelemetryReader>(live ? std::cin : file, name);  // throws on an empty file or a bad header
     source = csv.get();
+    // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
+    if (csv->numbering() && !renumber) numbering = *csv->numbering();
+    if (renumber) {
+      renumbered = std::make_unique<RenumberedSource>(*csv, numbering.autopilot_motor);
+      source = renumbered.get();
+    }
   } else {
     log = openFlightLog(o.input, format, o.log, m.dt, o.max_gap);  // throws one line naming file, byte, topic
     source = log.source.get();

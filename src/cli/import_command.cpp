@@ -37,7 +37,7 @@ int runImport(const ImportCommandOptions& o) {
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;
-  writeTelemetryCsvHeader(out);
+  writeTelemetryCsvHeader(out, log.source->report().numbering);  // detect reads the autopilot's motor numbers back
   TelemetrySample s;
   std::string problem;
   long rows = 0, skipped = 0;

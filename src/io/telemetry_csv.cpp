@@ -14,7 +14,14 @@ void put(std::ostream& out, double v) {
 
 }  // namespace
 
-void writeTelemetryCsvHeader(std::ostream& out) { out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n"; }
+void writeTelemetryCsvHeader(std::ostream& out, const MotorNumbering& numbering) {
+  if (numbering.name != MotorNumbering{}.name) {
+    out << "# motor_numbering: " << numbering.name << " =";
+    for (int m : numbering.autopilot_motor) out << ' ' << m;
+    out << '\n';
+  }
+  out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n";
+}
 
 void writeTelemetryCsvRow(std::ostream& out, const TelemetrySample& s) {
   put(out, s.t);

@@ -4,6 +4,7 @@
 
 #include <ostream>
 
+#include "core/motor_numbering.h"
 #include "core/types.h"
 #include "simulation/closed_loop.h"
 
@@ -20,7 +21,10 @@ void writeTelemetryCsv(std::ostream& out, const FlightLog& log, const TelemetryC
 
 // The same columns one sample at a time (converted flight logs, `quadfdi import`): the header
 // t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4, then one row per sample, numbers as above.
-void writeTelemetryCsvHeader(std::ostream& out);
+// With `numbering` other than quadfdi's own, a comment line before the header records the
+// autopilot's number of each column's motor, "# motor_numbering: PX4 = 1 4 2 3" (u1..u4 stay in
+// quadfdi's order), which `detect` reads back to name motors as the pilot's autopilot does.
+void writeTelemetryCsvHeader(std::ostream& out, const MotorNumbering& numbering = {});
 void writeTelemetryCsvRow(std::ostream& out, const TelemetrySample& sample);
 
 }  // namespace quadfdi

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 #include <vector>
 
 namespace quadfdi {
@@ -43,13 +44,38 @@ bool TelemetryReader::readLine(std::string& text) {
     ++line_;
     if (line_ == 1 && text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);  // BOM
     const std::string t = trim(text);
+    if (!t.empty() && t[0] == '#' && column_[0] < 0) readNumberingComment(t);  // before the header only
     if (t.empty() || t[0] == '#') continue;
     return true;
   }
   return false;
 }
 
+// "# motor_numbering: NAME = A B C D": A..D a permutation of 1..4 (the autopilot's numbers of
+// quadfdi's motors 1..4). Other comments are ignored; this one, malformed, is an error.
+void TelemetryReader::readNumberingComment(const std::string& comment) {
+  static const std::string kKey = "motor_numbering:";
+  const std::string body = trim(comment.substr(1));
+  if (body.compare(0, kKey.size(), kKey) != 0) return;
+  const std::string value = body.substr(kKey.size());
+  const std::size_t eq = value.rfind('=');
+  const std::string bad = where() + ": '# motor_numbering: NAME = A B C D' expects the autopilot's numbers of quadfdi's motors 1..4 (a "
+                                    "permutation of 1 2 3 4), got '" + trim(value) + "'";
+  if (eq == std::string::npos || trim(value.substr(0, eq)).empty()) throw TelemetryError(bad);
+  MotorNumbering n;
+  n.name = trim(value.substr(0, eq));
+  std::istringstream numbers(value.substr(eq + 1));
+  std::array<bool, kMotors> seen{};
+  for (int& m : n.autopilot_motor) {
+    if (!(numbers >> m) || m < 1 || m > kMotors || seen[static_cast<std::size_t>(m - 1)]) throw TelemetryError(bad);
+    seen[static_cast<std::size_t>(m - 1)] = true;
+  }
+  if (std::string rest; numbers >> rest) throw TelemetryError(bad);
+  numbering_ = n;
+}
+
 TelemetryReader::TelemetryReader(std::istream& in, std::string name) : in_(in), name_(std::move(name)) {
+  column_.fill(-1);  // no header yet: readLine takes the numbering comment until it is read
   std::string header;
   if (!readLine(header)) throw TelemetryError(name_ + ": empty input (expected the header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4)");
   std::vector<std::string> cells;

@@ -4,10 +4,12 @@
 
 #include <array>
 #include <istream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "core/motor_numbering.h"
 #include "core/sample_source.h"
 
 namespace quadfdi {
@@ -34,18 +36,23 @@ class TelemetryReader : public SampleSource {
   bool moreReady() const override;  // standard input: buffered or pollable data; files: always
 
   long line() const { return line_; }  // 1-based number of the last line read
+  // The "# motor_numbering: NAME = A B C D" comment before the header (writeTelemetryCsvHeader),
+  // if the file has one: the autopilot's numbers of quadfdi's motors 1..4.
+  const std::optional<MotorNumbering>& numbering() const { return numbering_; }
   const std::string& name() const { return name_; }
 
   static const char* const kRequiredColumns[11];  // t, x, y, z, roll, pitch, yaw, u1 … u4
 
  private:
   bool readLine(std::string& text);
+  void readNumberingComment(const std::string& comment);
   std::istream& in_;
   std::string name_;
   long line_ = 0;
   int cells_ = 0;                 // columns in the header
   std::array<int, 11> column_{};  // cell index of each required column
   std::vector<std::string> cells_buffer_;
+  std::optional<MotorNumbering> numbering_;
 };
 
 }  // namespace quadfdi

@@ -39,6 +39,10 @@ std::vector<std::string> lines(const std::string& text) {
   return out;
 }
 
+// Detector output with the motor numbers of a --vehicle description's numbering left out: what
+// must not change when the description only renames the motors.
+std::string withoutAutopilotNumbers(const std::string& s) { return std::regex_replace(s, std::regex(", \"autopilot_motor\": [0-9]"), ""); }
+
 // A faulty flight of motor 3 (complete failure at 1.0 s), simulated once for the suite.
 const std::string& faultyCsv() {
   static const std::string path = [] {
@@ -361,6 +365,54 @@ TEST(DetectCli, APipelineFromSimulateGivesTheFileModeOutput) {
   EXPECT_EQ(file.out, pipe.out);
 }
 
+// A simulator of another autopilot writes u1..u4 in that autopilot's numbering. Read as quadfdi's,
+// the commands land on the wrong rotors and the alarm names the wrong motor; with
+// --csv-numbering vehicle the description's [motor.N] table reorders them, and the output is the
+// quadfdi-ordered file's byte for byte.
+TEST(DetectCli, ACsvInTheVehiclesOwnNumberingIsReorderedByItsDescription) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string vehicle = src + "/configs/vehicles/quad450.toml";  // written in PX4's numbering
+  const std::string ours = temp("quad-quadfdi-order.csv"), px4 = temp("quad-px4-order.csv");
+  ASSERT_EQ(run("simulate --controller pid --params " + vehicle + " --motor 2 --theta 0 --fault-step 500 --steps 1000 --seed 3 "
+                "--output " + ours).exit_code, 0);
+  {
+    // PX4 motor m sits at quadfdi motor (1, 3, 4, 2)[m − 1]: write column u_m from that one.
+    const int quadfdi_of_px4[] = {1, 3, 4, 2};
+    std::istringstream in(readFile(ours));
+    std::ofstream out(px4);
+    std::string line;
+    std::getline(in, line);
+    ASSERT_EQ(line, "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4");
+    out << line << "\n";
+    while (std::getline(in, line)) {
+      std::vector<std::string> cells;
+      std::istringstream row(line);
+      for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+      ASSERT_EQ(cells.size(), 11u);
+      std::vector<std::string> reordered = cells;
+      for (int m = 0; m < 4; ++m) reordered[static_cast<std::size_t>(7 + m)] = cells[static_cast<std::size_t>(6 + quadfdi_of_px4[m])];
+      for (std::size_t i = 0; i < reordered.size(); ++i) out << (i ? "," : "") << reordered[i];
+      out << "\n";
+    }
+  }
+  const CommandResult reference = run("detect -q --vehicle " + vehicle + " --input " + ours, false);
+  const CommandResult reordered = run("detect -q --vehicle " + vehicle + " --csv-numbering vehicle --input " + px4, false);
+  ASSERT_EQ(reference.exit_code, 0);
+  ASSERT_EQ(reordered.exit_code, 0);
+  EXPECT_EQ(reordered.out, reference.out);
+  EXPECT_NE(reference.out.find("\"motor\": 2, \"severity\": \"failed\""), std::string::npos);
+  EXPECT_NE(reference.out.find("\"motor_position\": \"back-right\", \"autopilot_motor\": 4}"), std::string::npos);
+  // Unread, the PX4 order names another motor.
+  const CommandResult misread = run("detect -q --vehicle " + vehicle + " --input " + px4, false);
+  ASSERT_EQ(misread.exit_code, 0);
+  EXPECT_EQ(misread.out.find("\"motor\": 2, \"severity\": \"failed\""), std::string::npos);
+  // Refused, in one line, without a description (on a flight log: LogCli.CsvNumberingOnALogIsRefused).
+  const CommandResult alone = run("detect --csv-numbering vehicle --input " + ours);
+  EXPECT_EQ(alone.exit_code, 1);
+  EXPECT_NE(alone.out.find("--csv-numbering vehicle: needs --vehicle FILE"), std::string::npos) << alone.out;
+  EXPECT_EQ(countLines(alone.out), 1) << alone.out;
+}
+
 // Issue 13: a library vehicle is detected with its own shipped model (models/tcn-STEM.qfdw), a
 // vehicle without one with the general model; --model still wins. A racer flown by the PID that
 // loses half of motor 2's thrust (quadfdi numbering) at 1 s is found by its own model.
@@ -387,7 +439,6 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
   ASSERT_EQ(general.exit_code, 0);
   // No shipped model for that file name: the general model, the same output but for the motor
   // numbers the description's Betaflight numbering gives.
-  const auto withoutAutopilotNumbers = [](std::string s) { return std::regex_replace(s, std::regex(", \"autopilot_motor\": [0-9]"), ""); };
   EXPECT_NE(general.out, plain.out);
   EXPECT_EQ(withoutAutopilotNumbers(general.out), withoutAutopilotNumbers(plain.out));
   const CommandResult told = run("detect --vehicle " + mine + " --input " + csv + " --output -", true);
@@ -429,14 +480,17 @@ TEST(DetectCli, AVehicleRunsTheModelsCalibrationForIt) {
   const CommandResult picked = run(base + " --vehicle " + racer, true);
   ASSERT_EQ(picked.exit_code, 0) << picked.out.substr(0, 400);
   EXPECT_NE(picked.out.find("detect: calibration " + own + " (for --vehicle " + racer + ")"), std::string::npos) << picked.out.substr(0, 400);
-  EXPECT_TRUE(run(base + " -q --vehicle " + racer, false).out == run(base + " -q --calibration " + own, false).out);
+  EXPECT_TRUE(withoutAutopilotNumbers(run(base + " -q --vehicle " + racer, false).out) ==
+              withoutAutopilotNumbers(run(base + " -q --calibration " + own, false).out));
   const CommandResult other = run(base + " -q --vehicle " + src + "/configs/vehicles/crazyflie2.toml", false);  // no file for it
   EXPECT_TRUE(other.out == run(base + " -q --calibration " + sidecar, false).out);
   EXPECT_TRUE(other.out != run(base + " -q --calibration " + own, false).out);
-  // A vehicle that chose neither the model (--model is given) nor a calibration is said to be unused.
+  // A vehicle that chose neither the model (--model is given) nor a calibration is said to only
+  // name the motors.
   const std::string crazyflie = src + "/configs/vehicles/crazyflie2.toml";
-  EXPECT_NE(run(base + " --vehicle " + crazyflie, true).out.find("detect: warning: --vehicle " + crazyflie + " is not used"), std::string::npos);
-  EXPECT_EQ(picked.out.find("is not used"), std::string::npos);
+  EXPECT_NE(run(base + " --vehicle " + crazyflie, true).out.find("detect: warning: --vehicle " + crazyflie + " only names the motors"),
+            std::string::npos);
+  EXPECT_EQ(picked.out.find("only names the motors"), std::string::npos);
 }
 
 TEST(DetectCli, AHealthyFlightRaisesNoAlarm) {

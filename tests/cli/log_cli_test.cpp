@@ -69,6 +69,14 @@ TEST(LogCli, AHealthyCrazyflieFlightFromTheGroundRaisesNoAlarmAndNamesItsPhase) 
   EXPECT_TRUE(contains(r.out, "the log's commands are thrust per motor in newtons")) << r.out;
 }
 
+TEST(LogCli, CsvNumberingOnALogIsRefused) {
+  const std::string vehicle = std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/quad450.toml";
+  const CommandResult r = run("detect --input " + faultyUlog() + " --vehicle " + vehicle + " --csv-numbering vehicle");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, "--csv-numbering: reads a telemetry CSV; a ulog log carries its autopilot's own motor numbering")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+}
+
 TEST(LogCli, FormatCsvOnALogSaysWhatTheFileIs) {
   const CommandResult r = run("detect --format csv --input " + faultyUlog());
   EXPECT_EQ(r.exit_code, 1);
@@ -86,9 +94,11 @@ TEST(LogCli, ImportWritesCsvThatDetectsTheSameAndPrintsTheReport) {
                            "motors (quadfdi's number: position, the autopilot's number): 1: front-right, PX4 motor 1; "
                            "2: back-right, PX4 motor 4; 3: back-left, PX4 motor 2; 4: front-left, PX4 motor 3\n"})
     EXPECT_TRUE(contains(r.out, part)) << part << "\n" << r.out;
-  EXPECT_EQ(readFile(csv).rfind("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n", 0), 0u);
+  // The log's motor numbering rides along in a comment, so detect names the motor as on the log.
+  EXPECT_EQ(readFile(csv).rfind("# motor_numbering: PX4 = 1 4 2 3\nt,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n", 0), 0u);
   const CommandResult d = run("detect --input " + csv + " --output " + temp("imported.jsonl"));
   ASSERT_EQ(d.exit_code, 0) << d.out;
+  EXPECT_TRUE(contains(d.out, "detect: motor 3 is the back-left motor: PX4 motor 2\n")) << d.out;
   const CommandResult l = run("detect --input " + faultyUlog() + " --max-thrust 0.15 --output " + temp("direct.jsonl"));
   const auto fault = [](const std::string& s) { return s.substr(s.find("FAULT in motor"), 32); };
   ASSERT_TRUE(contains(d.out, "FAULT in motor")) << d.out;

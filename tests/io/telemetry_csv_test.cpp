@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <sstream>
+#include <string>
 
 #include "io/key_value.h"
 #include "io/telemetry_csv.h"
@@ -66,6 +68,38 @@ TEST(TelemetryCsv, SampleRowsReadBackExactlyThroughTheReader) {
   EXPECT_EQ(b.y, a.y);
   EXPECT_EQ(b.u, a.u);
   EXPECT_EQ(reader.next(b, problem), SampleSource::Next::kEnd);
+}
+
+// A converted log keeps its autopilot's motor numbers in a comment before the header, which the
+// reader gives back; quadfdi's own numbering writes none.
+TEST(TelemetryCsv, TheMotorNumberingCommentRoundTrips) {
+  std::stringstream plain;
+  writeTelemetryCsvHeader(plain);
+  EXPECT_EQ(plain.str(), "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
+  EXPECT_FALSE(TelemetryReader(plain, "plain.csv").numbering());
+  std::stringstream px4;
+  writeTelemetryCsvHeader(px4, MotorNumbering{"PX4 quad X", {1, 4, 2, 3}});
+  EXPECT_EQ(px4.str(), "# motor_numbering: PX4 quad X = 1 4 2 3\nt,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
+  const TelemetryReader reader(px4, "px4.csv");
+  ASSERT_TRUE(reader.numbering());
+  EXPECT_EQ(reader.numbering()->name, "PX4 quad X");
+  EXPECT_EQ(reader.numbering()->autopilot_motor, (std::array<int, 4>{1, 4, 2, 3}));
+  // Only before the header; other comments are ignored.
+  std::stringstream late("# a note\nt,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n# motor_numbering: PX4 = 1 4 2 3\n");
+  EXPECT_FALSE(TelemetryReader(late, "late.csv").numbering());
+}
+
+TEST(TelemetryCsv, AMalformedNumberingCommentNamesItsLine) {
+  for (const char* value : {"PX4 = 1 4 2", "PX4 = 1 4 2 2", "PX4 = 1 4 2 5", "= 1 2 3 4", "PX4 1 4 2 3", "PX4 = 1 4 2 3 1", "PX4 = a b c d"}) {
+    SCOPED_TRACE(value);
+    std::stringstream in(std::string("# exported\n# motor_numbering: ") + value + "\nt,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
+    try {
+      TelemetryReader reader(in, "bad.csv");
+      ADD_FAILURE() << "accepted";
+    } catch (const TelemetryError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("bad.csv:2: '# motor_numbering: NAME = A B C D' expects", 0), 0u) << e.what();
+    }
+  }
 }
 
 }  // namespace
