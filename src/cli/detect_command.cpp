@@ -447,7 +447,7 @@ int runDetect(const DetectOptions& o) {
                    static_cast<double>(s.lowest_theta), s.alarms_raised, s.alarms_raised == 1 ? "" : "s", s.input_samples);
     if (s.alarms_raised > 0)
       std::fprintf(stderr, "detect: motor %d is the %s motor%s\n", s.first_alarm_motor, motorPosition(s.first_alarm_motor),
-                   numbering.name == MotorNumbering{}.name
+                   numbering.isQuadfdis()
                        ? " (quadfdi's numbering: 1 front-right, 2 back-right, 3 back-left, 4 front-left)"
                        : (": " + numbering.name + " motor " +
                           std::to_string(numbering.autopilot_motor[static_cast<std::size_t>(s.first_alarm_motor - 1)]))

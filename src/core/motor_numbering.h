@@ -15,6 +15,7 @@ namespace quadfdi {
 struct MotorNumbering {
   std::string name = "quadfdi";  // whose numbers: "PX4", "ArduPilot", "Crazyflie", a vehicle's motor_numbering
   std::array<int, kMotors> autopilot_motor{1, 2, 3, 4};  // [-] that numbering's motor (1-based) for quadfdi motor k + 1
+  bool isQuadfdis() const { return name == "quadfdi"; }  // no autopilot's numbering is known
 };
 
 // "front-right", "back-right", "back-left", "front-left" for quadfdi motor 1..4; "" otherwise.
@@ -27,7 +28,7 @@ inline const char* motorPosition(int quadfdi_motor) {
 // the position alone under quadfdi's own numbering.
 inline std::string motorForPilot(const MotorNumbering& numbering, int quadfdi_motor) {
   std::string s = motorPosition(quadfdi_motor);
-  if (quadfdi_motor < 1 || quadfdi_motor > kMotors || numbering.name == MotorNumbering{}.name) return s;
+  if (quadfdi_motor < 1 || quadfdi_motor > kMotors || numbering.isQuadfdis()) return s;
   return s + ", " + numbering.name + " motor " + std::to_string(numbering.autopilot_motor[static_cast<std::size_t>(quadfdi_motor - 1)]);
 }
 

@@ -15,7 +15,7 @@ void put(std::ostream& out, double v) {
 }  // namespace
 
 void writeTelemetryCsvHeader(std::ostream& out, const MotorNumbering& numbering) {
-  if (numbering.name != MotorNumbering{}.name) {
+  if (!numbering.isQuadfdis()) {
     out << "# motor_numbering: " << numbering.name << " =";
     for (int m : numbering.autopilot_motor) out << ' ' << m;
     out << '\n';

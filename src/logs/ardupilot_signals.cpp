@@ -31,7 +31,14 @@ constexpr ApQuadX kApQuadX[] = {
     {14, "CW_X", {1, 2, 3, 4}, "1 FR CCW, 2 BR CW, 3 BL CCW, 4 FL CW (clockwise from the front right)"},
 };
 
-// Why another quad frame type is refused, or nullptr for an X above.
+// The X above with FRAME_TYPE `frame_type`, or nullptr.
+const ApQuadX* quadX(int frame_type) {
+  for (const ApQuadX& f : kApQuadX)
+    if (f.frame_type == frame_type) return &f;
+  return nullptr;
+}
+
+// Why a quad frame type that is not one of the Xs above is refused.
 const char* refusedQuadFrame(int frame_type) {
   switch (frame_type) {
     case 3: case 18:  // H, BF_X_REV: the X's rotor positions with every spin reversed
@@ -40,12 +47,10 @@ const char* refusedQuadFrame(int frame_type) {
              "refused rather than silently mis-isolated";
     case 0: case 6: case 16: return "a plus frame (rotors on the body axes); quadfdi handles quad X frames";
     case 17: return "an X without differential yaw torque (NYT_X); quadfdi's model needs the rotors' yaw moments";
-    default:
-      for (const ApQuadX& f : kApQuadX)
-        if (f.frame_type == frame_type) return nullptr;
-      return "not a quad X (ArduPilot's X frames are FRAME_TYPE 1, 12, 13 and 14)";
+    default: return "not a quad X (ArduPilot's X frames are FRAME_TYPE 1, 12, 13 and 14)";
   }
 }
+
 // SRV_Channel::k_motor1 = 33 … k_motor4 = 36 (SERVOn_FUNCTION values).
 constexpr int kServoFunctionMotor1 = 33;
 // RCOU logs outputs C1..C14 (AP_Logger Write_RCOUT).
@@ -62,12 +67,6 @@ double wrapPi(double a) {
   a = std::fmod(a + kPi, 2.0 * kPi);
   if (a < 0) a += 2.0 * kPi;
   return a - kPi;
-}
-
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
 }
 
 LogIssue missing(const std::string& topic, const std::string& what) {
@@ -136,14 +135,11 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   bool have = false;
   const double frame_class = param(log, "FRAME_CLASS", 1.0, &have);
   if (have && frame_class != 1.0)
-    return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_CLASS is " + fmt(frame_class) + ", not 1 (quad); only quad X is supported"};
+    return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_CLASS is " + shortNumber(frame_class) + ", not 1 (quad); only quad X is supported"};
   const double frame_type = param(log, "FRAME_TYPE", 1.0, &have);
   const int type = frame_type >= 0.0 && frame_type <= 255.0 && frame_type == std::floor(frame_type) ? static_cast<int>(frame_type) : -1;
-  if (const char* why = refusedQuadFrame(type))
-    return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_TYPE is " + fmt(frame_type) + ": " + why};
-  const ApQuadX* frame = &kApQuadX[0];
-  for (const ApQuadX& f : kApQuadX)
-    if (f.frame_type == type) frame = &f;
+  const ApQuadX* frame = quadX(type);
+  if (!frame) return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_TYPE is " + shortNumber(frame_type) + ": " + refusedQuadFrame(type)};
   out.conventions.push_back("frame: ArduPilot quad " + std::string(frame->name) + " (FRAME_CLASS 1, FRAME_TYPE " +
                             std::to_string(type) + (have ? ", from the log)" : ", assumed: not in the log)"));
   out.numbering = {"ArduPilot", frame->ap_motor_of};
@@ -257,8 +253,8 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   map.expo = param(log, "MOT_THST_EXPO", options.thrust_expo, &expo_found);
   if (!(map.pwm_max > map.pwm_min) || !(map.spin_max > map.spin_min) || !std::isfinite(map.expo))
     return LogIssue{LogStatus::kCorrupt, 0, "PARM",
-                    "motor output range unusable: PWM " + fmt(map.pwm_min) + ".." + fmt(map.pwm_max) + ", spin " +
-                        fmt(map.spin_min) + ".." + fmt(map.spin_max) + ", expo " + fmt(map.expo)};
+                    "motor output range unusable: PWM " + shortNumber(map.pwm_min) + ".." + shortNumber(map.pwm_max) + ", spin " +
+                        shortNumber(map.spin_min) + ".." + shortNumber(map.spin_max) + ", expo " + shortNumber(map.expo)};
   for (std::size_t r : usableRows(*rcou, nullptr, 0.0, dropped)) {
     std::array<double, kMotors> u{};
     for (std::size_t k = 0; k < u.size(); ++k) u[k] = map.thrustFraction(pwm[k][r]);
@@ -270,11 +266,11 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
                         "PWM → thrust fraction (MOT_THST_EXPO curve inverted); AP quad-X order → quadfdi"};
   out.conventions.push_back("motors: ArduPilot quad " + std::string(frame->name) + " (" + frame->layout +
                             ") → quadfdi (1 FR, 2 BR, 3 BL, 4 FL): " + channel_note);
-  out.conventions.push_back("commands: RCOU PWM [µs] → a = (pwm − " + fmt(map.pwm_min) + ")/(" + fmt(map.pwm_max) + " − " +
-                            fmt(map.pwm_min) + ") (" + pwm_source + "), x = (a − " + fmt(map.spin_min) + ")/(" +
-                            fmt(map.spin_max) + " − " + fmt(map.spin_min) + ") in [0, 1] (MOT_SPIN_MIN/MAX " +
+  out.conventions.push_back("commands: RCOU PWM [µs] → a = (pwm − " + shortNumber(map.pwm_min) + ")/(" + shortNumber(map.pwm_max) + " − " +
+                            shortNumber(map.pwm_min) + ") (" + pwm_source + "), x = (a − " + shortNumber(map.spin_min) + ")/(" +
+                            shortNumber(map.spin_max) + " − " + shortNumber(map.spin_min) + ") in [0, 1] (MOT_SPIN_MIN/MAX " +
                             (smin_found && smax_found ? "from the log" : "defaults") + "), thrust fraction = (1 − e)x + e·x², e = " +
-                            fmt(std::clamp(map.expo, -1.0, 1.0)) + " (MOT_THST_EXPO " + (expo_found ? "from the log" : "default") +
+                            shortNumber(std::clamp(map.expo, -1.0, 1.0)) + " (MOT_THST_EXPO " + (expo_found ? "from the log" : "default") +
                             "); battery voltage compensation not modelled");
 
   // Armed / landed states.

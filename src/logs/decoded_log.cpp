@@ -1,5 +1,7 @@
 #include "logs/decoded_log.h"
 
+#include <cstdio>
+
 namespace quadfdi {
 
 const char* toString(LogFormat f) {
@@ -53,6 +55,12 @@ const LogTopic* DecodedLog::find(const std::string& name, int instance) const {
   for (const LogTopic& t : topics)
     if (t.name == name && t.instance == instance) return &t;
   return nullptr;
+}
+
+std::string shortNumber(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
 }
 
 }  // namespace quadfdi

@@ -27,6 +27,9 @@ const char* toString(LogFormat f);
 enum class FieldType { kInt8, kUInt8, kInt16, kUInt16, kInt32, kUInt32, kInt64, kUInt64, kFloat, kDouble, kBool, kChar };
 const char* toString(FieldType t);
 
+// A parameter or field value in a message, printed the shortest way ("%g": 1, 0.15, 1e+06).
+std::string shortNumber(double v);
+
 struct LogField {
   std::string name;        // arrays are flattened: "q[0]" … "q[3]"
   FieldType type = FieldType::kFloat;

@@ -148,12 +148,6 @@ std::string motorTableText(const std::array<int, kMotors>& table) {
   return s;
 }
 
-std::string number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
 // The PX4 motor (0-based) at each quadfdi motor, from the control allocation's geometry when the
 // log has it (PX4 ≥ 1.13 logs every parameter: CA_AIRFRAME, CA_ROTOR_COUNT, CA_ROTORn_PX/PY [m,
 // FRD] and CA_ROTORn_KM, positive for a counter-clockwise rotor — PX4 parameter reference), else
@@ -174,9 +168,9 @@ LogIssue motorTable(const DecodedLog& log, const Px4SignalOptions& options, std:
   }
   const double airframe = parameter(log, "CA_AIRFRAME", 0.0, found);
   if (airframe != 0.0)
-    return refuse("CA_AIRFRAME is " + number(airframe) + ", not 0 (multicopter): quadfdi reads quad X multicopters");
+    return refuse("CA_AIRFRAME is " + shortNumber(airframe) + ", not 0 (multicopter): quadfdi reads quad X multicopters");
   if (count != 4.0)
-    return refuse("CA_ROTOR_COUNT is " + number(count) + ": quadfdi's model is a quad X (4 rotors)");
+    return refuse("CA_ROTOR_COUNT is " + shortNumber(count) + ": quadfdi's model is a quad X (4 rotors)");
   std::array<int, kMotors> px4_at{-1, -1, -1, -1};
   std::array<bool, kMotors> ccw{};
   std::array<bool, kMotors> spin_known{};
@@ -191,7 +185,7 @@ LogIssue motorTable(const DecodedLog& log, const Px4SignalOptions& options, std:
     const int q = quadfdiMotorAtFrd(x, y);
     if (q == 0)
       return refuse("rotor " + std::to_string(i) + " (PX4 motor " + std::to_string(i + 1) + ") is at " + rotor + "PX " +
-                             number(x) + ", " + rotor + "PY " + number(y) +
+                             shortNumber(x) + ", " + rotor + "PY " + shortNumber(y) +
                              ", on a body axis: quadfdi reads quad X frames, not plus frames");
     int& owner = px4_at[static_cast<std::size_t>(q - 1)];
     if (owner >= 0)
