@@ -106,8 +106,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const DetectorConfig config = configFor(size > 0 ? data[0] : 0, live, tcn);
   std::istringstream in(fuzz::text(data, size));
   std::vector<TelemetrySample> samples;
+  // quadfdi's frames or NED (detect --csv-frame), by the input's length.
+  const TelemetryFrame frame = size % 2 != 0 ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
   try {
-    TelemetryReader reader(in, "fuzz.csv");
+    TelemetryReader reader(in, "fuzz.csv", frame);
     TelemetrySample sample;
     std::string problem;
     for (;;) {
@@ -125,16 +127,27 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.csv", 0) == 0);
   }
   // Grid samples: finite, in time order (a restart only moves the grid forward). The resampler
-  // alone also takes samples after one it refused.
+  // alone also takes samples after one it refused. A few bridged holes make tens of thousands of
+  // grid samples, each a network evaluation below: the input is cut after the row that passes
+  // kMaxGridSamples (one 10 s hole at 0.5 ms fits), so no input runs into libFuzzer's timeout and
+  // the fuzzer spends its time on many inputs rather than a few long ones.
+  constexpr long kMaxGridSamples = 30000;
   Resampler resampler(config.resampler);
   double last_grid_t = -std::numeric_limits<double>::infinity();
-  for (const TelemetrySample& sample : samples)
-    resampler.push(sample, [&](const TelemetrySample& s) {
+  long grid_samples = 0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    resampler.push(samples[i], [&](const TelemetrySample& s) {
       QUADFDI_FUZZ_CHECK(std::isfinite(s.t) && s.t > last_grid_t);
       for (double v : s.y) QUADFDI_FUZZ_CHECK(std::isfinite(v));
       for (double v : s.u) QUADFDI_FUZZ_CHECK(std::isfinite(v));
       last_grid_t = s.t;
+      ++grid_samples;
     });
+    if (grid_samples > kMaxGridSamples) {
+      samples.resize(i + 1);
+      break;
+    }
+  }
   // As `quadfdi detect`: one detection session, which stops at a refused sample.
   std::unique_ptr<Detector> detector;
   try {

@@ -64,9 +64,10 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "detect",
       "Online fault detection on flight telemetry (docs/conventions.md): reads the CSV t,x,y,z,roll,pitch,yaw,u1..u4\n"
-      "(SI units, z up, ZYX Euler angles, u = commanded thrust per motor [N], Crazyflie numbering; extra\n"
-      "columns ignored; any rate down to 125 Hz, resampled to the model's) or a flight log (PX4 ULog,\n"
-      "ArduPilot DataFlash, Crazyflie micro-SD: recognised from its content, airborne phases only), writes\n"
+      "(SI units, z up or --csv-frame ned, ZYX Euler angles or a quaternion qw,qx,qy,qz, u = commanded thrust per\n"
+      "motor [N], Crazyflie numbering; extra columns ignored; any rate down to 125 Hz, resampled to the model's)\n"
+      "or a flight log (PX4 ULog, ArduPilot DataFlash, Crazyflie micro-SD: recognised from its content, airborne\n"
+      "phases only), writes\n"
       "one JSON object per sample from the first full window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"}\n"
       "and, with the sequential rule (default), \"severity\", \"theta_est\", \"theta_lo\", \"theta_hi\", \"motor_position\",\n"
       "\"autopilot_motor\". A summary goes to stderr.");
@@ -113,6 +114,11 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
          "front-left) or vehicle (the --vehicle description's [motor.N] numbering, e.g. PX4's, as a simulator of that "
          "autopilot writes them); outputs keep quadfdi's `motor` and add the vehicle's `autopilot_motor`")
       .choices({"quadfdi", "vehicle"});
+  t->add("--csv-frame", o.csv_frame,
+         "Telemetry CSV: the frames of its position and attitude: zup (quadfdi's: world z up, body x forward, y left, z "
+         "up) or ned (world north, east, down, body forward, right, down: PX4, ArduPilot, AirSim, PX4's Gazebo bridge); "
+         "either way the attitude may be roll,pitch,yaw (ZYX Euler) or qw,qx,qy,qz (quaternion, body → world)")
+      .choices({"zup", "ned"});
   addLogInputOptions(*t, o.log);
   attachOptions(*cmd, t);
   return cmd;
@@ -280,8 +286,10 @@ int runDetect(const DetectOptions& o) {
   const bool renumber = o.csv_numbering == "vehicle";  // checked before any work or message
   if (renumber && o.log.vehicle.empty())
     throw ConfigError("--csv-numbering vehicle: needs --vehicle FILE, whose [motor.N] sections give the numbering");
-  if (const std::string format = renumber ? resolveInputFormat(o.input, o.log.format) : "csv"; format != "csv")
-    throw ConfigError("--csv-numbering: reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering");
+  const bool ned = o.csv_frame == "ned";
+  if (const std::string format = renumber || ned ? resolveInputFormat(o.input, o.log.format) : "csv"; format != "csv")
+    throw ConfigError(renumber ? "--csv-numbering: reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering"
+                               : "--csv-frame: reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows");
   // The other rule's options are warned about, not refused: a config file may serve both rules.
   if (!o.quiet) {
     const std::string unread = sequential ? firstGiven(o.log.given, {"raise_below", "raise_after", "clear_above"})
@@ -365,7 +373,7 @@ int runDetect(const DetectOptions& o) {
       file.open(o.input);
       require(file.is_open(), o.input + ": cannot open");
     }
-    csv = std::make_unique<TelemetryReader>(live ? std::cin : file, name);  // throws on an empty file or a bad header
+    csv = std::make_unique<TelemetryReader>(live ? std::cin : file, name, ned ? TelemetryFrame::kNed : TelemetryFrame::kZUp);  // throws on an empty file or a bad header
     source = csv.get();
     // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
     if (csv->numbering() && !renumber) numbering = *csv->numbering();

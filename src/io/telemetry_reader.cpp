@@ -36,8 +36,12 @@ void split(const std::string& line, std::vector<std::string>& cells) {
 
 }  // namespace
 
-const char* const TelemetryReader::kRequiredColumns[11] = {"t",   "x",     "y",   "z",  "roll", "pitch",
-                                                           "yaw", "u1",    "u2",  "u3", "u4"};
+const char* const TelemetryReader::kColumns[15] = {"t",   "x",  "y",  "z",  "roll", "pitch", "yaw", "u1",
+                                                  "u2",  "u3", "u4", "qw", "qx",   "qy",    "qz"};
+
+namespace {
+constexpr int kRoll = 4, kQw = 11;  // indices into kColumns
+}  // namespace
 
 bool TelemetryReader::readLine(std::string& text) {
   while (std::getline(in_, text)) {
@@ -74,25 +78,37 @@ void TelemetryReader::readNumberingComment(const std::string& comment) {
   numbering_ = n;
 }
 
-TelemetryReader::TelemetryReader(std::istream& in, std::string name) : in_(in), name_(std::move(name)) {
+TelemetryReader::TelemetryReader(std::istream& in, std::string name, TelemetryFrame frame)
+    : in_(in), name_(std::move(name)), frame_(frame) {
   column_.fill(-1);  // no header yet: readLine takes the numbering comment until it is read
   std::string header;
   if (!readLine(header)) throw TelemetryError(name_ + ": empty input (expected the header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4)");
   std::vector<std::string> cells;
   split(header, cells);
   cells_ = static_cast<int>(cells.size());
-  column_.fill(-1);
   for (int c = 0; c < cells_; ++c)
-    for (int r = 0; r < 11; ++r)
-      if (cells[static_cast<std::size_t>(c)] == kRequiredColumns[r]) {
+    for (int r = 0; r < 15; ++r)
+      if (cells[static_cast<std::size_t>(c)] == kColumns[r]) {
         if (column_[static_cast<std::size_t>(r)] >= 0)
-          throw TelemetryError(where() + ": column '" + kRequiredColumns[r] + "' appears twice in the header");
+          throw TelemetryError(where() + ": column '" + kColumns[r] + "' appears twice in the header");
         column_[static_cast<std::size_t>(r)] = c;
       }
-  for (int r = 0; r < 11; ++r)
-    if (column_[static_cast<std::size_t>(r)] < 0)
-      throw TelemetryError(where() + ": the header lacks column '" + kRequiredColumns[r] +
-                           "' (needs t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4; others are ignored)");
+  auto has = [&](int r) { return column_[static_cast<std::size_t>(r)] >= 0; };
+  // The attitude: Euler angles when the header names any of them (all three then needed), else
+  // the quaternion, whole (an absent attitude is reported as Euler's first column).
+  quaternion_ = !has(kRoll) && !has(kRoll + 1) && !has(kRoll + 2) && (has(kQw) || has(kQw + 1) || has(kQw + 2) || has(kQw + 3));
+  for (int r = 0; r < 15; ++r)
+    if (!has(r) && isRead(r)) {
+      const std::string needs = quaternion_ ? "t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4" : "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4";
+      throw TelemetryError(where() + ": the header lacks column '" + kColumns[r] + "' (needs " + needs +
+                           (quaternion_ ? "" : ", or qw,qx,qy,qz for the attitude") + "; others are ignored)");
+    }
+}
+
+bool TelemetryReader::isRead(int column) const {
+  if (column >= kRoll && column < kRoll + 3) return !quaternion_;
+  if (column >= kQw) return quaternion_;
+  return true;
 }
 
 SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& problem) {
@@ -105,47 +121,75 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
   split(text, cells);
   if (static_cast<int>(cells.size()) != cells_)
     throw TelemetryError(where() + ": " + std::to_string(cells.size()) + " cells, the header has " + std::to_string(cells_));
-  double values[11];
-  for (int r = 0; r < 11; ++r) {
+  double values[15];
+  for (int r = 0; r < 15; ++r) {
+    if (!isRead(r)) continue;
     const std::string& cell = cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])];
     if (cell.empty()) {
-      problem = where() + ": column '" + kRequiredColumns[r] + "' is empty; row skipped";
+      problem = where() + ": column '" + kColumns[r] + "' is empty; row skipped";
       return Row::kSkipped;
     }
     char* end = nullptr;
     errno = 0;
     const double v = std::strtod(cell.c_str(), &end);
     if (end == cell.c_str() || *end != '\0')
-      throw TelemetryError(where() + ": column '" + kRequiredColumns[r] + "': '" + cell.substr(0, 40) + "' is not a number");
+      throw TelemetryError(where() + ": column '" + kColumns[r] + "': '" + cell.substr(0, 40) + "' is not a number");
     if (!std::isfinite(v)) {
-      problem = where() + ": column '" + kRequiredColumns[r] + "' is " + cell + "; row skipped";
+      problem = where() + ": column '" + kColumns[r] + "' is " + cell + "; row skipped";
       return Row::kSkipped;
     }
     if (std::abs(v) > kMaxMagnitude) {  // finite in a double, but no telemetry: it would overflow the network's floats
-      problem = where() + ": column '" + kRequiredColumns[r] + "' = " + cell.substr(0, 40) + " is out of range; row skipped";
+      problem = where() + ": column '" + kColumns[r] + "' = " + cell.substr(0, 40) + " is out of range; row skipped";
       return Row::kSkipped;
     }
     values[r] = v;
   }
-  // ZYX Euler angles in radians have roll in [−π, π] and pitch in [−π/2, π/2], whatever the flight:
-  // a value outside is another unit or convention (degrees, most often), not a manoeuvre, and
-  // read as radians it would be a tumbling vehicle. Refused, naming the line.
-  constexpr double kSlack = 1e-6;  // [rad] round-off of converters (asin, atan2 of a unit quaternion)
   auto cellOf = [&](int r) { return cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])].substr(0, 40); };
-  const bool pitch_out = std::abs(values[5]) > M_PI / 2 + kSlack;
-  if (pitch_out || std::abs(values[4]) > M_PI + kSlack)
-    throw TelemetryError(where() + ": " + (pitch_out ? "pitch = " + cellOf(5) + " is outside ±π/2" : "roll = " + cellOf(4) + " is outside ±π") +
-                         ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? multiply by π/180; docs/conventions.md)");
+  EulerZyx attitude;
+  if (quaternion_) {
+    const double w = values[kQw], x = values[kQw + 1], y = values[kQw + 2], z = values[kQw + 3];
+    const double norm = std::sqrt(w * w + x * x + y * y + z * z);
+    if (norm == 0.0) {  // written before an estimator's first attitude
+      problem = where() + ": the quaternion qw,qx,qy,qz is zero; row skipped";
+      return Row::kSkipped;
+    }
+    // A quaternion written rounded to 4–5 digits is unit within 1e-4; one off by more than 1 % is
+    // no attitude quaternion (another column, another quantity) and is refused.
+    constexpr double kNormTolerance = 0.01;  // [-]
+    if (std::abs(norm - 1.0) > kNormTolerance)
+      throw TelemetryError(where() + ": qw,qx,qy,qz = " + cellOf(kQw) + "," + cellOf(kQw + 1) + "," + cellOf(kQw + 2) + "," +
+                           cellOf(kQw + 3) + " is no unit quaternion (norm " + std::to_string(norm) +
+                           "): the attitude is the Hamilton quaternion (w, x, y, z) of the body → world rotation (docs/conventions.md)");
+    attitude = eulerZyxFromUnitQuaternion(w / norm, x / norm, y / norm, z / norm);
+  } else {
+    // ZYX Euler angles in radians have roll in [−π, π] and pitch in [−π/2, π/2], whatever the flight:
+    // a value outside is another unit or convention (degrees, most often), not a manoeuvre, and
+    // read as radians it would be a tumbling vehicle. Refused, naming the line.
+    constexpr double kSlack = 1e-6;  // [rad] round-off of converters (asin, atan2 of a unit quaternion)
+    const bool pitch_out = std::abs(values[kRoll + 1]) > M_PI / 2 + kSlack;
+    if (pitch_out || std::abs(values[kRoll]) > M_PI + kSlack)
+      throw TelemetryError(where() + ": " + (pitch_out ? "pitch = " + cellOf(kRoll + 1) + " is outside ±π/2" : "roll = " + cellOf(kRoll) + " is outside ±π") +
+                           ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? multiply by π/180; docs/conventions.md)");
+    attitude = {values[kRoll], values[kRoll + 1], values[kRoll + 2]};
+  }
   // Commands in newtons per motor: the largest quadrotor motors make ~100 N (10 kg of thrust), so
   // hundreds are another unit (PWM µs, a raw 0–65535 command), which the thrust map must convert.
   constexpr double kMaxMotorThrust = 500.0;  // [N] five times the largest heavy-lift motor's thrust
   for (int r = 7; r < 11; ++r)
     if (std::abs(values[r]) > kMaxMotorThrust)
-      throw TelemetryError(where() + ": column '" + kRequiredColumns[r] + "' = " + cellOf(r) +
+      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellOf(r) +
                            " is no thrust in newtons (over 500 N a motor): PWM or a raw motor command? convert it with the "
                            "motor's thrust map (docs/conventions.md)");
   sample.t = values[0];
-  for (int i = 0; i < 6; ++i) sample.y[static_cast<std::size_t>(i)] = values[1 + i];
+  if (frame_ == TelemetryFrame::kNed) {  // north, east, down and FRD → north, west, up and FLU
+    sample.y = {values[1], -values[2], -values[3]};
+    attitude = turnedAboutX(attitude);
+  } else {
+    sample.y = {values[1], values[2], values[3]};
+  }
+  sample.y[3] = attitude.roll;
+  sample.y[4] = attitude.pitch;
+  sample.y[5] = attitude.yaw;
   for (int i = 0; i < 4; ++i) sample.u[static_cast<std::size_t>(i)] = values[7 + i];
   return Row::kSample;
 }

@@ -1,5 +1,8 @@
 // Reading flight telemetry (docs/conventions.md) for the detector: header names the columns (any order,
 // extra columns ignored), one sample per row. Rows are read one at a time so a live pipe works.
+// Attitude comes as ZYX Euler angles (roll, pitch, yaw) or, where those are absent, as a unit
+// quaternion (qw, qx, qy, qz); position and attitude in quadfdi's frames or in NED/FRD, which
+// the reader turns into quadfdi's (core/frames.h).
 #pragma once
 
 #include <array>
@@ -9,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/frames.h"
 #include "core/motor_numbering.h"
 #include "core/sample_source.h"
 
@@ -23,14 +27,16 @@ class TelemetryError : public std::runtime_error {
 class TelemetryReader : public SampleSource {
  public:
   // Reads the header (blank lines and lines starting with '#' are skipped). Throws TelemetryError
-  // for an empty input or a header without the required columns.
-  TelemetryReader(std::istream& in, std::string name);
+  // for an empty input or a header without the required columns. `frame`: the frames of the
+  // columns' position and attitude.
+  TelemetryReader(std::istream& in, std::string name, TelemetryFrame frame = TelemetryFrame::kZUp);
 
   using Row = SampleSource::Next;
   // kSample: `sample` holds the row; kSkipped: a NaN, infinite, empty or absurd (|v| > 1e9) cell,
   // `problem` says which, the row is dropped; kEnd.
 
-  // Throws TelemetryError for a row that is not telemetry (wrong cell count, text in a number).
+  // Throws TelemetryError for a row that is not telemetry (wrong cell count, text in a number, an
+  // angle or command out of range, a quaternion far from unit norm).
   Next next(TelemetrySample& sample, std::string& problem) override;
   std::string where() const override { return name_ + ":" + std::to_string(line_); }
   bool moreReady() const override;  // standard input: buffered or pollable data; files: always
@@ -40,17 +46,23 @@ class TelemetryReader : public SampleSource {
   // if the file has one: the autopilot's numbers of quadfdi's motors 1..4.
   const std::optional<MotorNumbering>& numbering() const { return numbering_; }
   const std::string& name() const { return name_; }
+  bool quaternionAttitude() const { return quaternion_; }  // read from qw, qx, qy, qz (no roll, pitch, yaw)
 
-  static const char* const kRequiredColumns[11];  // t, x, y, z, roll, pitch, yaw, u1 … u4
+  // t, x, y, z, roll, pitch, yaw, u1 … u4, then qw, qx, qy, qz (read instead of roll, pitch, yaw
+  // when the header has none of those).
+  static const char* const kColumns[15];
 
  private:
   bool readLine(std::string& text);
   void readNumberingComment(const std::string& comment);
+  bool isRead(int column) const;  // index into kColumns: read with the header's attitude
   std::istream& in_;
   std::string name_;
   long line_ = 0;
+  TelemetryFrame frame_;
   int cells_ = 0;                 // columns in the header
-  std::array<int, 11> column_{};  // cell index of each required column
+  std::array<int, 15> column_{};  // cell index of each of kColumns; −1: absent
+  bool quaternion_ = false;       // attitude from qw, qx, qy, qz
   std::vector<std::string> cells_buffer_;
   std::optional<MotorNumbering> numbering_;
 };

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/frames.h"
+
 // PX4 conventions applied here (sources: PX4 msg/VehicleLocalPosition.msg, VehicleAttitude.msg,
 // ActuatorMotors.msg, ActuatorOutputs.msg, VehicleStatus.msg, VehicleLandDetected.msg; the PX4
 // parameter reference for THR_MDL_FAC and PWM_*; the PX4 Airframe Reference, "Quadrotor X").
@@ -117,23 +119,15 @@ LogIssue extractAttitude(const DecodedLog& log, FlightSignals& out) {
   if (LogIssue e = columnsOf(*t, {"q[0]", "q[1]", "q[2]", "q[3]"}, c); !e.ok()) return e;
   std::size_t skipped = 0;
   for (std::size_t r = 0; r < t->rows(); ++r) {
-    double w = (*c[0])[r], x = (*c[1])[r], y = (*c[2])[r], z = (*c[3])[r];
+    const double w = (*c[0])[r], x = (*c[1])[r], y = (*c[2])[r], z = (*c[3])[r];
     const double norm = std::sqrt(w * w + x * x + y * y + z * z);
     if (!(norm > 1e-6) || !std::isfinite(norm)) {
       ++skipped;
       continue;
     }
-    w /= norm, x /= norm, y /= norm, z /= norm;
-    // Elements of R_px4 (FRD → NED) that ZYX Euler needs, then signs of T·R·T.
-    const double r11 = 1.0 - 2.0 * (y * y + z * z);
-    const double r21 = 2.0 * (x * y + w * z);
-    const double r31 = 2.0 * (x * z - w * y);
-    const double r32 = 2.0 * (y * z + w * x);
-    const double r33 = 1.0 - 2.0 * (x * x + y * y);
-    const double roll = std::atan2(r32, r33);
-    const double pitch = std::asin(std::clamp(r31, -1.0, 1.0));  // −θ: −asin(−r31)
-    const double yaw = std::atan2(-r21, r11);                     // −ψ
-    append<3>(out.attitude, seconds(t->timestamp_us[r]), {roll, pitch, yaw}, skipped);
+    // q rotates FRD into NED; both frames turned 180° about x give quadfdi's (core/frames.h).
+    const EulerZyx e = turnedAboutX(eulerZyxFromUnitQuaternion(w / norm, x / norm, y / norm, z / norm));
+    append<3>(out.attitude, seconds(t->timestamp_us[r]), {e.roll, e.pitch, e.yaw}, skipped);
   }
   out.attitude.source = {"vehicle_attitude", "q[0..3]",
                          "q (w,x,y,z) FRD→NED; both frames turned 180° about x: ZYX Euler (φ, −θ, −ψ)"};

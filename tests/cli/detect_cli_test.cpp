@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <utility>
 #include <string>
@@ -372,6 +373,25 @@ TEST(DetectCli, APipelineFromSimulateGivesTheFileModeOutput) {
   EXPECT_EQ(file.out, pipe.out);
 }
 
+// Copies a `simulate` CSV (header t,x,y,z,roll,pitch,yaw,u1..u4) with each row's cells changed by `edit`.
+void rewriteRows(const std::string& from, const std::string& to, const std::function<void(std::vector<std::string>&)>& edit) {
+  std::istringstream in(readFile(from));
+  std::ofstream out(to);
+  std::string line;
+  std::getline(in, line);
+  ASSERT_EQ(line, "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4");
+  out << line << "\n";
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    ASSERT_EQ(cells.size(), 11u);
+    edit(cells);
+    for (std::size_t i = 0; i < cells.size(); ++i) out << (i ? "," : "") << cells[i];
+    out << "\n";
+  }
+}
+
 // A simulator of another autopilot writes u1..u4 in that autopilot's numbering. Read as quadfdi's,
 // the commands land on the wrong rotors and the alarm names the wrong motor; with
 // --csv-numbering vehicle the description's [motor.N] table reorders them, and the output is the
@@ -382,26 +402,12 @@ TEST(DetectCli, ACsvInTheVehiclesOwnNumberingIsReorderedByItsDescription) {
   const std::string ours = temp("quad-quadfdi-order.csv"), px4 = temp("quad-px4-order.csv");
   ASSERT_EQ(run("simulate --controller pid --params " + vehicle + " --motor 2 --theta 0 --fault-step 500 --steps 1000 --seed 3 "
                 "--output " + ours).exit_code, 0);
-  {
-    // PX4 motor m sits at quadfdi motor (1, 3, 4, 2)[m − 1]: write column u_m from that one.
+  // PX4 motor m sits at quadfdi motor (1, 3, 4, 2)[m − 1]: write column u_m from that one.
+  rewriteRows(ours, px4, [](std::vector<std::string>& cells) {
     const int quadfdi_of_px4[] = {1, 3, 4, 2};
-    std::istringstream in(readFile(ours));
-    std::ofstream out(px4);
-    std::string line;
-    std::getline(in, line);
-    ASSERT_EQ(line, "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4");
-    out << line << "\n";
-    while (std::getline(in, line)) {
-      std::vector<std::string> cells;
-      std::istringstream row(line);
-      for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
-      ASSERT_EQ(cells.size(), 11u);
-      std::vector<std::string> reordered = cells;
-      for (int m = 0; m < 4; ++m) reordered[static_cast<std::size_t>(7 + m)] = cells[static_cast<std::size_t>(6 + quadfdi_of_px4[m])];
-      for (std::size_t i = 0; i < reordered.size(); ++i) out << (i ? "," : "") << reordered[i];
-      out << "\n";
-    }
-  }
+    const std::vector<std::string> read = cells;
+    for (int m = 0; m < 4; ++m) cells[static_cast<std::size_t>(7 + m)] = read[static_cast<std::size_t>(6 + quadfdi_of_px4[m])];
+  });
   const CommandResult reference = run("detect -q --vehicle " + vehicle + " --input " + ours, false);
   const CommandResult reordered = run("detect -q --vehicle " + vehicle + " --csv-numbering vehicle --input " + px4, false);
   ASSERT_EQ(reference.exit_code, 0);
@@ -418,6 +424,26 @@ TEST(DetectCli, ACsvInTheVehiclesOwnNumberingIsReorderedByItsDescription) {
   EXPECT_EQ(alone.exit_code, 1);
   EXPECT_NE(alone.out.find("--csv-numbering vehicle: needs --vehicle FILE"), std::string::npos) << alone.out;
   EXPECT_EQ(countLines(alone.out), 1) << alone.out;
+}
+
+// A simulator of PX4 or ArduPilot writes NED positions and FRD angles. Read with --csv-frame ned,
+// the output is that of the same flight in quadfdi's frames, byte for byte; the flag is refused on
+// a flight log (whose frames its reader knows).
+TEST(DetectCli, ANedCsvIsReadInItsFrame) {
+  const std::string ours = faultyCsv(), ned = temp("faulty-ned.csv");
+  rewriteRows(ours, ned, [](std::vector<std::string>& cells) {
+    for (std::size_t i : {2u, 3u, 5u, 6u})  // y, z, pitch, yaw change sign: both frames turned 180° about x
+      cells[i] = cells[i][0] == '-' ? cells[i].substr(1) : "-" + cells[i];
+  });
+  const CommandResult reference = run("detect -q --input " + ours, false);
+  const CommandResult turned = run("detect -q --csv-frame ned --input " + ned, false);
+  ASSERT_EQ(reference.exit_code, 0);
+  ASSERT_EQ(turned.exit_code, 0);
+  EXPECT_GT(countLines(reference.out), 600);
+  EXPECT_EQ(turned.out, reference.out);
+  const CommandResult misread = run("detect -q --input " + ned, false);  // the flight upside down: other Θ̂
+  ASSERT_EQ(misread.exit_code, 0);
+  EXPECT_NE(misread.out, reference.out);
 }
 
 // Issue 13: a library vehicle is detected with its own shipped model (models/tcn-STEM.qfdw), a

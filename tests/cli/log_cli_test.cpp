@@ -77,6 +77,13 @@ TEST(LogCli, CsvNumberingOnALogIsRefused) {
   EXPECT_EQ(countLines(r.out), 1) << r.out;
 }
 
+TEST(LogCli, CsvFrameOnALogIsRefused) {
+  const CommandResult r = run("detect --input " + faultyUlog() + " --csv-frame ned");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(contains(r.out, "--csv-frame: reads a telemetry CSV; a ulog log's frames are its autopilot's")) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
+}
+
 TEST(LogCli, FormatCsvOnALogSaysWhatTheFileIs) {
   const CommandResult r = run("detect --format csv --input " + faultyUlog());
   EXPECT_EQ(r.exit_code, 1);

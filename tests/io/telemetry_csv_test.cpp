@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <string>
 
@@ -100,6 +102,122 @@ TEST(TelemetryCsv, AMalformedNumberingCommentNamesItsLine) {
       EXPECT_EQ(std::string(e.what()).rfind("bad.csv:2: '# motor_numbering: NAME = A B C D' expects", 0), 0u) << e.what();
     }
   }
+}
+
+// Hamilton quaternion (w, x, y, z) of Rz(ψ)·Ry(θ)·Rx(φ), composed from the three axis rotations
+// (independent of the reader's formula).
+std::array<double, 4> quaternionOfZyx(double roll, double pitch, double yaw) {
+  const auto mul = [](const std::array<double, 4>& a, const std::array<double, 4>& b) {
+    return std::array<double, 4>{a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3], a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+                                 a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1], a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
+  };
+  const std::array<double, 4> qx{std::cos(roll / 2), std::sin(roll / 2), 0, 0}, qy{std::cos(pitch / 2), 0, std::sin(pitch / 2), 0},
+      qz{std::cos(yaw / 2), 0, 0, std::sin(yaw / 2)};
+  return mul(qz, mul(qy, qx));
+}
+
+std::string number(double v) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
+}
+
+TelemetrySample readOne(const std::string& csv, TelemetryFrame frame = TelemetryFrame::kZUp) {
+  std::istringstream in(csv);
+  TelemetryReader reader(in, "one.csv", frame);
+  TelemetrySample s;
+  std::string problem;
+  EXPECT_EQ(reader.next(s, problem), SampleSource::Next::kSample) << problem;
+  return s;
+}
+
+// A simulator that logs orientation as a quaternion needs no converter: qw,qx,qy,qz stand in for
+// roll,pitch,yaw and give the same ZYX angles, near gimbal lock and across yaw = ±π too.
+TEST(TelemetryCsv, AQuaternionAttitudeReadsAsItsEulerAngles) {
+  const double kAngles[][3] = {{0.0, 0.0, 0.0}, {0.3, -0.2, 1.0}, {-2.9, 1.2, -3.1}, {3.1, -1.5, 3.14}, {0.01, 1.5707, -0.5}};
+  for (const auto& a : kAngles) {
+    SCOPED_TRACE(std::to_string(a[0]) + " " + std::to_string(a[1]) + " " + std::to_string(a[2]));
+    const std::array<double, 4> q = quaternionOfZyx(a[0], a[1], a[2]);
+    // Any column order, extra columns ignored; the sign of q does not matter.
+    for (double sign : {1.0, -1.0}) {
+      const TelemetrySample s = readOne("u1,qx,t,qz,x,y,z,qy,note,qw,u2,u3,u4\n0.1," + number(sign * q[1]) + ",2.5," +
+                                        number(sign * q[3]) + ",1,2,3," + number(sign * q[2]) + ",7," + number(sign * q[0]) + ",0.2,0.3,0.4\n");
+      EXPECT_EQ(s.t, 2.5);
+      EXPECT_EQ(s.y[0], 1.0);
+      EXPECT_EQ(s.y[2], 3.0);
+      EXPECT_NEAR(s.y[3], a[0], 1e-6);  // asin near ±π/2 loses digits
+      EXPECT_NEAR(s.y[4], a[1], 1e-6);
+      EXPECT_NEAR(s.y[5], a[2], 1e-6);
+      EXPECT_EQ(s.u, (std::array<double, 4>{0.1, 0.2, 0.3, 0.4}));
+    }
+  }
+  // Where both are given, roll, pitch, yaw win and the quaternion is an ignored extra column.
+  const TelemetrySample both = readOne("t,x,y,z,roll,pitch,yaw,qw,qx,qy,qz,u1,u2,u3,u4\n0,0,0,0,0.1,0.2,0.3,1,0,0,0,1,1,1,1\n");
+  EXPECT_EQ(both.y[3], 0.1);
+  EXPECT_EQ(both.y[5], 0.3);
+}
+
+// NED/FRD, as PX4, ArduPilot and AirSim write it, turns into quadfdi's frames: a vehicle 3 m up
+// heading east, nose 10° up and right wing 20° down is, in (north, west, up) with an FLU body,
+// at z = +3, yaw −90°, pitch −10° (FLU's pitch is about the left axis) and roll +20°; the same
+// from Euler columns and from a quaternion.
+TEST(TelemetryCsv, NedFramesTurnIntoQuadfdis) {
+  const double roll = 20 * M_PI / 180, pitch = 10 * M_PI / 180, yaw = M_PI / 2;  // NED/FRD
+  const std::array<double, 4> q = quaternionOfZyx(roll, pitch, yaw);
+  const std::string euler = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,1,2,-3," + number(roll) + "," + number(pitch) + "," + number(yaw) + ",1,2,3,4\n";
+  const std::string quaternion = "t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4\n0,1,2,-3," + number(q[0]) + "," + number(q[1]) + "," + number(q[2]) + "," +
+                                 number(q[3]) + ",1,2,3,4\n";
+  for (const std::string& csv : {euler, quaternion}) {
+    const TelemetrySample s = readOne(csv, TelemetryFrame::kNed);
+    EXPECT_EQ(s.y[0], 1.0);
+    EXPECT_EQ(s.y[1], -2.0);
+    EXPECT_EQ(s.y[2], 3.0);
+    EXPECT_NEAR(s.y[3], roll, 1e-12);
+    EXPECT_NEAR(s.y[4], -pitch, 1e-12);
+    EXPECT_NEAR(s.y[5], -M_PI / 2, 1e-12);
+    EXPECT_EQ(s.u, (std::array<double, 4>{1, 2, 3, 4}));
+  }
+}
+
+TEST(TelemetryCsv, QuaternionColumnsAreCheckedAndNamed) {
+  auto refusal = [](const std::string& csv) {
+    std::istringstream in(csv);
+    try {
+      TelemetryReader reader(in, "q.csv");
+      TelemetrySample s;
+      std::string problem;
+      while (reader.next(s, problem) != SampleSource::Next::kEnd) {
+      }
+    } catch (const TelemetryError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // A quaternion missing a column, and no attitude at all.
+  EXPECT_EQ(refusal("t,x,y,z,qw,qx,qy,u1,u2,u3,u4\n"),
+            "q.csv:1: the header lacks column 'qz' (needs t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4; others are ignored)");
+  EXPECT_EQ(refusal("t,x,y,z,u1,u2,u3,u4\n"),
+            "q.csv:1: the header lacks column 'roll' (needs t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4, or qw,qx,qy,qz for the attitude; "
+            "others are ignored)");
+  // Euler angles named in part are Euler angles, whatever quaternion is there.
+  EXPECT_EQ(refusal("t,x,y,z,roll,pitch,qw,qx,qy,qz,u1,u2,u3,u4\n"),
+            "q.csv:1: the header lacks column 'yaw' (needs t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4, or qw,qx,qy,qz for the attitude; "
+            "others are ignored)");
+  EXPECT_EQ(refusal("t,x,y,z,qw,qx,qy,qz,qw,u1,u2,u3,u4\n"), "q.csv:1: column 'qw' appears twice in the header");
+  // Rounded to four digits is a unit quaternion; 2 % off is not one.
+  EXPECT_EQ(refusal("t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4\n0,0,0,0,0.7071,0,0,0.7071,1,1,1,1\n"), "accepted");
+  const std::string off = refusal("t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4\n0,0,0,0,0.7071,0,0,0.7071,1,1,1,1\n0.002,0,0,0,1.02,0,0,0,1,1,1,1\n");
+  EXPECT_EQ(off.rfind("q.csv:3: qw,qx,qy,qz = 1.02,0,0,0 is no unit quaternion (norm 1.02", 0), 0u) << off;
+  // An all-zero quaternion (before an estimator's first attitude) drops its row, naming it.
+  std::istringstream zero("t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4\n0,0,0,0,0,0,0,0,1,1,1,1\n0.002,0,0,0,1,0,0,0,1,1,1,1\n");
+  TelemetryReader reader(zero, "zero.csv");
+  EXPECT_TRUE(reader.quaternionAttitude());
+  TelemetrySample s;
+  std::string problem;
+  EXPECT_EQ(reader.next(s, problem), SampleSource::Next::kSkipped);
+  EXPECT_EQ(problem, "zero.csv:2: the quaternion qw,qx,qy,qz is zero; row skipped");
+  EXPECT_EQ(reader.next(s, problem), SampleSource::Next::kSample);
+  EXPECT_EQ(s.t, 0.002);
 }
 
 }  // namespace

@@ -1,0 +1,38 @@
+// Frame conventions of telemetry (docs/conventions.md): quadfdi's world is z up and its body
+// FLU (x forward, y left, z up), attitude as ZYX Euler angles. Autopilots and many simulators
+// write NED (x north, y east, z down) with an FRD body (PX4, ArduPilot, AirSim, PX4's Gazebo
+// bridge) and attitude as a quaternion. Turning both frames 180° about x maps one onto the other:
+// with T = diag(1, −1, −1), p' = T·p and R' = T·R·T, so (φ, θ, ψ) → (φ, −θ, −ψ).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+namespace quadfdi {
+
+enum class TelemetryFrame {
+  kZUp,  // quadfdi's: world z up, body FLU
+  kNed,  // world NED, body FRD
+};
+
+struct EulerZyx {
+  double roll = 0.0;   // [rad] φ, in [−π, π]
+  double pitch = 0.0;  // [rad] θ, in [−π/2, π/2]
+  double yaw = 0.0;    // [rad] ψ, in [−π, π]
+};
+
+// ZYX Euler angles of the rotation body → world given by the Hamilton quaternion (w, x, y, z),
+// which must be of unit norm: R = Rz(ψ)·Ry(θ)·Rx(φ).
+inline EulerZyx eulerZyxFromUnitQuaternion(double w, double x, double y, double z) {
+  const double r11 = 1.0 - 2.0 * (y * y + z * z);
+  const double r21 = 2.0 * (x * y + w * z);
+  const double r31 = 2.0 * (x * z - w * y);
+  const double r32 = 2.0 * (y * z + w * x);
+  const double r33 = 1.0 - 2.0 * (x * x + y * y);
+  return {std::atan2(r32, r33), std::asin(std::clamp(-r31, -1.0, 1.0)), std::atan2(r21, r11)};
+}
+
+// The same attitude with both frames turned 180° about x: NED/FRD angles → quadfdi's, and back.
+inline EulerZyx turnedAboutX(const EulerZyx& e) { return {e.roll, -e.pitch, -e.yaw}; }
+
+}  // namespace quadfdi
