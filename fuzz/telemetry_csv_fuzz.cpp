@@ -106,10 +106,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const DetectorConfig config = configFor(size > 0 ? data[0] : 0, live, tcn);
   std::istringstream in(fuzz::text(data, size));
   std::vector<TelemetrySample> samples;
-  // quadfdi's frames or NED (detect --csv-frame), by the input's length.
-  const TelemetryFrame frame = size % 2 != 0 ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
+  // quadfdi's frames or NED (detect --csv-frame), thrusts or rotor speeds (--csv-commands), by the
+  // input's length.
+  TelemetryReaderOptions reading;
+  reading.frame = size % 2 != 0 ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
+  reading.commands = size % 4 >= 2 ? CommandQuantity::kRotorSpeed : CommandQuantity::kThrust;
   try {
-    TelemetryReader reader(in, "fuzz.csv", frame);
+    TelemetryReader reader(in, "fuzz.csv", reading);
     TelemetrySample sample;
     std::string problem;
     for (;;) {

@@ -13,6 +13,7 @@
 #include "cli/options.h"
 #include "cli/detection_plot.h"
 #include "core/motor_numbering.h"
+#include "data/features.h"
 #include "detection/session.h"
 #include "io/atomic_file.h"
 #include "io/calibration_file.h"
@@ -65,12 +66,11 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
       "detect",
       "Online fault detection on flight telemetry (docs/conventions.md): reads the CSV t,x,y,z,roll,pitch,yaw,u1..u4\n"
       "(SI units, z up or --csv-frame ned, ZYX Euler angles or a quaternion qw,qx,qy,qz, u = commanded thrust per\n"
-      "motor [N], Crazyflie numbering; extra columns ignored; any rate down to 125 Hz, resampled to the model's)\n"
-      "or a flight log (PX4 ULog, ArduPilot DataFlash, Crazyflie micro-SD: recognised from its content, airborne\n"
-      "phases only), writes\n"
-      "one JSON object per sample from the first full window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"}\n"
-      "and, with the sequential rule (default), \"severity\", \"theta_est\", \"theta_lo\", \"theta_hi\", \"motor_position\",\n"
-      "\"autopilot_motor\". A summary goes to stderr.");
+      "motor [N] or --csv-commands rotor-speed, Crazyflie numbering; extra columns ignored; any rate down to\n"
+      "125 Hz, resampled to the model's) or a flight log (PX4 ULog, ArduPilot DataFlash, Crazyflie micro-SD:\n"
+      "recognised from its content, airborne phases only), writes one JSON object per sample from the first full\n"
+      "window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"} and, with the sequential rule (default), \"severity\",\n"
+      "\"theta_est\", \"theta_lo\", \"theta_hi\", \"motor_position\", \"autopilot_motor\". A summary goes to stderr.");
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->add("--model,-m", o.model,
@@ -119,6 +119,11 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
          "up) or ned (world north, east, down, body forward, right, down: PX4, ArduPilot, AirSim, PX4's Gazebo bridge); "
          "either way the attitude may be roll,pitch,yaw (ZYX Euler) or qw,qx,qy,qz (quaternion, body → world)")
       .choices({"zup", "ned"});
+  t->add("--csv-commands", o.csv_commands,
+         "Telemetry CSV: what u1..u4 hold: thrust (commanded thrust per motor [N]) or rotor-speed (commanded rotor "
+         "speed in any unit — rad/s, RPM, a fraction of the maximum — as simulators write it: read as its square, "
+         "which a fixed-pitch propeller's thrust is proportional to; needs a scale-free model, as every shipped one is)")
+      .choices({"thrust", "rotor-speed"});
   addLogInputOptions(*t, o.log);
   attachOptions(*cmd, t);
   return cmd;
@@ -286,10 +291,11 @@ int runDetect(const DetectOptions& o) {
   const bool renumber = o.csv_numbering == "vehicle";  // checked before any work or message
   if (renumber && o.log.vehicle.empty())
     throw ConfigError("--csv-numbering vehicle: needs --vehicle FILE, whose [motor.N] sections give the numbering");
-  const bool ned = o.csv_frame == "ned";
-  if (const std::string format = renumber || ned ? resolveInputFormat(o.input, o.log.format) : "csv"; format != "csv")
+  const bool ned = o.csv_frame == "ned", rotor_speed = o.csv_commands == "rotor-speed";
+  if (const std::string format = renumber || ned || rotor_speed ? resolveInputFormat(o.input, o.log.format) : "csv"; format != "csv")
     throw ConfigError(renumber ? "--csv-numbering: reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering"
-                               : "--csv-frame: reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows");
+                      : ned    ? "--csv-frame: reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows"
+                               : "--csv-commands: reads a telemetry CSV; a " + format + " log's commands are converted by its reader");
   // The other rule's options are warned about, not refused: a config file may serve both rules.
   if (!o.quiet) {
     const std::string unread = sequential ? firstGiven(o.log.given, {"raise_below", "raise_after", "clear_above"})
@@ -302,6 +308,11 @@ int runDetect(const DetectOptions& o) {
   const std::string& model_path = choice.path;
   const TrainedModel model = readModelFile(model_path);
   const ModelMetadata& m = model.metadata;
+  // Squared rotor speeds are thrust times an unknown k_f: only commands made dimensionless ignore it.
+  if (rotor_speed && m.features != FeatureSet::kScaleFree)
+    throw ConfigError("--csv-commands rotor-speed: gives thrust only up to a constant factor, which a scale-free model ignores; " +
+                      model_path + " reads commands in newtons (features " + toString(m.features) +
+                      "): give u1..u4 as thrust in N, or use a scale-free model (every shipped randomised one)");
   if (!o.quiet && o.model.empty() && !o.log.vehicle.empty()) {
     // Say where the model came from: the vehicle's own, the general one (so a user knows to train
     // one), or $QUADFDI_MODEL, which wins over the vehicle's own.
@@ -373,7 +384,10 @@ int runDetect(const DetectOptions& o) {
       file.open(o.input);
       require(file.is_open(), o.input + ": cannot open");
     }
-    csv = std::make_unique<TelemetryReader>(live ? std::cin : file, name, ned ? TelemetryFrame::kNed : TelemetryFrame::kZUp);  // throws on an empty file or a bad header
+    TelemetryReaderOptions reading;
+    reading.frame = ned ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
+    reading.commands = rotor_speed ? CommandQuantity::kRotorSpeed : CommandQuantity::kThrust;
+    csv = std::make_unique<TelemetryReader>(live ? std::cin : file, name, reading);  // throws on an empty file or a bad header
     source = csv.get();
     // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
     if (csv->numbering() && !renumber) numbering = *csv->numbering();

@@ -78,8 +78,8 @@ void TelemetryReader::readNumberingComment(const std::string& comment) {
   numbering_ = n;
 }
 
-TelemetryReader::TelemetryReader(std::istream& in, std::string name, TelemetryFrame frame)
-    : in_(in), name_(std::move(name)), frame_(frame) {
+TelemetryReader::TelemetryReader(std::istream& in, std::string name, const TelemetryReaderOptions& options)
+    : in_(in), name_(std::move(name)), options_(options) {
   column_.fill(-1);  // no header yet: readLine takes the numbering comment until it is read
   std::string header;
   if (!readLine(header)) throw TelemetryError(name_ + ": empty input (expected the header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4)");
@@ -175,13 +175,14 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
   // Commands in newtons per motor: the largest quadrotor motors make ~100 N (10 kg of thrust), so
   // hundreds are another unit (PWM µs, a raw 0–65535 command), which the thrust map must convert.
   constexpr double kMaxMotorThrust = 500.0;  // [N] five times the largest heavy-lift motor's thrust
+  const bool thrust = options_.commands == CommandQuantity::kThrust;
   for (int r = 7; r < 11; ++r)
-    if (std::abs(values[r]) > kMaxMotorThrust)
+    if (thrust && std::abs(values[r]) > kMaxMotorThrust)
       throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellOf(r) +
                            " is no thrust in newtons (over 500 N a motor): PWM or a raw motor command? convert it with the "
                            "motor's thrust map (docs/conventions.md)");
   sample.t = values[0];
-  if (frame_ == TelemetryFrame::kNed) {  // north, east, down and FRD → north, west, up and FLU
+  if (options_.frame == TelemetryFrame::kNed) {  // north, east, down and FRD → north, west, up and FLU
     sample.y = {values[1], -values[2], -values[3]};
     attitude = turnedAboutX(attitude);
   } else {
@@ -190,7 +191,7 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
   sample.y[3] = attitude.roll;
   sample.y[4] = attitude.pitch;
   sample.y[5] = attitude.yaw;
-  for (int i = 0; i < 4; ++i) sample.u[static_cast<std::size_t>(i)] = values[7 + i];
+  for (int i = 0; i < 4; ++i) sample.u[static_cast<std::size_t>(i)] = thrust ? values[7 + i] : values[7 + i] * values[7 + i];
   return Row::kSample;
 }
 

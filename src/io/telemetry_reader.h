@@ -24,12 +24,23 @@ class TelemetryError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// What a CSV's u1..u4 hold.
+enum class CommandQuantity {
+  kThrust,      // commanded thrust [N] (docs/conventions.md)
+  kRotorSpeed,  // commanded rotor speed, any unit (rad/s, RPM, a fraction of the maximum): read as its square,
+                // proportional to thrust for a fixed-pitch propeller (f = k_f·ω²) with k_f unknown
+};
+
+struct TelemetryReaderOptions {
+  TelemetryFrame frame = TelemetryFrame::kZUp;            // of the position and attitude columns
+  CommandQuantity commands = CommandQuantity::kThrust;  // of u1..u4
+};
+
 class TelemetryReader : public SampleSource {
  public:
   // Reads the header (blank lines and lines starting with '#' are skipped). Throws TelemetryError
-  // for an empty input or a header without the required columns. `frame`: the frames of the
-  // columns' position and attitude.
-  TelemetryReader(std::istream& in, std::string name, TelemetryFrame frame = TelemetryFrame::kZUp);
+  // for an empty input or a header without the required columns.
+  TelemetryReader(std::istream& in, std::string name, const TelemetryReaderOptions& options = {});
 
   using Row = SampleSource::Next;
   // kSample: `sample` holds the row; kSkipped: a NaN, infinite, empty or absurd (|v| > 1e9) cell,
@@ -59,7 +70,7 @@ class TelemetryReader : public SampleSource {
   std::istream& in_;
   std::string name_;
   long line_ = 0;
-  TelemetryFrame frame_;
+  TelemetryReaderOptions options_;
   int cells_ = 0;                 // columns in the header
   std::array<int, 15> column_{};  // cell index of each of kColumns; −1: absent
   bool quaternion_ = false;       // attitude from qw, qx, qy, qz

@@ -446,6 +446,36 @@ TEST(DetectCli, ANedCsvIsReadInItsFrame) {
   EXPECT_NE(misread.out, reference.out);
 }
 
+// Simulators write rotor speeds. Read as thrust, a Θ = 0.6 fault (its rotor at √0.6 of the speed
+// commanded) is sized as 0.79; with --csv-commands rotor-speed the speeds are squared and the output
+// is the thrust file's, byte for byte, whatever the speed's unit. A model that reads newtons is
+// refused, as is the flag on a flight log (LogCli.CsvFrameOnALogIsRefused).
+TEST(DetectCli, RotorSpeedCommandsAreReadAsTheirSquares) {
+  const std::string thrust = temp("mild-thrust.csv"), speed = temp("mild-speed.csv");
+  ASSERT_EQ(run("simulate --motor 2 --theta 0.6 --fault-step 500 --steps 1500 --seed 4 --output " + thrust).exit_code, 0);
+  rewriteRows(thrust, speed, [](std::vector<std::string>& cells) {
+    for (std::size_t i = 7; i < 11; ++i) {
+      char text[40];
+      std::snprintf(text, sizeof text, "%.17g", 1000.0 * std::sqrt(std::stod(cells[i])));  // √N, in any unit
+      cells[i] = text;
+    }
+  });
+  const CommandResult reference = run("detect --input " + thrust);
+  const CommandResult squared = run("detect --csv-commands rotor-speed --input " + speed);
+  ASSERT_EQ(reference.exit_code, 0) << reference.out;
+  ASSERT_EQ(squared.exit_code, 0) << squared.out;
+  EXPECT_EQ(squared.out, reference.out);
+  EXPECT_NE(reference.out.find("detect: FAULT in motor 2 at t = 1.180 s: degraded, Θ̂ = 0.62"), std::string::npos) << reference.out;
+  const CommandResult misread = run("detect --input " + speed);
+  ASSERT_EQ(misread.exit_code, 0) << misread.out;
+  EXPECT_NE(misread.out.find("degraded, Θ̂ = 0.79"), std::string::npos) << misread.out;
+  const CommandResult newtons = run("detect --csv-commands rotor-speed --model " + std::string(QUADFDI_SOURCE_DIR) +
+                                    "/models/tcn-model-free.qfdw --input " + speed);
+  EXPECT_EQ(newtons.exit_code, 1);
+  EXPECT_NE(newtons.out.find("--csv-commands rotor-speed: gives thrust only up to a constant factor"), std::string::npos) << newtons.out;
+  EXPECT_EQ(countLines(newtons.out), 1) << newtons.out;
+}
+
 // Issue 13: a library vehicle is detected with its own shipped model (models/tcn-STEM.qfdw), a
 // vehicle without one with the general model; --model still wins. A racer flown by the PID that
 // loses half of motor 2's thrust (quadfdi numbering) at 1 s is found by its own model.

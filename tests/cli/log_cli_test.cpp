@@ -82,6 +82,10 @@ TEST(LogCli, CsvFrameOnALogIsRefused) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_TRUE(contains(r.out, "--csv-frame: reads a telemetry CSV; a ulog log's frames are its autopilot's")) << r.out;
   EXPECT_EQ(countLines(r.out), 1) << r.out;
+  const CommandResult speeds = run("detect --input " + faultyUlog() + " --csv-commands rotor-speed");
+  EXPECT_EQ(speeds.exit_code, 1);
+  EXPECT_TRUE(contains(speeds.out, "--csv-commands: reads a telemetry CSV; a ulog log's commands are converted by its reader")) << speeds.out;
+  EXPECT_EQ(countLines(speeds.out), 1) << speeds.out;
 }
 
 TEST(LogCli, FormatCsvOnALogSaysWhatTheFileIs) {

@@ -122,9 +122,9 @@ std::string number(double v) {
   return text;
 }
 
-TelemetrySample readOne(const std::string& csv, TelemetryFrame frame = TelemetryFrame::kZUp) {
+TelemetrySample readOne(const std::string& csv, const TelemetryReaderOptions& options = {}) {
   std::istringstream in(csv);
-  TelemetryReader reader(in, "one.csv", frame);
+  TelemetryReader reader(in, "one.csv", options);
   TelemetrySample s;
   std::string problem;
   EXPECT_EQ(reader.next(s, problem), SampleSource::Next::kSample) << problem;
@@ -168,7 +168,7 @@ TEST(TelemetryCsv, NedFramesTurnIntoQuadfdis) {
   const std::string quaternion = "t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4\n0,1,2,-3," + number(q[0]) + "," + number(q[1]) + "," + number(q[2]) + "," +
                                  number(q[3]) + ",1,2,3,4\n";
   for (const std::string& csv : {euler, quaternion}) {
-    const TelemetrySample s = readOne(csv, TelemetryFrame::kNed);
+    const TelemetrySample s = readOne(csv, {TelemetryFrame::kNed, CommandQuantity::kThrust});
     EXPECT_EQ(s.y[0], 1.0);
     EXPECT_EQ(s.y[1], -2.0);
     EXPECT_EQ(s.y[2], 3.0);
@@ -176,6 +176,25 @@ TEST(TelemetryCsv, NedFramesTurnIntoQuadfdis) {
     EXPECT_NEAR(s.y[4], -pitch, 1e-12);
     EXPECT_NEAR(s.y[5], -M_PI / 2, 1e-12);
     EXPECT_EQ(s.u, (std::array<double, 4>{1, 2, 3, 4}));
+  }
+}
+
+// Rotor speeds are read as their squares (thrust up to k_f), in any unit: RPM far past the 500 N
+// bound on thrust, and a signed speed (a clockwise rotor's, in some simulators) alike.
+TEST(TelemetryCsv, RotorSpeedsAreReadAsTheirSquares) {
+  const std::string csv = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,0,0,0,0,20000,-0.5,3,0\n";
+  TelemetryReaderOptions speeds;
+  speeds.commands = CommandQuantity::kRotorSpeed;
+  EXPECT_EQ(readOne(csv, speeds).u, (std::array<double, 4>{4e8, 0.25, 9, 0}));
+  std::istringstream in(csv);
+  TelemetryReader thrust(in, "thrust.csv");
+  TelemetrySample s;
+  std::string problem;
+  try {
+    thrust.next(s, problem);
+    ADD_FAILURE() << "20000 N accepted";
+  } catch (const TelemetryError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("thrust.csv:2: column 'u1' = 20000 is no thrust in newtons", 0), 0u) << e.what();
   }
 }
 
