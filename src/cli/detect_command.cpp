@@ -143,8 +143,13 @@ class JsonLinesSink : public DetectionSink {
   JsonLinesSink(std::ostream& out, bool quiet, bool severity, MotorNumbering numbering)
       : out_(out), quiet_(quiet), severity_(severity), numbering_(std::move(numbering)) {}
   void output(const DetectorOutput& d) override {
+    // A flight's own clock prints as before; an absolute one (seconds since 1970, 1.7e9) would lose
+    // its milliseconds to %.10g, and 4 decimals hold every grid of the models (dt ≥ 0.5 ms).
+    char t_text[48];
+    if (std::abs(d.t) < 1e5) std::snprintf(t_text, sizeof t_text, "%.10g", d.t);
+    else std::snprintf(t_text, sizeof t_text, "%.4f", d.t);
     char buf[256];
-    const int n = std::snprintf(buf, sizeof buf, "{\"t\": %.10g, \"theta\": [%.4f, %.4f, %.4f, %.4f], \"alarm\": %s, \"motor\": ", d.t,
+    const int n = std::snprintf(buf, sizeof buf, "{\"t\": %s, \"theta\": [%.4f, %.4f, %.4f, %.4f], \"alarm\": %s, \"motor\": ", t_text,
                                 static_cast<double>(d.theta[0]), static_cast<double>(d.theta[1]),
                                 static_cast<double>(d.theta[2]), static_cast<double>(d.theta[3]), d.alarm ? "true" : "false");
     out_.write(buf, n);

@@ -14,6 +14,10 @@ namespace quadfdi {
 namespace {
 
 constexpr double kMaxMagnitude = 1e9;  // [SI] larger values are no flight telemetry (and overflow float)
+// [s] t is not fed to the network and may be an absolute clock: seconds since 1970 (1.7e9), or
+// milliseconds (1.7e12, refused later as sampled too coarsely, with a hint at the unit). Beyond it
+// (microseconds, nanoseconds since 1970) a double no longer holds the model's sample period.
+constexpr double kMaxTime = 1e13;
 
 std::string trim(const std::string& s) {
   std::size_t b = 0, e = s.size();
@@ -138,7 +142,11 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
       problem = where() + ": column '" + kColumns[r] + "' is " + cell + "; row skipped";
       return Row::kSkipped;
     }
-    if (std::abs(v) > kMaxMagnitude) {  // finite in a double, but no telemetry: it would overflow the network's floats
+    if (r == 0 && std::abs(v) > kMaxTime)
+      throw TelemetryError(where() + ": t = " + cell.substr(0, 40) +
+                           " is no time in seconds (over 1e13 s): microseconds or nanoseconds since 1970? detect reads seconds "
+                           "(divide by 1e6 or 1e9)");
+    if (r != 0 && std::abs(v) > kMaxMagnitude) {  // finite in a double, but no telemetry: it would overflow the network's floats
       problem = where() + ": column '" + kColumns[r] + "' = " + cell.substr(0, 40) + " is out of range; row skipped";
       return Row::kSkipped;
     }

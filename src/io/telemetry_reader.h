@@ -43,7 +43,7 @@ class TelemetryReader : public SampleSource {
   TelemetryReader(std::istream& in, std::string name, const TelemetryReaderOptions& options = {});
 
   using Row = SampleSource::Next;
-  // kSample: `sample` holds the row; kSkipped: a NaN, infinite, empty or absurd (|v| > 1e9) cell,
+  // kSample: `sample` holds the row; kSkipped: a NaN, infinite, empty or absurd (|v| > 1e9; t: over 1e13 is an error) cell,
   // `problem` says which, the row is dropped; kEnd.
 
   // Throws TelemetryError for a row that is not telemetry (wrong cell count, text in a number, an

@@ -476,6 +476,35 @@ TEST(DetectCli, RotorSpeedCommandsAreReadAsTheirSquares) {
   EXPECT_EQ(countLines(newtons.out), 1) << newtons.out;
 }
 
+// Logs stamped with seconds since 1970 are read as they are: the same Θ̂ and alarms as on the
+// flight's own clock, each output's t moved by the offset and printed to its millisecond.
+TEST(DetectCli, AnAbsoluteClockGivesTheSameDetections) {
+  const double kOffset = 1764370000.0;  // [s] 2025-11-28 22:46:40 UTC
+  const std::string absolute = temp("faulty-epoch.csv");
+  rewriteRows(faultyCsv(), absolute, [&](std::vector<std::string>& cells) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.3f", kOffset + std::stod(cells[0]));
+    cells[0] = text;
+  });
+  const CommandResult reference = run("detect -q --input " + faultyCsv(), false);
+  const CommandResult moved = run("detect -q --input " + absolute, false);
+  ASSERT_EQ(reference.exit_code, 0);
+  ASSERT_EQ(moved.exit_code, 0);
+  std::istringstream a(reference.out), b(moved.out);
+  int lines = 0;
+  for (std::string la, lb; std::getline(a, la);) {
+    ASSERT_TRUE(std::getline(b, lb)) << "line " << lines;
+    const std::size_t ta = la.find(", \"theta\""), tb = lb.find(", \"theta\"");
+    ASSERT_NE(ta, std::string::npos);
+    ASSERT_NE(tb, std::string::npos);
+    EXPECT_EQ(la.substr(ta), lb.substr(tb)) << "line " << lines;
+    EXPECT_NEAR(std::stod(lb.substr(6, tb - 6)) - kOffset, std::stod(la.substr(6, ta - 6)), 1e-6) << lb;
+    ++lines;
+  }
+  EXPECT_GT(lines, 600);
+  EXPECT_NE(moved.out.find("\"t\": 1764370001.0000, "), std::string::npos);  // every digit of a millisecond clock
+}
+
 // Issue 13: a library vehicle is detected with its own shipped model (models/tcn-STEM.qfdw), a
 // vehicle without one with the general model; --model still wins. A racer flown by the PID that
 // loses half of motor 2's thrust (quadfdi numbering) at 1 s is found by its own model.

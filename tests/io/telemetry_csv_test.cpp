@@ -131,6 +131,21 @@ TelemetrySample readOne(const std::string& csv, const TelemetryReaderOptions& op
   return s;
 }
 
+// The reader's error on `csv` (header and every row read), or "accepted".
+std::string firstRefusal(const std::string& csv, const std::string& name, const TelemetryReaderOptions& options = {}) {
+  std::istringstream in(csv);
+  try {
+    TelemetryReader reader(in, name, options);
+    TelemetrySample s;
+    std::string problem;
+    while (reader.next(s, problem) != SampleSource::Next::kEnd) {
+    }
+  } catch (const TelemetryError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
 // A simulator that logs orientation as a quaternion needs no converter: qw,qx,qy,qz stand in for
 // roll,pitch,yaw and give the same ZYX angles, near gimbal lock and across yaw = ±π too.
 TEST(TelemetryCsv, AQuaternionAttitudeReadsAsItsEulerAngles) {
@@ -186,32 +201,27 @@ TEST(TelemetryCsv, RotorSpeedsAreReadAsTheirSquares) {
   TelemetryReaderOptions speeds;
   speeds.commands = CommandQuantity::kRotorSpeed;
   EXPECT_EQ(readOne(csv, speeds).u, (std::array<double, 4>{4e8, 0.25, 9, 0}));
-  std::istringstream in(csv);
-  TelemetryReader thrust(in, "thrust.csv");
+  const std::string thrust = firstRefusal(csv, "thrust.csv");
+  EXPECT_EQ(thrust.rfind("thrust.csv:2: column 'u1' = 20000 is no thrust in newtons", 0), 0u) << thrust;
+}
+
+// t may be an absolute clock: seconds since 1970 read exactly (the network never sees t). Micro-
+// or nanoseconds since 1970 are refused with their unit named; other columns keep their bound.
+TEST(TelemetryCsv, AnAbsoluteClockIsReadAndANanosecondOneRefused) {
+  EXPECT_EQ(readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000.002,0,0,0,0,0,0,1,1,1,1\n").t, 1764370000.002);
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000002000000,0,0,0,0,0,0,1,1,1,1\n", "ns.csv"),
+            "ns.csv:2: t = 1764370000002000000 is no time in seconds (over 1e13 s): microseconds or nanoseconds since 1970? "
+            "detect reads seconds (divide by 1e6 or 1e9)");
   TelemetrySample s;
   std::string problem;
-  try {
-    thrust.next(s, problem);
-    ADD_FAILURE() << "20000 N accepted";
-  } catch (const TelemetryError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("thrust.csv:2: column 'u1' = 20000 is no thrust in newtons", 0), 0u) << e.what();
-  }
+  std::istringstream big("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,2e9,0,0,0,0,0,1,1,1,1\n");
+  TelemetryReader position(big, "big.csv");
+  EXPECT_EQ(position.next(s, problem), SampleSource::Next::kSkipped);
+  EXPECT_EQ(problem, "big.csv:2: column 'x' = 2e9 is out of range; row skipped");
 }
 
 TEST(TelemetryCsv, QuaternionColumnsAreCheckedAndNamed) {
-  auto refusal = [](const std::string& csv) {
-    std::istringstream in(csv);
-    try {
-      TelemetryReader reader(in, "q.csv");
-      TelemetrySample s;
-      std::string problem;
-      while (reader.next(s, problem) != SampleSource::Next::kEnd) {
-      }
-    } catch (const TelemetryError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
+  auto refusal = [](const std::string& csv) { return firstRefusal(csv, "q.csv"); };
   // A quaternion missing a column, and no attitude at all.
   EXPECT_EQ(refusal("t,x,y,z,qw,qx,qy,u1,u2,u3,u4\n"),
             "q.csv:1: the header lacks column 'qz' (needs t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4; others are ignored)");
