@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -169,6 +170,8 @@ std::vector<MotorTheta> thetaStream(const TrainedModel& model, const std::vector
   config.stride = 1;
   config.rule = AlarmRule::kPersistence;
   config.resampler.dt = model.metadata.dt;
+  // Simulated flights have no estimator resets, and the index mapping below needs one stretch.
+  config.resampler.max_speed = config.resampler.max_angular_rate = std::numeric_limits<double>::infinity();
   Detector detector(config, model);
   VectorSource source(flight);
   ThetaSink sink;

@@ -32,6 +32,24 @@ inline EulerZyx eulerZyxFromUnitQuaternion(double w, double x, double y, double 
   return {std::atan2(r32, r33), std::asin(std::clamp(-r31, -1.0, 1.0)), std::atan2(r21, r11)};
 }
 
+// The angle [rad, 0..π] of the rotation from attitude a to attitude b: the geodesic distance, which
+// Euler differences are not (they wrap, and roll and yaw swing by π through pitch ±π/2).
+inline double rotationAngleBetween(const EulerZyx& a, const EulerZyx& b) {
+  auto quaternion = [](const EulerZyx& e, double q[4]) {  // qz(ψ)·qy(θ)·qx(φ)
+    const double cr = std::cos(0.5 * e.roll), sr = std::sin(0.5 * e.roll), cp = std::cos(0.5 * e.pitch),
+                 sp = std::sin(0.5 * e.pitch), cy = std::cos(0.5 * e.yaw), sy = std::sin(0.5 * e.yaw);
+    q[0] = cr * cp * cy + sr * sp * sy;
+    q[1] = sr * cp * cy - cr * sp * sy;
+    q[2] = cr * sp * cy + sr * cp * sy;
+    q[3] = cr * cp * sy - sr * sp * cy;
+  };
+  double qa[4], qb[4];
+  quaternion(a, qa);
+  quaternion(b, qb);
+  const double dot = std::abs(qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3]);
+  return 2.0 * std::acos(std::min(1.0, dot));
+}
+
 // The same attitude with both frames turned 180° about x: NED/FRD angles → quadfdi's, and back.
 inline EulerZyx turnedAboutX(const EulerZyx& e) { return {e.roll, -e.pitch, -e.yaw}; }
 

@@ -84,10 +84,12 @@ class Detector {
   const char* kernel() const { return streaming_ ? streaming_->kernel() : windowed_->kernel(); }
 
   // Feeds one input sample. kNotIncreasing and kTooCoarse refuse it (the caller reports and stops);
-  // kRestarted means a gap emptied the history. Evaluates what is due; with `look_ahead`, waits
-  // for the next due sample so that two evaluations share one pass (file mode).
+  // kRestarted (a gap) and kJumped (an estimator reset) emptied the history. Evaluates what is
+  // due; with `look_ahead`, waits for the next due sample so that two evaluations share one pass
+  // (file mode).
   ResampleStatus push(const TelemetrySample& sample, bool look_ahead);
   void finish();  // end of input: evaluate everything still due
+  const EstimateJump& lastJump() const { return resampler_.lastJump(); }  // after kJumped
 
   bool pop(DetectorOutput& out);  // next ready output, in input order
   const DetectorSummary& summary() const { return summary_; }

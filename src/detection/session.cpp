@@ -1,5 +1,6 @@
 #include "detection/session.h"
 
+#include <cmath>
 #include <cstdio>
 
 namespace quadfdi {
@@ -26,6 +27,13 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
       return result;
     }
     if (status == ResampleStatus::kRestarted) sink.warning(source.where() + ": gap in the log; the detector starts again");
+    if (status == ResampleStatus::kJumped) {
+      const EstimateJump& j = detector.lastJump();
+      char text[160];
+      std::snprintf(text, sizeof text, ": the state estimate jumped (%.2f m, %.1f° in %.1f ms: an estimator reset?); the detector starts again",
+                    j.position, j.angle * 180.0 / M_PI, j.interval * 1e3);
+      sink.warning(source.where() + text);
+    }
     while (detector.pop(d)) sink.output(d);
     if (config.live && !look_ahead) sink.idle();
   }

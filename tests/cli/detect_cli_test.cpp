@@ -505,6 +505,22 @@ TEST(DetectCli, AnAbsoluteClockGivesTheSameDetections) {
   EXPECT_NE(moved.out.find("\"t\": 1764370001.0000, "), std::string::npos);  // every digit of a millisecond clock
 }
 
+// A 5 m height reset in the middle of a healthy flight (an estimator switching its height source)
+// raised a false `failed` when read as flight; it restarts the detector, with a warning naming the line.
+TEST(DetectCli, AnEstimatorResetRestartsTheDetectorInsteadOfAlarming) {
+  const std::string healthy = temp("healthy-2500.csv"), reset = temp("height-reset.csv");
+  ASSERT_EQ(run("simulate --steps 2500 --seed 4 --output " + healthy).exit_code, 0);
+  int row = 0;
+  rewriteRows(healthy, reset, [&](std::vector<std::string>& cells) {
+    if (++row > 1500) cells[3] = std::to_string(std::stod(cells[3]) + 5.0);
+  });
+  const CommandResult r = run("detect --input " + reset + " --output " + temp("height-reset.jsonl"));
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("height-reset.csv:1502: the state estimate jumped (5.00 m, 0.0° in 2.0 ms: an estimator reset?); the "
+                       "detector starts again"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("detect: no fault"), std::string::npos) << r.out;
+}
+
 // Issue 13: a library vehicle is detected with its own shipped model (models/tcn-STEM.qfdw), a
 // vehicle without one with the general model; --model still wins. A racer flown by the PID that
 // loses half of motor 2's thrust (quadfdi numbering) at 1 s is found by its own model.

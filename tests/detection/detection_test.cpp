@@ -110,6 +110,54 @@ TEST(Resampler, RestartsTheGridAfterAGap) {
   EXPECT_EQ(out[10].t, 0.1001);
 }
 
+// An estimator reset (a GNSS glitch, a height-source switch, a heading realignment) steps the
+// estimate faster than any flight: the grid starts again after it, as after a gap. Fast flight, a
+// fast yaw spin across ±π and a pass through pitch 90° (where Euler roll and yaw swing by π while
+// the vehicle turns 1°) are flight.
+TEST(Resampler, RestartsAfterAnEstimatorResetButNotInFastFlight) {
+  for (const int coordinate : {2, 5}) {  // a 0.3 m height step, a 30° heading step, in 2 ms
+    Resampler r(ResamplerConfig{});
+    std::vector<TelemetrySample> in;
+    for (int k = 0; k < 20; ++k) {
+      in.push_back(linearSample(0.002 * k));
+      if (k >= 10) in.back().y[static_cast<std::size_t>(coordinate)] += coordinate == 2 ? 0.3 : kPi / 6;
+    }
+    std::vector<ResampleStatus> st;
+    const std::vector<TelemetrySample> out = resampleAll(r, in, &st);
+    for (int k = 0; k < 20; ++k) EXPECT_EQ(st[static_cast<std::size_t>(k)], k == 10 ? ResampleStatus::kJumped : ResampleStatus::kOk) << k;
+    ASSERT_EQ(out.size(), 20u);
+    EXPECT_EQ(out[10].y, in[10].y);  // the new stretch starts at the sample after the step
+    // The step plus 2 ms of linearSample's own motion.
+    EXPECT_NEAR(r.lastJump().position, coordinate == 2 ? 0.3 : 0.0, 0.003);
+    EXPECT_NEAR(r.lastJump().angle, coordinate == 2 ? 0.0 : kPi / 6, 0.003);
+    EXPECT_NEAR(r.lastJump().interval, 0.002, 1e-15);
+  }
+  // 40 m/s forward and 30 rad/s of yaw, with up to 1 cm and 5 mrad of noise: no step.
+  Resampler fast(ResamplerConfig{});
+  Rng rng(3, 1);
+  std::vector<TelemetrySample> in;
+  for (int k = 0; k < 1000; ++k) {
+    TelemetrySample s = linearSample(0.002 * k);
+    s.y[0] = 40.0 * s.t + rng.uniform(-0.01, 0.01);
+    s.y[3] = rng.uniform(-0.005, 0.005);
+    s.y[5] = std::remainder(30.0 * s.t + rng.uniform(-0.005, 0.005), 2 * kPi);
+    in.push_back(s);
+  }
+  std::vector<ResampleStatus> st;
+  resampleAll(fast, in, &st);
+  for (ResampleStatus s : st) EXPECT_EQ(s, ResampleStatus::kOk);
+  // Through pitch 90°: (0, 89.5°, 0) then (π, 89.5°, π), which is pitch 90.5°.
+  const EulerZyx before{0.0, 89.5 * kPi / 180, 0.0}, after{kPi, 89.5 * kPi / 180, kPi};
+  EXPECT_NEAR(rotationAngleBetween(before, after), kPi / 180, 1e-9);
+  Resampler flip(ResamplerConfig{});
+  TelemetrySample a = linearSample(0.0), b = linearSample(0.002);
+  a.y[3] = before.roll, a.y[4] = before.pitch, a.y[5] = before.yaw;
+  b.y[3] = after.roll, b.y[4] = after.pitch, b.y[5] = after.yaw;
+  st.clear();
+  resampleAll(flip, {a, b}, &st);
+  EXPECT_EQ(st[1], ResampleStatus::kOk);
+}
+
 // ---------- alarm persistence ----------
 
 TEST(AlarmFilter, NeedsPersistentEvidenceForOneMotorToRaise) {
