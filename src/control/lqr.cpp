@@ -6,6 +6,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "control/riccati.h"
+#include "core/frames.h"
 #include "model/dynamics.h"
 #include "symmetry/symmetry.h"
 
@@ -133,12 +134,6 @@ LqrDesign designLqr(const VehicleParams& params, const LqrConfig& config, double
   }
   design.gain = k;
   return design;
-}
-
-double wrapAngle(double angle) {
-  double a = std::remainder(angle, 2.0 * M_PI);  // in [−π, π]
-  if (a <= -M_PI) a += 2.0 * M_PI;
-  return a;
 }
 
 LqrController::LqrController(const VehicleParams& params, const GainMatrix& gain)

@@ -78,7 +78,4 @@ class LqrController final : public Controller {
   Reference reference_;
 };
 
-// Wraps an angle to (−π, π].
-double wrapAngle(double angle);
-
 }  // namespace quadfdi

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "control/lqr.h"  // wrapAngle
+#include "core/frames.h"
 
 namespace quadfdi {
 namespace {

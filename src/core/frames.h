@@ -15,6 +15,14 @@ enum class TelemetryFrame {
   kNed,  // world NED, body FRD
 };
 
+// An angle wrapped to (−π, π]: −π maps to +π, so one heading has one value. Every wrap of an
+// absolute angle or of a difference ("the short way round") in quadfdi is this one.
+inline double wrapAngle(double angle) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double a = std::remainder(angle, 2.0 * kPi);  // [−π, π], exact
+  return a <= -kPi ? a + 2.0 * kPi : a;
+}
+
 struct EulerZyx {
   double roll = 0.0;   // [rad] φ, in [−π, π]
   double pitch = 0.0;  // [rad] θ, in [−π/2, π/2]

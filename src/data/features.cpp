@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/frames.h"
+
 namespace quadfdi {
 
 const char* toString(FeatureSet f) {
@@ -45,8 +47,7 @@ void gatherWindowFeatures(const TrajectoryBatch& b, const WindowRef& w, int leng
 void headingFeatureRow(const Output& previous, const Output& current, const Input& u, float* out) {
   const double dx = current(0) - previous(0), dy = current(1) - previous(1);
   const double c = std::cos(current(5)), s = std::sin(current(5));
-  constexpr double kTwoPi = 6.28318530717958647692;
-  const double dpsi = std::remainder(current(5) - previous(5), kTwoPi);  // the short way round
+  const double dpsi = wrapAngle(current(5) - previous(5));  // the short way round
   out[0] = static_cast<float>(c * dx + s * dy);   // forward (heading frame)
   out[1] = static_cast<float>(-s * dx + c * dy);  // left
   out[2] = static_cast<float>(current(2) - previous(2));

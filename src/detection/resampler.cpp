@@ -5,13 +5,12 @@
 namespace quadfdi {
 
 TelemetrySample Resampler::interpolate(const TelemetrySample& a, const TelemetrySample& b, double t) {
-  constexpr double kPi = 3.14159265358979323846;
   const double s = (t - a.t) / (b.t - a.t);
   TelemetrySample out;
   out.t = t;
   for (int i = 0; i < 5; ++i) out.y[i] = a.y[i] + s * (b.y[i] - a.y[i]);
-  double dyaw = std::remainder(b.y[5] - a.y[5], 2.0 * kPi);  // the short way round
-  out.y[5] = std::remainder(a.y[5] + s * dyaw, 2.0 * kPi);
+  const double dyaw = wrapAngle(b.y[5] - a.y[5]);  // the short way round
+  out.y[5] = wrapAngle(a.y[5] + s * dyaw);
   out.u = a.u;  // the command logged at a holds until the next one
   return out;
 }

@@ -91,11 +91,11 @@ ResampleStatus Resampler::push(const TelemetrySample& s, Emit&& emit, OnRestart&
     const double position = std::sqrt(dx * dx + dy * dy + dz * dz);
     // The rotation between two attitudes is at most the sum of their Euler angles' differences
     // (each the short way round): only when that sum is over the bound is the rotation (twelve
-    // sines and cosines) computed, so an ordinary sample costs three remainders and a sum.
+    // sines and cosines) computed, so an ordinary sample costs three wraps and a sum.
     const double max_angle = config_.max_angular_rate * interval;
     double euler_sum = 0.0;
     for (int i = 3; i < 6; ++i)
-      euler_sum += std::abs(std::remainder(s.y[static_cast<std::size_t>(i)] - previous_.y[static_cast<std::size_t>(i)], 2.0 * M_PI));
+      euler_sum += std::abs(wrapAngle(s.y[static_cast<std::size_t>(i)] - previous_.y[static_cast<std::size_t>(i)]));
     auto rotation = [&] { return rotationAngleBetween({previous_.y[3], previous_.y[4], previous_.y[5]}, {s.y[3], s.y[4], s.y[5]}); };
     if (position > config_.max_speed * interval || (euler_sum > max_angle && rotation() > max_angle)) {
       jumped = true;

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/frames.h"
+
 namespace quadfdi {
 namespace {
 
@@ -62,12 +64,6 @@ constexpr int kEvDisarmed = 11;
 constexpr int kEvLandMaybe = 17;
 constexpr int kEvLandComplete = 18;
 constexpr int kEvNotLanded = 28;
-
-double wrapPi(double a) {
-  a = std::fmod(a + kPi, 2.0 * kPi);
-  if (a < 0) a += 2.0 * kPi;
-  return a - kPi;
-}
 
 LogIssue missing(const std::string& topic, const std::string& what) {
   return LogIssue{LogStatus::kMissingSignal, 0, topic, what};
@@ -155,7 +151,7 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   std::size_t dropped = 0;
   for (std::size_t r : usableRows(*att, nullptr, 0.0, dropped)) {
     out.attitude.t.push_back(seconds(att->timestamp_us[r]));
-    out.attitude.v.push_back({roll[r] * kDegToRad, -pitch[r] * kDegToRad, wrapPi(-yaw[r] * kDegToRad)});
+    out.attitude.v.push_back({roll[r] * kDegToRad, -pitch[r] * kDegToRad, wrapAngle(-yaw[r] * kDegToRad)});
   }
   out.attitude.source = {"ATT", "Roll,Pitch,Yaw", "deg → rad; NED/FRD → x north, y west, z up / FLU: roll = Roll, pitch = −Pitch, yaw = −Yaw"};
   out.conventions.push_back("attitude: ATT Roll, Pitch, Yaw [deg] (NED/FRD, pitch nose-up, yaw clockwise from north) → "

@@ -7,7 +7,10 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "core/frames.h"
 
 namespace quadfdi {
 namespace {
@@ -97,13 +100,49 @@ std::string rateNote(const std::vector<double>& t) {
 
 bool finite(double v) { return std::isfinite(v); }
 
+// How the log gives the attitude, in the order they are looked for.
+enum class AttitudeSource {
+  kEuler,                 // stateEstimate.roll/pitch/yaw [deg], legacy pitch sign
+  kStabilizerEuler,       // stabilizer.roll/pitch/yaw: the same state.attitude
+  kQuaternion,            // stateEstimate.qw/qx/qy/qz: state.attitudeQuaternion
+  kCompressedQuaternion,  // stateEstimateZ.quat: the same quaternion, compressed
+};
+
+// A stateEstimateZ int16 at its limit: the firmware's float → int16 conversion saturated there.
+bool saturatedInt16(double v) { return v >= 32767.0 || v <= -32768.0; }
+
 }  // namespace
+
+bool decompressCrazyflieQuaternion(std::uint32_t packed, std::array<double, 4>& q_xyzw) {
+  // Bits 31–30: the index of the largest component (order x, y, z, w); then three 10-bit groups,
+  // the other components in index order, the last in the lowest bits: a sign bit over a 9-bit
+  // magnitude in units of (1/√2)/511. The largest is positive (q and −q are the same rotation)
+  // and follows from the unit norm.
+  constexpr double kSmallMax = 0.70710678118654752440;  // 1/√2: the second-largest component's bound
+  constexpr std::uint32_t kMagnitudeMask = (1u << 9) - 1u;
+  const unsigned largest = packed >> 30;
+  double sum_squares = 0.0;
+  for (int i = 3; i >= 0; --i) {
+    if (static_cast<unsigned>(i) == largest) continue;
+    const double magnitude = kSmallMax * static_cast<double>(packed & kMagnitudeMask) / kMagnitudeMask;
+    q_xyzw[static_cast<std::size_t>(i)] = ((packed >> 9) & 1u) ? -magnitude : magnitude;
+    sum_squares += magnitude * magnitude;
+    packed >>= 10;
+  }
+  if (sum_squares > 1.0) return false;  // no unit quaternion has these three components
+  q_xyzw[largest] = std::sqrt(1.0 - sum_squares);
+  return true;
+}
 
 LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOptions& o, FlightSignals& out) {
   out = FlightSignals{};
   const std::vector<std::string> pos_names = {"stateEstimate.x", "stateEstimate.y", "stateEstimate.z"};
+  const std::vector<std::string> zpos_names = {"stateEstimateZ.x", "stateEstimateZ.y", "stateEstimateZ.z"};
   const std::vector<std::string> att_names = {"stateEstimate.roll", "stateEstimate.pitch", "stateEstimate.yaw"};
   const std::vector<std::string> stab_names = {"stabilizer.roll", "stabilizer.pitch", "stabilizer.yaw"};
+  const std::vector<std::string> quat_names = {"stateEstimate.qw", "stateEstimate.qx", "stateEstimate.qy",
+                                               "stateEstimate.qz"};
+  const std::vector<std::string> zquat_names = {"stateEstimateZ.quat"};
   const std::vector<std::string> motor_names = {"motor.m1", "motor.m2", "motor.m3", "motor.m4"};
   const std::vector<std::string> pwm_names = {"pwm.m1_pwm", "pwm.m2_pwm", "pwm.m3_pwm", "pwm.m4_pwm", "pm.vbatMV"};
 
@@ -114,19 +153,31 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
 
   // --- What is there: every missing variable is named at once. ---
   std::vector<std::string> missing;
-  const Located pos = locate(log, pos_names);
+  Located pos = locate(log, pos_names);
+  const bool pos_compressed = pos.topic == nullptr && (pos = locate(log, zpos_names)).topic != nullptr;
   if (pos.topic == nullptr)
     for (const std::string& n : missingOf(log, pos_names)) missing.push_back(n);
-  Located att = locate(log, att_names);
-  bool att_fallback = false;
-  if (att.topic == nullptr && o.stabilizer_fallback) {
-    att = locate(log, stab_names);
-    att_fallback = att.topic != nullptr;
+  // The attitude: Euler angles first (what every earlier log of ours read), then the quaternion the
+  // firmware derives them from, full and compressed.
+  Located att;
+  AttitudeSource att_source = AttitudeSource::kEuler;
+  const std::pair<AttitudeSource, const std::vector<std::string>*> att_candidates[] = {
+      {AttitudeSource::kEuler, &att_names},
+      {AttitudeSource::kStabilizerEuler, &stab_names},
+      {AttitudeSource::kQuaternion, &quat_names},
+      {AttitudeSource::kCompressedQuaternion, &zquat_names}};
+  for (const auto& [source, names] : att_candidates) {
+    if (source == AttitudeSource::kStabilizerEuler && !o.stabilizer_fallback) continue;
+    if ((att = locate(log, *names)).topic != nullptr) {
+      att_source = source;
+      break;
+    }
   }
   std::string att_missing_note;
   if (att.topic == nullptr) {
     for (const std::string& n : missingOf(log, att_names)) missing.push_back(n);
-    if (o.stabilizer_fallback) att_missing_note = " (nor the fallback stabilizer.roll/pitch/yaw)";
+    att_missing_note = std::string(" (nor ") + (o.stabilizer_fallback ? "stabilizer.roll/pitch/yaw, " : "") +
+                       "stateEstimate.qw/qx/qy/qz or stateEstimateZ.quat)";
   }
   bool battery = false;
   Located cmd;
@@ -144,8 +195,10 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
   if (!missing.empty()) {
     std::string msg = "the log has no " + join(missing);
     if (!att_missing_note.empty()) msg += att_missing_note;
-    msg += ": quadfdi needs position (stateEstimate.x/y/z), attitude (stateEstimate.roll/pitch/yaw";
-    msg += o.stabilizer_fallback ? " or stabilizer.roll/pitch/yaw)" : ")";
+    msg += ": quadfdi needs position (stateEstimate.x/y/z or stateEstimateZ.x/y/z), attitude "
+           "(stateEstimate.roll/pitch/yaw";
+    msg += o.stabilizer_fallback ? ", stabilizer.roll/pitch/yaw" : "";
+    msg += ", stateEstimate.qw/qx/qy/qz or stateEstimateZ.quat)";
     msg += o.thrust_map == CrazyflieThrustMap::kBatteryVoltage ? " and pwm.m1_pwm..m4_pwm with pm.vbatMV"
                                                                : " and motor commands (motor.m1..m4)";
     msg += "; add them to the deck's config.txt";
@@ -158,46 +211,118 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
     for (std::int64_t ts : t.timestamp_us) origin = std::min(origin, ts);
 
   std::size_t skipped = 0;
-  // Position: the Crazyflie's world frame is already z up, metres.
+  // Position: the Crazyflie's world frame is already z up; stateEstimateZ holds millimetres.
   const LogTopic& pt = *pos.topic;
-  if (LogIssue i = fill<3>(pos, origin, "stateEstimate.x,y,z",
+  const std::string pos_group = pos_compressed ? "stateEstimateZ" : "stateEstimate";
+  std::size_t pos_saturated = 0;
+  if (LogIssue i = fill<3>(pos, origin, pos_group + ".x,y,z",
                            [&](std::size_t r, std::array<double, 3>& v) {
                              for (int k = 0; k < 3; ++k) v[k] = pt.columns[pos.columns[k]][r];
-                             return finite(v[0]) && finite(v[1]) && finite(v[2]);
+                             if (!(finite(v[0]) && finite(v[1]) && finite(v[2]))) return false;
+                             if (!pos_compressed) return true;
+                             if (saturatedInt16(v[0]) || saturatedInt16(v[1]) || saturatedInt16(v[2])) {
+                               ++pos_saturated;
+                               return false;
+                             }
+                             for (double& x : v) x *= 1e-3;  // [mm] → [m]
+                             return true;
                            },
                            out.position, skipped);
       !i.ok())
     return i;
-  out.position.source.note = "world frame z up [m], as logged; " + rateNote(out.position.t);
-  out.conventions.push_back("position: " + pt.name + " stateEstimate.x/y/z [m] as logged (the Crazyflie world "
-                            "frame is z up, x/y those of its positioning system)");
-  if (skipped)
-    out.conventions.push_back("position: " + std::to_string(skipped) + " rows with a non-finite value skipped");
+  out.position.source.note = std::string(pos_compressed ? "mm → m, " : "") + "world frame z up [m], as logged; " +
+                             rateNote(out.position.t);
+  out.conventions.push_back("position: " + pt.name + " " + pos_group + ".x/y/z " +
+                            (pos_compressed ? "[mm] → [m] (int16: 1 mm steps, ±32.767 m)" : "[m] as logged") +
+                            " (the Crazyflie world frame is z up, x/y those of its positioning system)");
+  if (skipped > pos_saturated)
+    out.conventions.push_back("position: " + std::to_string(skipped - pos_saturated) +
+                              " rows with a non-finite value skipped");
+  if (pos_saturated)
+    out.conventions.push_back("position: " + std::to_string(pos_saturated) +
+                              " rows at the int16 limit (±32.767 m, saturated) skipped");
 
-  // Attitude: degrees → radians; the firmware logs pitch negated (positive = nose up).
+  // Attitude → quadfdi's ZYX Euler angles, body FLU. The Euler angles are degrees with the pitch
+  // negated (the firmware logs positive = nose up); the quaternion is the FLU body → world rotation
+  // they are computed from, with the standard sign.
   const LogTopic& at = *att.topic;
-  const std::string group = att_fallback ? "stabilizer" : "stateEstimate";
-  if (LogIssue i = fill<3>(att, origin, group + ".roll,pitch,yaw",
+  std::size_t att_rejected = 0;  // quaternions that are not a rotation (zero, or no unit decompression)
+  auto from_quaternion = [&](double w, double x, double y, double z, std::array<double, 3>& v) {
+    const double norm = std::sqrt(w * w + x * x + y * y + z * z);
+    if (!finite(norm) || !(norm > 1e-6)) {
+      ++att_rejected;
+      return false;
+    }
+    const EulerZyx e = eulerZyxFromUnitQuaternion(w / norm, x / norm, y / norm, z / norm);
+    v = {e.roll, e.pitch, e.yaw};
+    return true;
+  };
+  std::string att_fields;
+  std::string att_note;
+  switch (att_source) {
+    case AttitudeSource::kEuler:
+    case AttitudeSource::kStabilizerEuler: {
+      const std::string group = att_source == AttitudeSource::kStabilizerEuler ? "stabilizer" : "stateEstimate";
+      att_fields = group + ".roll,pitch,yaw";
+      att_note = "deg → rad, pitch negated; ";
+      out.conventions.push_back("attitude: " + at.name + " " + group + ".roll/pitch/yaw [deg] → [rad]; pitch negated "
+                                "(the firmware logs −pitch, positive = nose up: kalman_core.c 'legacy CF2 body "
+                                "coordinate system'; quadfdi: positive = nose down); roll (positive = right side "
+                                "down) and yaw (positive = counter-clockwise from above) unchanged, ZYX, body x "
+                                "forward, y left, z up");
+      if (att_source == AttitudeSource::kStabilizerEuler)
+        out.conventions.push_back("attitude: stateEstimate.roll/pitch/yaw not all logged; stabilizer.roll/pitch/yaw "
+                                  "used instead (the same state estimate, same sign convention)");
+      break;
+    }
+    case AttitudeSource::kQuaternion:
+      att_fields = "stateEstimate.qw,qx,qy,qz";
+      att_note = "quaternion → ZYX Euler; ";
+      out.conventions.push_back("attitude: " + at.name + " stateEstimate.qw/qx/qy/qz (state.attitudeQuaternion, "
+                                "the FLU body → world rotation) → ZYX Euler angles, normalised; no sign change "
+                                "(the legacy pitch negation applies to the logged Euler pitch only)");
+      break;
+    case AttitudeSource::kCompressedQuaternion:
+      att_fields = "stateEstimateZ.quat";
+      att_note = "compressed quaternion → ZYX Euler; ";
+      out.conventions.push_back("attitude: " + at.name + " stateEstimateZ.quat (state.attitudeQuaternion in the "
+                                "firmware's quatcompress.h format: the three smallest components, 9 bits and a sign "
+                                "each, steps of 0.0014, about 0.16°) → ZYX Euler angles; no sign change");
+      break;
+  }
+  if (LogIssue i = fill<3>(att, origin, att_fields,
                            [&](std::size_t r, std::array<double, 3>& v) {
-                             v[0] = at.columns[att.columns[0]][r] * kDegToRad;
-                             v[1] = -at.columns[att.columns[1]][r] * kDegToRad;
-                             v[2] = at.columns[att.columns[2]][r] * kDegToRad;
-                             return finite(v[0]) && finite(v[1]) && finite(v[2]);
+                             const auto cell = [&](int k) { return at.columns[att.columns[static_cast<std::size_t>(k)]][r]; };
+                             switch (att_source) {
+                               case AttitudeSource::kEuler:
+                               case AttitudeSource::kStabilizerEuler:
+                                 v = {cell(0) * kDegToRad, -cell(1) * kDegToRad, cell(2) * kDegToRad};
+                                 return finite(v[0]) && finite(v[1]) && finite(v[2]);
+                               case AttitudeSource::kQuaternion:
+                                 return from_quaternion(cell(0), cell(1), cell(2), cell(3), v);
+                               case AttitudeSource::kCompressedQuaternion: {
+                                 const double packed = cell(0);
+                                 std::array<double, 4> q{};
+                                 if (!(packed >= 0.0 && packed <= 4294967295.0) ||
+                                     !decompressCrazyflieQuaternion(static_cast<std::uint32_t>(packed), q)) {
+                                   ++att_rejected;
+                                   return false;
+                                 }
+                                 return from_quaternion(q[3], q[0], q[1], q[2], v);
+                               }
+                             }
+                             return false;
                            },
                            out.attitude, skipped);
       !i.ok())
     return i;
-  out.attitude.source.note = "deg → rad, pitch negated; " + rateNote(out.attitude.t);
-  out.conventions.push_back("attitude: " + at.name + " " + group + ".roll/pitch/yaw [deg] → [rad]; pitch negated "
-                            "(the firmware logs −pitch, positive = nose up: kalman_core.c 'legacy CF2 body "
-                            "coordinate system'; quadfdi: positive = nose down); roll (positive = right side down) "
-                            "and yaw (positive = counter-clockwise from above) unchanged, ZYX, body x forward, "
-                            "y left, z up");
-  if (att_fallback)
-    out.conventions.push_back("attitude: stateEstimate.roll/pitch/yaw not all logged; stabilizer.roll/pitch/yaw "
-                              "used instead (the same state estimate, same sign convention)");
-  if (skipped)
-    out.conventions.push_back("attitude: " + std::to_string(skipped) + " rows with a non-finite value skipped");
+  out.attitude.source.note = att_note + rateNote(out.attitude.t);
+  if (skipped > att_rejected)
+    out.conventions.push_back("attitude: " + std::to_string(skipped - att_rejected) +
+                              " rows with a non-finite value skipped");
+  if (att_rejected)
+    out.conventions.push_back("attitude: " + std::to_string(att_rejected) +
+                              " rows whose quaternion is no rotation (zero, or no unit quaternion) skipped");
 
   // Motors: Crazyflie M1..M4 are quadfdi 1..4 (FR, BR, BL, FL).
   const LogTopic& ct = *cmd.topic;

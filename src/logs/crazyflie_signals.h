@@ -6,6 +6,9 @@
 #include "logs/decoded_log.h"
 #include "logs/flight_signals.h"
 
+#include <array>
+#include <cstdint>
+
 namespace quadfdi {
 
 // How motor commands become per-motor thrust [N].
@@ -40,8 +43,15 @@ struct CrazyflieSignalOptions {
   bool stabilizer_fallback = true;
 };
 
-// Position (stateEstimate.x/y/z), attitude (stateEstimate.roll/pitch/yaw, or stabilizer.*) and
-// per-motor thrust (motor.m1..m4) → `out`, each at its own rate, time from the log's first
+// The firmware's compressed attitude (stateEstimateZ.quat; crazyflie-firmware
+// src/utils/interface/quatcompress.h, the "smallest three" encoding: docs/logs/crazyflie-usd.md)
+// → the quaternion in the firmware's order (x, y, z, w), of unit norm. False when the three
+// stored components are longer than a unit quaternion allows (`q_xyzw` is then partly written).
+bool decompressCrazyflieQuaternion(std::uint32_t packed, std::array<double, 4>& q_xyzw);
+
+// Position (stateEstimate.x/y/z, else stateEstimateZ.x/y/z [mm]), attitude
+// (stateEstimate.roll/pitch/yaw, else stabilizer.roll/pitch/yaw, stateEstimate.qw/qx/qy/qz or
+// stateEstimateZ.quat, in that order) and per-motor thrust (motor.m1..m4) → `out`, each at its own rate, time from the log's first
 // record. Every convention applied is a line of out.conventions. A missing variable → a LogIssue
 // (status kMissingSignal, offset 0, topic = the first missing variable) whose message names every
 // missing variable; rows whose time does not increase, or an empty series → status kCorrupt;

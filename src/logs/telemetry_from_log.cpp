@@ -8,15 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "core/frames.h"
+
 namespace quadfdi {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double wrapPi(double a) {
-  a = std::remainder(a, 2.0 * kPi);  // [−π, π]
-  return a <= -kPi ? a + 2.0 * kPi : a;
-}
 
 // Every caller passes a literal with one double conversion.
 #pragma GCC diagnostic push
@@ -80,7 +77,7 @@ std::array<double, N> linear(const SignalSeries<N>& s, double t, std::size_t& cu
   std::array<double, N> v{};
   for (std::size_t k = 0; k < static_cast<std::size_t>(N); ++k) {
     const double a = s.v[i][k], b = s.v[i + 1][k];
-    v[k] = angles ? wrapPi(a + w * wrapPi(b - a)) : a + w * (b - a);
+    v[k] = angles ? wrapAngle(a + w * wrapAngle(b - a)) : a + w * (b - a);
   }
   return v;
 }
@@ -175,7 +172,8 @@ std::string coarseTopicsNote(const DecodedLog& log, const ImportOptions& o) {
     bool relevant = false;
     if (log.format == LogFormat::kCrazyflieUsd)
       relevant = t.fieldIndex("motor.m1") >= 0 || t.fieldIndex("stateEstimate.roll") >= 0 ||
-                 t.fieldIndex("stabilizer.roll") >= 0 || t.fieldIndex("pwm.m1_pwm") >= 0;
+                 t.fieldIndex("stabilizer.roll") >= 0 || t.fieldIndex("stateEstimate.qw") >= 0 ||
+                 t.fieldIndex("stateEstimateZ.quat") >= 0 || t.fieldIndex("pwm.m1_pwm") >= 0;
     else if (log.format == LogFormat::kUlog)
       relevant = t.name == "vehicle_attitude" || t.name == "actuator_motors" || t.name == "actuator_outputs";
     else if (log.format == LogFormat::kDataflash)

@@ -2,10 +2,10 @@
 
 #include <cmath>
 
+#include "core/frames.h"
+
 namespace quadfdi {
 namespace {
-
-double wrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
 
 double smoothingFactor(double tau, double dt) { return tau > 0.0 ? 1.0 - std::exp(-dt / tau) : 1.0; }
 

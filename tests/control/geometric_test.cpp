@@ -9,6 +9,7 @@
 
 #include "control/controller_factory.h"
 #include "control/geometric.h"
+#include "core/frames.h"
 #include "io/params_file.h"
 #include "simulation/sampling.h"
 #include "closed_loop_support.h"

@@ -107,13 +107,6 @@ TEST(Lqr, BrysonForAVehicleScalesTheThrustDeviationWithItsHoverThrust) {
   EXPECT_EQ(scaled.q_diag, reference.q_diag);
 }
 
-TEST(Lqr, WrapAngle) {
-  EXPECT_NEAR(wrapAngle(3.0 * M_PI / 2), -M_PI / 2, 1e-15);
-  EXPECT_NEAR(wrapAngle(-3.0 * M_PI / 2), M_PI / 2, 1e-15);
-  EXPECT_DOUBLE_EQ(wrapAngle(0.3), 0.3);
-  EXPECT_DOUBLE_EQ(wrapAngle(-M_PI), M_PI);
-}
-
 // The healthy LQR loop settles from the docs/control.md initial-condition set in about 2 s.
 TEST(Lqr, SettlesFromSampledInitialConditionsWithoutFault) {
   const VehicleParams p = nominalParams();

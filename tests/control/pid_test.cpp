@@ -12,6 +12,7 @@
 
 #include "control/controller_factory.h"
 #include "control/pid.h"
+#include "core/frames.h"
 #include "control/reference.h"
 #include "model/integrator.h"
 #include "simulation/closed_loop.h"

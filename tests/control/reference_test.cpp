@@ -6,6 +6,7 @@
 
 #include "control/lqr.h"
 #include "control/reference.h"
+#include "core/frames.h"
 
 namespace quadfdi {
 namespace {

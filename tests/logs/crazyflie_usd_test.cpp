@@ -3,6 +3,8 @@
 // and byte offset, and the four real CrazyPAD logs in ../shared/logs/crazyflie-usd/.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -484,7 +486,10 @@ TEST(CrazyflieSignals, MissingPitchIsNamed) {
   ASSERT_FALSE(i.ok());
   EXPECT_EQ(i.status, LogStatus::kMissingSignal);
   EXPECT_EQ(i.topic, "stateEstimate.pitch");
-  EXPECT_EQ(i.message.rfind("the log has no stateEstimate.pitch (nor the fallback stabilizer.roll/pitch/yaw)", 0), 0u)
+  EXPECT_EQ(i.message.rfind("the log has no stateEstimate.pitch (nor stabilizer.roll/pitch/yaw, "
+                            "stateEstimate.qw/qx/qy/qz or stateEstimateZ.quat)",
+                            0),
+            0u)
       << i.message;
   EXPECT_EQ(i.message.find("stateEstimate.roll"), i.message.find("stateEstimate.roll/pitch/yaw")) << i.message;
 }
@@ -507,6 +512,146 @@ TEST(CrazyflieSignals, StabilizerAttitudeAsFallback) {
   const LogIssue i = extract(w.closed(), s, strict);
   EXPECT_FALSE(i.ok());
   EXPECT_NE(i.message.find("stateEstimate.roll, stateEstimate.pitch, stateEstimate.yaw"), std::string::npos);
+}
+
+// --- The attitude as a quaternion: stateEstimate.qw..qz and the compressed stateEstimateZ.quat. ---
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The angle of the rotation between two quaternions (w, x, y, z) [rad].
+double angleBetween(const std::array<double, 4>& a, const std::array<double, 4>& b) {
+  const double dot = std::fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
+  return 2.0 * std::acos(std::min(1.0, dot));
+}
+
+// A 500 Hz log of a vehicle holding roll 5°, pitch 10° nose up and yaw 90°, its attitude given by
+// `attitude` (and its values per row by `values`), position and motors as in syntheticLog.
+std::vector<std::uint8_t> attitudeLog(const std::vector<quadfdi::test::UsdVariable>& attitude,
+                                      const std::vector<double>& values, bool compressed_position = false) {
+  UsdEventType fixed;
+  if (compressed_position)
+    fixed.variables = {{"stateEstimateZ.x", 'h'}, {"stateEstimateZ.y", 'h'}, {"stateEstimateZ.z", 'h'}};
+  else
+    fixed.variables = {{"stateEstimate.x", 'f'}, {"stateEstimate.y", 'f'}, {"stateEstimate.z", 'f'}};
+  fixed.variables.insert(fixed.variables.end(), attitude.begin(), attitude.end());
+  fixed.variables.insert(fixed.variables.end(), {{"motor.m1", 'I'}, {"motor.m2", 'I'}, {"motor.m3", 'I'},
+                                                 {"motor.m4", 'I'}});
+  UsdWriter w(2, {fixed});
+  for (int k = 0; k < 4; ++k) {
+    std::vector<double> row;
+    if (compressed_position)
+      row = {500.0, -1250.0, 750.0 + k};
+    else
+      row = {0.5, -1.25, 0.75 + 0.001 * k};
+    for (double v : values) row.push_back(v);
+    for (int m = 0; m < 4; ++m) row.push_back(32768.0);
+    w.record(0, 1000u + 2000u * static_cast<unsigned>(k), row);
+  }
+  return w.closed();
+}
+
+}  // namespace
+
+TEST(CrazyflieSignals, DecompressesTheFirmwaresQuaternionEncoding) {
+  std::array<double, 4> q{};
+  // Identity: w largest (index 3), the other three zero.
+  ASSERT_TRUE(decompressCrazyflieQuaternion(0xC0000000u, q));
+  EXPECT_EQ(q, (std::array<double, 4>{0.0, 0.0, 0.0, 1.0}));
+  // w largest, x at full magnitude 511 (= 1/√2), positive: 90° of roll.
+  ASSERT_TRUE(decompressCrazyflieQuaternion((3u << 30) | (511u << 20), q));
+  EXPECT_NEAR(q[0], std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(q[3], std::sqrt(0.5), 1e-15);
+  // z largest (index 2), w = −1/√2 stored with its sign bit (the last, lowest group): −90° of yaw.
+  ASSERT_TRUE(decompressCrazyflieQuaternion((2u << 30) | (1u << 9) | 511u, q));
+  EXPECT_NEAR(q[2], std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(q[3], -std::sqrt(0.5), 1e-15);
+  EXPECT_EQ(q[0], 0.0);
+  EXPECT_EQ(q[1], 0.0);
+  // Three components of 1/√2 are longer than a unit quaternion.
+  EXPECT_FALSE(decompressCrazyflieQuaternion((3u << 30) | (511u << 20) | (511u << 10) | 511u, q));
+
+  // Random rotations (seeded): compressed and decompressed, within the encoding's resolution
+  // (components to ±0.0007, so the rotation to a few mrad).
+  std::uint64_t state = 12345;
+  auto uniform = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
+  double worst = 0.0;
+  for (int n = 0; n < 2000; ++n) {
+    const std::array<double, 4> truth = test::usdQuaternionOfEuler((2 * uniform() - 1) * kPi, (uniform() - 0.5) * kPi,
+                                                     (2 * uniform() - 1) * kPi);
+    ASSERT_TRUE(decompressCrazyflieQuaternion(test::usdCompressQuaternion(truth), q));
+    EXPECT_NEAR(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-12);
+    worst = std::max(worst, angleBetween(truth, {q[3], q[0], q[1], q[2]}));
+  }
+  EXPECT_LT(worst, 0.006) << "rad";
+  EXPECT_GT(worst, 1e-4) << "9 bits cannot be exact";
+}
+
+TEST(CrazyflieSignals, QuaternionAttitudeAgreesWithTheLoggedEulerAngles) {
+  constexpr double kDeg = kPi / 180.0;
+  // The firmware logs this attitude's Euler angles as roll 5°, pitch +10° (legacy: nose up), yaw 90°;
+  // its quaternion has quadfdi's pitch, −10° (nose down positive).
+  const std::array<double, 4> q = test::usdQuaternionOfEuler(5 * kDeg, -10 * kDeg, 90 * kDeg);
+  FlightSignals euler, full, compressed;
+  ASSERT_TRUE(extract(attitudeLog({{"stateEstimate.roll", 'f'}, {"stateEstimate.pitch", 'f'}, {"stateEstimate.yaw", 'f'}},
+                                  {5.0, 10.0, 90.0}),
+                      euler)
+                  .ok());
+  ASSERT_TRUE(extract(attitudeLog({{"stateEstimate.qx", 'f'}, {"stateEstimate.qy", 'f'}, {"stateEstimate.qz", 'f'},
+                                   {"stateEstimate.qw", 'f'}},
+                                  {q[1], q[2], q[3], q[0]}),
+                      full)
+                  .ok());
+  const LogIssue i = extract(attitudeLog({{"stateEstimateZ.quat", 'I'}}, {static_cast<double>(test::usdCompressQuaternion(q))}, true),
+                             compressed);
+  ASSERT_TRUE(i.ok()) << i.message;
+  ASSERT_EQ(full.attitude.t.size(), 4u);
+  ASSERT_EQ(compressed.attitude.t.size(), 4u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(full.attitude.v[0][static_cast<std::size_t>(k)], euler.attitude.v[0][static_cast<std::size_t>(k)],
+                1e-6)
+        << "axis " << k;  // float quaternion against float degrees
+    EXPECT_NEAR(compressed.attitude.v[0][static_cast<std::size_t>(k)], euler.attitude.v[0][static_cast<std::size_t>(k)],
+                0.005)
+        << "axis " << k;  // 9-bit components
+  }
+  EXPECT_NEAR(full.attitude.v[0][1], -10 * kDeg, 1e-6);
+  EXPECT_EQ(full.attitude.source.fields, "stateEstimate.qw,qx,qy,qz");
+  EXPECT_TRUE(mentions(full.conventions, "stateEstimate.qw/qx/qy/qz (state.attitudeQuaternion"));
+  EXPECT_FALSE(mentions(full.conventions, "pitch negated"));
+  EXPECT_EQ(compressed.attitude.source.fields, "stateEstimateZ.quat");
+  EXPECT_TRUE(mentions(compressed.conventions, "quatcompress.h"));
+  // stateEstimateZ position: millimetres.
+  EXPECT_EQ(compressed.position.source.fields, "stateEstimateZ.x,y,z");
+  EXPECT_NEAR(compressed.position.v[0][0], 0.5, 1e-12);
+  EXPECT_NEAR(compressed.position.v[0][1], -1.25, 1e-12);
+  EXPECT_NEAR(compressed.position.v[3][2], 0.753, 1e-12);
+  EXPECT_TRUE(mentions(compressed.conventions, "[mm] → [m]"));
+}
+
+TEST(CrazyflieSignals, NoRotationAndSaturatedPositionRowsAreSkippedAndCounted) {
+  // A zero quaternion (an estimator not yet started) and a position at the int16 limit.
+  UsdEventType fixed;
+  fixed.variables = {{"stateEstimateZ.x", 'h'}, {"stateEstimateZ.y", 'h'}, {"stateEstimateZ.z", 'h'},
+                     {"stateEstimate.qw", 'f'}, {"stateEstimate.qx", 'f'}, {"stateEstimate.qy", 'f'},
+                     {"stateEstimate.qz", 'f'}, {"motor.m1", 'I'},         {"motor.m2", 'I'},
+                     {"motor.m3", 'I'},         {"motor.m4", 'I'}};
+  UsdWriter w(2, {fixed});
+  w.record(0, 1000, {0, 0, 32767, 0, 0, 0, 0, 0, 0, 0, 0});
+  w.record(0, 3000, {0, 0, 500, 1, 0, 0, 0, 0, 0, 0, 0});
+  w.record(0, 5000, {0, 0, 502, 2, 0, 0, 0, 0, 0, 0, 0});  // not normalised: read as the identity
+  FlightSignals s;
+  const LogIssue i = extract(w.closed(), s);
+  ASSERT_TRUE(i.ok()) << i.message;
+  EXPECT_EQ(s.position.t.size(), 2u);
+  EXPECT_EQ(s.attitude.t.size(), 2u);
+  EXPECT_TRUE(mentions(s.conventions, "position: 1 rows at the int16 limit"));
+  EXPECT_TRUE(mentions(s.conventions, "attitude: 1 rows whose quaternion is no rotation"));
+  EXPECT_EQ(s.attitude.v[1], (std::array<double, 3>{0.0, 0.0, 0.0}));
 }
 
 TEST(CrazyflieSignals, TimeMustIncrease) {

@@ -3,6 +3,7 @@
 // write → readCrazyflieUsd → the same values, types and timestamps. Header only.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -54,6 +55,34 @@ inline std::uint16_t usdFloatToHalf(double v) {
   if (e <= 0 || e >= 31) throw std::invalid_argument("usd writer: value outside normal fp16 range");
   const auto mant = static_cast<std::uint16_t>(std::lround((m * 2.0 - 1.0) * 1024.0));
   return static_cast<std::uint16_t>(sign | (e << 10) | mant);
+}
+
+// The Hamilton quaternion (w, x, y, z) of ZYX Euler angles: qz(ψ)·qy(θ)·qx(φ).
+inline std::array<double, 4> usdQuaternionOfEuler(double roll, double pitch, double yaw) {
+  const double cr = std::cos(roll / 2), sr = std::sin(roll / 2), cp = std::cos(pitch / 2), sp = std::sin(pitch / 2),
+               cy = std::cos(yaw / 2), sy = std::sin(yaw / 2);
+  return {cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+          cr * cp * sy - sr * sp * cy};
+}
+
+// stateEstimateZ.quat: the firmware's "smallest three" encoding (quatcompress.h), written here
+// from its description (docs/logs/crazyflie-usd.md): the largest component's index (x, y, z, w
+// order) in the top two bits, made positive by negating the whole quaternion; each other
+// component, in index order, as a sign bit over round(|q|·√2·511).
+inline std::uint32_t usdCompressQuaternion(const std::array<double, 4>& wxyz) {
+  const double q[4] = {wxyz[1], wxyz[2], wxyz[3], wxyz[0]};
+  unsigned largest = 0;
+  for (unsigned i = 1; i < 4; ++i)
+    if (std::fabs(q[i]) > std::fabs(q[largest])) largest = i;
+  const bool negate = q[largest] < 0;
+  std::uint32_t packed = largest;
+  for (unsigned i = 0; i < 4; ++i) {
+    if (i == largest) continue;
+    const unsigned sign = (q[i] < 0) != negate ? 1u : 0u;
+    const auto magnitude = static_cast<std::uint32_t>(std::lround(511.0 * std::fabs(q[i]) * std::sqrt(2.0)));
+    packed = (packed << 10) | (sign << 9) | magnitude;
+  }
+  return packed;
 }
 
 class UsdWriter {

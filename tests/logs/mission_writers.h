@@ -8,7 +8,8 @@
 //    ArduPilot's motor order, XKF1 PN/PE/PD at 25 Hz, EV ARMED/NOT_LANDED/LAND_COMPLETE/DISARMED.
 //  * Crazyflie micro-SD: fixedFrequency at 500 Hz with stateEstimate.roll/pitch/yaw [deg, pitch
 //    negated] and motor.m1..m4 [0..65535] through the firmware's duty → thrust map; position
-//    stateEstimate.x/y/z in a separate event at 50 Hz; no armed/landed states.
+//    stateEstimate.x/y/z in a separate event at 50 Hz; no armed/landed states. Or the compact
+//    stateEstimateZ.quat (compressed quaternion) and stateEstimateZ.x/y/z [mm] in their place.
 #pragma once
 
 #include <array>
@@ -183,27 +184,43 @@ inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double 
 }
 
 // ---------- Crazyflie ----------
-inline std::vector<std::uint8_t> writeCrazyflieMission(const Mission& m, int position_every = 10) {
+// `compressed`: the firmware's compact group instead, stateEstimateZ.quat (the attitude in 32 bits)
+// and stateEstimateZ.x/y/z (int16 millimetres), as a bandwidth-minded config.txt logs them.
+inline std::vector<std::uint8_t> writeCrazyflieMission(const Mission& m, int position_every = 10,
+                                                       bool compressed = false) {
   UsdEventType fixed;
-  fixed.variables = {{"stateEstimate.roll", 'f'}, {"stateEstimate.pitch", 'f'}, {"stateEstimate.yaw", 'f'},
-                     {"motor.m1", 'I'},           {"motor.m2", 'I'},            {"motor.m3", 'I'},
-                     {"motor.m4", 'I'}};
+  if (compressed)
+    fixed.variables = {{"stateEstimateZ.quat", 'I'}};
+  else
+    fixed.variables = {{"stateEstimate.roll", 'f'}, {"stateEstimate.pitch", 'f'}, {"stateEstimate.yaw", 'f'}};
+  for (const char* motor : {"motor.m1", "motor.m2", "motor.m3", "motor.m4"}) fixed.variables.push_back({motor, 'I'});
   UsdEventType pos;
   pos.id = 1;
   pos.name = "estPosition";
-  pos.variables = {{"stateEstimate.x", 'f'}, {"stateEstimate.y", 'f'}, {"stateEstimate.z", 'f'}};
+  if (compressed)
+    pos.variables = {{"stateEstimateZ.x", 'h'}, {"stateEstimateZ.y", 'h'}, {"stateEstimateZ.z", 'h'}};
+  else
+    pos.variables = {{"stateEstimate.x", 'f'}, {"stateEstimate.y", 'f'}, {"stateEstimate.z", 'f'}};
   UsdWriter w(2, {fixed, pos});
   const CrazyflieSignalOptions cf;  // the firmware's quadratic duty map
   for (std::size_t i = 0; i < m.samples.size(); ++i) {
     const TelemetrySample& s = m.samples[i];
-    std::vector<double> row = {s.y[3] * 180.0 / kMissionPi, -s.y[4] * 180.0 / kMissionPi, s.y[5] * 180.0 / kMissionPi};
+    std::vector<double> row;
+    if (compressed)
+      row = {static_cast<double>(usdCompressQuaternion(usdQuaternionOfEuler(s.y[3], s.y[4], s.y[5])))};
+    else
+      row = {s.y[3] * 180.0 / kMissionPi, -s.y[4] * 180.0 / kMissionPi, s.y[5] * 180.0 / kMissionPi};
     for (std::size_t k = 0; k < 4; ++k) {
       const double f = std::max(s.u[k], 0.0);
       const double r = (-cf.duty_b + std::sqrt(cf.duty_b * cf.duty_b + 4.0 * cf.duty_a * f)) / (2.0 * cf.duty_a);
       row.push_back(std::round(std::clamp(r, 0.0, 1.0) * cf.command_full_scale));
     }
     w.record(0, micros(s.t), row);
-    if (i % static_cast<std::size_t>(position_every) == 0) w.record(1, micros(s.t) + 1, {s.y[0], s.y[1], s.y[2]});
+    if (i % static_cast<std::size_t>(position_every) != 0) continue;
+    if (compressed)
+      w.record(1, micros(s.t) + 1, {std::round(s.y[0] * 1e3), std::round(s.y[1] * 1e3), std::round(s.y[2] * 1e3)});
+    else
+      w.record(1, micros(s.t) + 1, {s.y[0], s.y[1], s.y[2]});
   }
   return w.closed();
 }

@@ -344,6 +344,12 @@ TEST_F(LogDetection, CrazyflieMotorFailureGivesTheCsvPathsAlarmAndMotor) {
   }
 }
 
+TEST_F(LogDetection, CrazyflieCompressedStateGivesTheCsvPathsAlarmAndMotor) {
+  // stateEstimateZ: the attitude to 9 bits a component (about 0.16°) and the position to 1 mm.
+  const test::Mission m = test::simulateMission(2, 0.0, 4.0);
+  expectSameAlarmAsCsv(test::writeCrazyflieMission(m, 10, true), m, 2);
+}
+
 TEST_F(LogDetection, HealthyTakeOffFlightAndLandingRaiseNoAlarmInAnyFormat) {
   const test::Mission m = test::simulateMission(0, 1.0, -1.0);
   ASSERT_GT(m.landed_at, 0.0);
@@ -358,6 +364,10 @@ TEST_F(LogDetection, HealthyTakeOffFlightAndLandingRaiseNoAlarmInAnyFormat) {
   {
     SCOPED_TRACE("Crazyflie");
     expectQuietLanding(test::writeCrazyflieMission(m), m, "no armed/landed events");
+  }
+  {
+    SCOPED_TRACE("Crazyflie, stateEstimateZ");
+    expectQuietLanding(test::writeCrazyflieMission(m, 10, true), m, "no armed/landed events");
   }
 }
 
