@@ -106,11 +106,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const DetectorConfig config = configFor(size > 0 ? data[0] : 0, live, tcn);
   std::istringstream in(fuzz::text(data, size));
   std::vector<TelemetrySample> samples;
-  // quadfdi's frames or NED (detect --csv-frame), thrusts or rotor speeds (--csv-commands), by the
-  // input's length.
+  // quadfdi's frames or NED (detect --csv-frame), thrusts, rotor speeds, throttles or PWM pulses
+  // (--csv-commands; the last two through the 1.5 kg quad's thrust curve), by the input's length.
   TelemetryReaderOptions reading;
   reading.frame = size % 2 != 0 ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
-  reading.commands = size % 4 >= 2 ? CommandQuantity::kRotorSpeed : CommandQuantity::kThrust;
+  constexpr CommandQuantity kQuantities[] = {CommandQuantity::kThrust, CommandQuantity::kRotorSpeed,
+                                             CommandQuantity::kThrottle, CommandQuantity::kPwm};
+  reading.commands = kQuantities[(size / 2) % 4];
+  reading.curve.max_thrust = 7.0664;  // [N] configs/vehicles/quad450.toml
+  reading.curve.model_factor = 0.806;
   try {
     TelemetryReader reader(in, "fuzz.csv", reading);
     TelemetrySample sample;

@@ -66,7 +66,7 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
       "detect",
       "Online fault detection on flight telemetry (docs/conventions.md): reads the CSV t,x,y,z,roll,pitch,yaw,u1..u4\n"
       "(SI units, z up or --csv-frame ned, ZYX Euler angles or a quaternion qw,qx,qy,qz, u = commanded thrust per\n"
-      "motor [N] or --csv-commands rotor-speed, Crazyflie numbering; extra columns ignored; any rate down to\n"
+      "motor [N] or --csv-commands rotor-speed|throttle|pwm, Crazyflie numbering; extra columns ignored; any rate down to\n"
       "125 Hz, resampled to the model's) or a flight log (PX4 ULog, ArduPilot DataFlash, Crazyflie micro-SD:\n"
       "recognised from its content, airborne phases only), writes one JSON object per sample from the first full\n"
       "window on: {\"t\", \"theta\": [4], \"alarm\", \"motor\"} and, with the sequential rule (default), \"severity\",\n"
@@ -120,10 +120,14 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
          "either way the attitude may be roll,pitch,yaw (ZYX Euler) or qw,qx,qy,qz (quaternion, body → world)")
       .choices({"zup", "ned"});
   t->add("--csv-commands", o.csv_commands,
-         "Telemetry CSV: what u1..u4 hold: thrust (commanded thrust per motor [N]) or rotor-speed (commanded rotor "
+         "Telemetry CSV: what u1..u4 hold: thrust (commanded thrust per motor [N]); rotor-speed (commanded rotor "
          "speed in any unit — rad/s, RPM, a fraction of the maximum — as simulators write it: read as its square, "
-         "which a fixed-pitch propeller's thrust is proportional to; needs a scale-free model, as every shipped one is)")
-      .choices({"thrust", "rotor-speed"});
+         "which a fixed-pitch propeller's thrust is proportional to; needs a scale-free model, as every shipped one is); "
+         "throttle (the motor command in [0, 1]) or pwm (the ESC pulse [µs]): both through the --vehicle "
+         "description's thrust curve ([thrust] max and model_factor)")
+      .choices({"thrust", "rotor-speed", "throttle", "pwm"});
+  t->add("--csv-pwm-min", o.csv_pwm_min, "--csv-commands pwm: the pulse at zero throttle [µs]").atLeast(0.0);
+  t->add("--csv-pwm-max", o.csv_pwm_max, "--csv-commands pwm: the pulse at full throttle [µs]").above(0.0);
   addLogInputOptions(*t, o.log);
   attachOptions(*cmd, t);
   return cmd;
@@ -288,16 +292,29 @@ int runDetect(const DetectOptions& o) {
   // The motor numbers a pilot reads: a CSV is in quadfdi's numbering, which the description's
   // [motor.N] table (its autopilot's numbering) translates; a log's extractor overrides both.
   MotorNumbering numbering;
+  CommandCurve command_curve;  // --csv-commands throttle | pwm: the description's thrust curve
   if (!o.log.vehicle.empty()) {
     const VehicleDescription vehicle = loadVehicleDescription(o.log.vehicle);
     numbering.name = vehicle.motor_numbering.substr(0, vehicle.motor_numbering.find(" ("));
     numbering.autopilot_motor = vehicle.autopilot_motor_of_quadfdi_motor;
+    command_curve.max_thrust = vehicle.params.max_thrust;
+    command_curve.model_factor = vehicle.params.thrust_model_factor;
   }
+  command_curve.pwm_min = o.csv_pwm_min;
+  command_curve.pwm_max = o.csv_pwm_max;
   const bool renumber = o.csv_numbering == "vehicle";  // checked before any work or message
   if (renumber && o.log.vehicle.empty())
     throw ConfigError("--csv-numbering vehicle: needs --vehicle FILE, whose [motor.N] sections give the numbering");
   const bool ned = o.csv_frame == "ned", rotor_speed = o.csv_commands == "rotor-speed";
-  if (const std::string format = renumber || ned || rotor_speed ? resolveInputFormat(o.input, o.log.format) : "csv"; format != "csv")
+  const bool through_curve = o.csv_commands == "throttle" || o.csv_commands == "pwm";
+  if (through_curve && o.log.vehicle.empty())
+    throw ConfigError("--csv-commands " + o.csv_commands + ": needs --vehicle FILE, whose [thrust] max and model_factor "
+                      "turn the motor command into newtons (docs/vehicles.md)");
+  if (o.csv_commands != "pwm") refuseGiven(o.log.given, {"csv_pwm_min", "csv_pwm_max"}, "is read only with --csv-commands pwm");
+  if (o.csv_pwm_max <= o.csv_pwm_min)
+    throw ConfigError("--csv-pwm-max must be above --csv-pwm-min");
+  if (const std::string format = renumber || ned || o.csv_commands != "thrust" ? resolveInputFormat(o.input, o.log.format) : "csv";
+      format != "csv")
     throw ConfigError(renumber ? "--csv-numbering: reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering"
                       : ned    ? "--csv-frame: reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows"
                                : "--csv-commands: reads a telemetry CSV; a " + format + " log's commands are converted by its reader");
@@ -372,7 +389,8 @@ int runDetect(const DetectOptions& o) {
   refuseOptionsUnreadBy(format, o.log);
   // With a telemetry CSV a vehicle description chooses the model and its calibration (and numbers the motors): say so
   // when it chose neither, rather than let it look as if the detector knew the airframe.
-  if (!o.quiet && format == "csv" && !o.log.vehicle.empty() && !renumber && choice.source != DetectModelChoice::Source::kVehicle &&
+  if (!o.quiet && format == "csv" && !o.log.vehicle.empty() && !renumber && !through_curve &&
+      choice.source != DetectModelChoice::Source::kVehicle &&
       choice.source != DetectModelChoice::Source::kGeneral && !vehicle_calibration)
     std::fprintf(stderr, "detect: warning: --vehicle %s only names the motors in its numbering: the model is given and has no "
                          "calibration for it (%s); calibrate one (quadfdi calibrate --randomise … --vehicle)\n",
@@ -391,7 +409,11 @@ int runDetect(const DetectOptions& o) {
     }
     TelemetryReaderOptions reading;
     reading.frame = ned ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
-    reading.commands = rotor_speed ? CommandQuantity::kRotorSpeed : CommandQuantity::kThrust;
+    reading.commands = rotor_speed                   ? CommandQuantity::kRotorSpeed
+                       : o.csv_commands == "throttle" ? CommandQuantity::kThrottle
+                       : o.csv_commands == "pwm"      ? CommandQuantity::kPwm
+                                                      : CommandQuantity::kThrust;
+    reading.curve = command_curve;
     csv = std::make_unique<TelemetryReader>(live ? std::cin : file, name, reading);  // throws on an empty file or a bad header
     source = csv.get();
     // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).

@@ -18,6 +18,7 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
       continue;
     }
     if (result.samples++ == 0) result.first_t = sample.t;
+    if (sample.u[0] <= 0.0 && sample.u[1] <= 0.0 && sample.u[2] <= 0.0 && sample.u[3] <= 0.0) ++result.no_thrust;
     const bool look_ahead = !config.live || source.moreReady();
     const ResampleStatus status = detector.push(sample, look_ahead);
     if (status == ResampleStatus::kNotIncreasing || status == ResampleStatus::kTooCoarse) {
@@ -41,6 +42,12 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
   while (detector.pop(d)) sink.output(d);
   if (result.skipped > config.max_warnings)
     sink.warning(std::to_string(result.skipped) + " rows skipped in all (non-finite or empty cells)");
+  // A vehicle in the air commands thrust; one that commands none most of the time is on the ground,
+  // or its commands were read in another unit or range, and no fault can show in them.
+  if (2 * result.no_thrust > result.samples)
+    sink.warning(std::to_string(result.no_thrust) + " of " + std::to_string(result.samples) +
+                 " samples command no thrust from any motor (u1..u4 all <= 0): no fault can show there; are the "
+                 "commands in the unit and range they were read as?");
   return result;
 }
 

@@ -30,6 +30,7 @@ struct SessionResult {
   long skipped = 0;    // samples the source dropped
   double first_t = 0.0;  // [s] time of the first sample read
   long samples = 0;      // samples read (not skipped), the offending one included
+  long no_thrust = 0;    // of those, samples whose four commands are all ≤ 0 N
 };
 
 struct SessionConfig {

@@ -6,12 +6,19 @@
 #include <cerrno>
 #include <iostream>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 #include <vector>
 
 namespace quadfdi {
 namespace {
+
+std::string numberText(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
 
 constexpr double kMaxMagnitude = 1e9;  // [SI] larger values are no flight telemetry (and overflow float)
 // [s] t is not fed to the network and may be an absolute clock: seconds since 1970 (1.7e9), or
@@ -84,6 +91,15 @@ void TelemetryReader::readNumberingComment(const std::string& comment) {
 
 TelemetryReader::TelemetryReader(std::istream& in, std::string name, const TelemetryReaderOptions& options)
     : in_(in), name_(std::move(name)), options_(options) {
+  if (options_.commands == CommandQuantity::kThrottle || options_.commands == CommandQuantity::kPwm) {
+    const CommandCurve& c = options_.curve;
+    if (!(c.max_thrust > 0.0) || !(c.model_factor >= 0.0 && c.model_factor <= 1.0) || !(c.pwm_min >= 0.0) ||
+        !(c.pwm_max > c.pwm_min) || !std::isfinite(c.max_thrust) || !std::isfinite(c.pwm_max))
+      throw std::invalid_argument("TelemetryReader: a command curve needs max_thrust > 0, model_factor in [0, 1] and "
+                                  "0 <= pwm_min < pwm_max");
+    thrust_curve_.max_thrust = c.max_thrust;
+    thrust_curve_.thrust_model_factor = c.model_factor;
+  }
   column_.fill(-1);  // no header yet: readLine takes the numbering comment until it is read
   std::string header;
   if (!readLine(header)) throw TelemetryError(name_ + ": empty input (expected the header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4)");
@@ -183,12 +199,26 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
   // Commands in newtons per motor: the largest quadrotor motors make ~100 N (10 kg of thrust), so
   // hundreds are another unit (PWM µs, a raw 0–65535 command), which the thrust map must convert.
   constexpr double kMaxMotorThrust = 500.0;  // [N] five times the largest heavy-lift motor's thrust
-  const bool thrust = options_.commands == CommandQuantity::kThrust;
-  for (int r = 7; r < 11; ++r)
-    if (thrust && std::abs(values[r]) > kMaxMotorThrust)
+  // A throttle a little outside [0, 1] is a controller's round-off (clamped); far outside, another
+  // quantity. A pulse beyond the range by its width again is no pulse (a raw 0–65535 command).
+  constexpr double kThrottleSlack = 0.05;  // [-]
+  const CommandQuantity quantity = options_.commands;
+  const CommandCurve& curve = options_.curve;
+  for (int r = 7; r < 11; ++r) {
+    const double v = values[r];
+    if (quantity == CommandQuantity::kThrust && std::abs(v) > kMaxMotorThrust)
       throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellOf(r) +
-                           " is no thrust in newtons (over 500 N a motor): PWM or a raw motor command? convert it with the "
-                           "motor's thrust map (docs/conventions.md)");
+                           " is no thrust in newtons (over 500 N a motor): PWM or a throttle? read it with --csv-commands "
+                           "pwm or throttle and the vehicle's thrust curve (docs/conventions.md)");
+    if (quantity == CommandQuantity::kThrottle && !(v >= -kThrottleSlack && v <= 1.0 + kThrottleSlack))
+      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellOf(r) +
+                           " is no throttle in [0, 1] (--csv-commands throttle): a PWM pulse (--csv-commands pwm) or a "
+                           "thrust in newtons (--csv-commands thrust)?");
+    if (quantity == CommandQuantity::kPwm && !(v >= 0.0 && v <= 2.0 * curve.pwm_max - curve.pwm_min))
+      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellOf(r) + " is no PWM pulse in µs between " +
+                           numberText(curve.pwm_min) + " and " + numberText(curve.pwm_max) +
+                           " (--csv-commands pwm; the range: --csv-pwm-min, --csv-pwm-max)");
+  }
   sample.t = values[0];
   if (options_.frame == TelemetryFrame::kNed) {  // north, east, down and FRD → north, west, up and FLU
     sample.y = {values[1], -values[2], -values[3]};
@@ -199,7 +229,17 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
   sample.y[3] = attitude.roll;
   sample.y[4] = attitude.pitch;
   sample.y[5] = attitude.yaw;
-  for (int i = 0; i < 4; ++i) sample.u[static_cast<std::size_t>(i)] = thrust ? values[7 + i] : values[7 + i] * values[7 + i];
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double v = values[7 + i];
+    switch (quantity) {
+      case CommandQuantity::kThrust: sample.u[i] = v; break;
+      case CommandQuantity::kRotorSpeed: sample.u[i] = v * v; break;
+      case CommandQuantity::kThrottle: sample.u[i] = thrust_curve_.thrustAtCommand(v); break;  // clamps c to [0, 1]
+      case CommandQuantity::kPwm:
+        sample.u[i] = thrust_curve_.thrustAtCommand((v - curve.pwm_min) / (curve.pwm_max - curve.pwm_min));
+        break;
+    }
+  }
   return Row::kSample;
 }
 

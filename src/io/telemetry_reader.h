@@ -15,6 +15,7 @@
 #include "core/frames.h"
 #include "core/motor_numbering.h"
 #include "core/sample_source.h"
+#include "model/vehicle_params.h"
 
 namespace quadfdi {
 
@@ -29,17 +30,33 @@ enum class CommandQuantity {
   kThrust,      // commanded thrust [N] (docs/conventions.md)
   kRotorSpeed,  // commanded rotor speed, any unit (rad/s, RPM, a fraction of the maximum): read as its square,
                 // proportional to thrust for a fixed-pitch propeller (f = k_f·ω²) with k_f unknown
+  kThrottle,    // the normalised motor command c ∈ [0, 1], what an ESC is asked for as a fraction of its range:
+                // thrust from the vehicle's curve (CommandCurve)
+  kPwm,         // the ESC's pulse width [µs]: c = (pwm − pwm_min) / (pwm_max − pwm_min), then the curve
+};
+
+// Motor command → thrust for kThrottle and kPwm, from a vehicle description's [thrust] table
+// (docs/vehicles.md): f = max_thrust·((1 − k)·c + k·c²), VehicleParams::thrustAtCommand.
+struct CommandCurve {
+  double max_thrust = 0.0;    // [N] per motor at c = 1 (thrust.max)
+  double model_factor = 0.0;  // [-] k in [0, 1] (thrust.model_factor; PX4's THR_MDL_FAC convention)
+  // The pulse range: 1000–2000 µs is the common ESC calibration and both autopilots' default
+  // (PX4 PWM_MAIN_MINn/MAXn, ArduPilot MOT_PWM_MIN/MAX taken from RC3 when 0).
+  double pwm_min = 1000.0;  // [µs] the pulse at c = 0
+  double pwm_max = 2000.0;  // [µs] the pulse at c = 1
 };
 
 struct TelemetryReaderOptions {
   TelemetryFrame frame = TelemetryFrame::kZUp;            // of the position and attitude columns
   CommandQuantity commands = CommandQuantity::kThrust;  // of u1..u4
+  CommandCurve curve;                                   // kThrottle and kPwm only
 };
 
 class TelemetryReader : public SampleSource {
  public:
   // Reads the header (blank lines and lines starting with '#' are skipped). Throws TelemetryError
-  // for an empty input or a header without the required columns.
+  // for an empty input or a header without the required columns, std::invalid_argument for a
+  // curve that maps no command to thrust (kThrottle, kPwm).
   TelemetryReader(std::istream& in, std::string name, const TelemetryReaderOptions& options = {});
 
   using Row = SampleSource::Next;
@@ -76,6 +93,7 @@ class TelemetryReader : public SampleSource {
   bool quaternion_ = false;       // attitude from qw, qx, qy, qz
   std::vector<std::string> cells_buffer_;
   std::optional<MotorNumbering> numbering_;
+  VehicleParams thrust_curve_;  // max_thrust and thrust_model_factor of options_.curve
 };
 
 }  // namespace quadfdi

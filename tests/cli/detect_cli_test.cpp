@@ -476,6 +476,68 @@ TEST(DetectCli, RotorSpeedCommandsAreReadAsTheirSquares) {
   EXPECT_EQ(countLines(newtons.out), 1) << newtons.out;
 }
 
+// A simulator or autopilot that logs the motor command (a throttle in [0, 1], or the ESC pulse)
+// is read through the vehicle description's thrust curve: the same output as the file of thrusts,
+// byte for byte. The quad's curve is far from linear (model_factor 0.806), so the command read as
+// thrust would size every fault wrongly; without --vehicle there is no curve, and it is refused.
+TEST(DetectCli, ThrottleAndPwmCommandsAreReadThroughTheVehiclesThrustCurve) {
+  const std::string vehicle = std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/quad450.toml";
+  const double kMax = 7.0664, kFactor = 0.806;  // quad450.toml [thrust] max, model_factor
+  const std::string thrust = temp("quad-thrust.csv"), throttle = temp("quad-throttle.csv"), pwm = temp("quad-pwm.csv");
+  ASSERT_EQ(run("simulate --params " + vehicle + " --motor 2 --theta 0.6 --fault-step 500 --steps 1500 --seed 4 --output " +
+                thrust)
+                .exit_code,
+            0);
+  auto commandOf = [&](const std::string& cell) {  // the root in [0, 1] of k c² + (1 − k) c = f / max
+    const double r = std::stod(cell) / kMax;
+    EXPECT_LE(r, 1.0) << "a simulated command above the motor's maximum";
+    return (-(1.0 - kFactor) + std::sqrt((1.0 - kFactor) * (1.0 - kFactor) + 4.0 * kFactor * r)) / (2.0 * kFactor);
+  };
+  rewriteRows(thrust, throttle, [&](std::vector<std::string>& cells) {
+    for (std::size_t i = 7; i < 11; ++i) {
+      char text[40];
+      std::snprintf(text, sizeof text, "%.17g", commandOf(cells[i]));
+      cells[i] = text;
+    }
+  });
+  rewriteRows(thrust, pwm, [&](std::vector<std::string>& cells) {
+    for (std::size_t i = 7; i < 11; ++i) {
+      char text[40];
+      std::snprintf(text, sizeof text, "%.17g", 1100.0 + 800.0 * commandOf(cells[i]));
+      cells[i] = text;
+    }
+  });
+  const CommandResult reference = run("detect --vehicle " + vehicle + " --input " + thrust);
+  const CommandResult from_throttle = run("detect --vehicle " + vehicle + " --csv-commands throttle --input " + throttle);
+  const CommandResult from_pwm = run("detect --vehicle " + vehicle +
+                                     " --csv-commands pwm --csv-pwm-min 1100 --csv-pwm-max 1900 --input " + pwm);
+  ASSERT_EQ(reference.exit_code, 0) << reference.out;
+  EXPECT_NE(reference.out.find("detect: FAULT in motor 2"), std::string::npos) << reference.out;
+  EXPECT_EQ(from_throttle.out, reference.out);
+  EXPECT_EQ(from_pwm.out, reference.out);
+  const CommandResult misread = run("detect --vehicle " + vehicle + " --input " + throttle);
+  ASSERT_EQ(misread.exit_code, 0) << misread.out;
+  EXPECT_NE(misread.out, reference.out);
+  const std::size_t at = misread.out.find("detect: FAULT");
+  std::printf("[ measured ] quad450, motor 2 at Θ = 0.6: %s | throttle read as thrust: %s\n",
+              reference.out.substr(reference.out.find("detect: FAULT"), 72).c_str(),
+              at == std::string::npos ? "no alarm" : misread.out.substr(at, 72).c_str());
+
+  const CommandResult no_vehicle = run("detect --csv-commands throttle --input " + throttle);
+  EXPECT_EQ(no_vehicle.exit_code, 1);
+  EXPECT_NE(no_vehicle.out.find("--csv-commands throttle: needs --vehicle FILE, whose [thrust] max and model_factor"),
+            std::string::npos)
+      << no_vehicle.out;
+  const CommandResult stray = run("detect --csv-pwm-min 900 --input " + thrust);
+  EXPECT_EQ(stray.exit_code, 1);
+  EXPECT_NE(stray.out.find("--csv-pwm-min: is read only with --csv-commands pwm"), std::string::npos) << stray.out;
+  const CommandResult as_pwm = run("detect --vehicle " + vehicle + " --csv-commands pwm --input " + throttle);
+  EXPECT_EQ(as_pwm.exit_code, 0) << as_pwm.out;  // 0–1 µs: pulses below the range, read as no thrust, and warned of
+  EXPECT_EQ(as_pwm.out.find("detect: FAULT"), std::string::npos) << as_pwm.out;
+  EXPECT_NE(as_pwm.out.find("1500 of 1500 samples command no thrust from any motor"), std::string::npos) << as_pwm.out;
+  EXPECT_EQ(reference.out.find("command no thrust"), std::string::npos) << reference.out;
+}
+
 // Logs stamped with seconds since 1970 are read as they are: the same Θ̂ and alarms as on the
 // flight's own clock, each output's t moved by the offset and printed to its millisecond.
 TEST(DetectCli, AnAbsoluteClockGivesTheSameDetections) {

@@ -183,7 +183,9 @@ TEST(TelemetryCsv, NedFramesTurnIntoQuadfdis) {
   const std::string quaternion = "t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4\n0,1,2,-3," + number(q[0]) + "," + number(q[1]) + "," + number(q[2]) + "," +
                                  number(q[3]) + ",1,2,3,4\n";
   for (const std::string& csv : {euler, quaternion}) {
-    const TelemetrySample s = readOne(csv, {TelemetryFrame::kNed, CommandQuantity::kThrust});
+    TelemetryReaderOptions ned;
+    ned.frame = TelemetryFrame::kNed;
+    const TelemetrySample s = readOne(csv, ned);
     EXPECT_EQ(s.y[0], 1.0);
     EXPECT_EQ(s.y[1], -2.0);
     EXPECT_EQ(s.y[2], 3.0);
@@ -203,6 +205,44 @@ TEST(TelemetryCsv, RotorSpeedsAreReadAsTheirSquares) {
   EXPECT_EQ(readOne(csv, speeds).u, (std::array<double, 4>{4e8, 0.25, 9, 0}));
   const std::string thrust = firstRefusal(csv, "thrust.csv");
   EXPECT_EQ(thrust.rfind("thrust.csv:2: column 'u1' = 20000 is no thrust in newtons", 0), 0u) << thrust;
+}
+
+// Throttles and PWM pulses go through the vehicle's thrust curve f = max·((1 − k)c + k c²):
+// max 10 N, k = 0.5 here, so c = 0.5 (or 1500 µs in 1000–2000) gives 10·(0.25 + 0.125) = 3.75 N.
+// A throttle a little outside [0, 1] is clamped; one far outside, or a pulse past the range by
+// its width, is another quantity and refused naming the line and column.
+TEST(TelemetryCsv, ThrottleAndPwmCommandsGoThroughTheVehiclesThrustCurve) {
+  TelemetryReaderOptions throttle;
+  throttle.commands = CommandQuantity::kThrottle;
+  throttle.curve.max_thrust = 10.0;
+  throttle.curve.model_factor = 0.5;
+  EXPECT_EQ(readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,0,0,0,0,0.5,1,0,-0.01\n", throttle).u,
+            (std::array<double, 4>{3.75, 10.0, 0.0, 0.0}));
+  EXPECT_NEAR(readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,0,0,0,0,1.04,0.2,0,0\n", throttle).u[1],
+              10.0 * (0.5 * 0.2 + 0.5 * 0.04), 1e-15);
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,0,0,0,0,0.5,0.5,1500,0.5\n", "throttle.csv", throttle),
+            "throttle.csv:2: column 'u3' = 1500 is no throttle in [0, 1] (--csv-commands throttle): a PWM pulse "
+            "(--csv-commands pwm) or a thrust in newtons (--csv-commands thrust)?");
+
+  TelemetryReaderOptions pwm = throttle;
+  pwm.commands = CommandQuantity::kPwm;
+  EXPECT_EQ(readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,0,0,0,0,1500,2000,1000,0\n", pwm).u,
+            (std::array<double, 4>{3.75, 10.0, 0.0, 0.0}));  // 0 µs: an output switched off
+  pwm.curve.pwm_min = 1100;
+  pwm.curve.pwm_max = 1900;
+  EXPECT_EQ(readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,0,0,0,0,1500,1950,1050,2700\n", pwm).u,
+            (std::array<double, 4>{3.75, 10.0, 0.0, 10.0}));
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,0,0,0,0,1500,1500,1500,32768\n", "pwm.csv", pwm),
+            "pwm.csv:2: column 'u4' = 32768 is no PWM pulse in µs between 1100 and 1900 (--csv-commands pwm; the range: "
+            "--csv-pwm-min, --csv-pwm-max)");
+  // Read as thrust, a pulse says what it may be.
+  const std::string thrust = firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,0,0,0,0,1500,1500,1500,1500\n", "t.csv");
+  EXPECT_NE(thrust.find("PWM or a throttle? read it with --csv-commands pwm or throttle"), std::string::npos) << thrust;
+  // A curve that maps nothing is a programming error.
+  TelemetryReaderOptions no_curve;
+  no_curve.commands = CommandQuantity::kThrottle;
+  std::istringstream header("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
+  EXPECT_THROW(TelemetryReader(header, "x.csv", no_curve), std::invalid_argument);
 }
 
 // t may be an absolute clock: seconds since 1970 read exactly (the network never sees t). Micro-
