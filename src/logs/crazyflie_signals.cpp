@@ -100,6 +100,15 @@ std::string rateNote(const std::vector<double>& t) {
 
 bool finite(double v) { return std::isfinite(v); }
 
+// The conventions lines for rows a series dropped: those with a non-finite value, and the
+// `for_reason` of them dropped for `reason`, each line only where there are some.
+void noteSkippedRows(std::vector<std::string>& conventions, const std::string& series, std::size_t skipped,
+                     std::size_t for_reason = 0, const std::string& reason = "") {
+  if (skipped > for_reason)
+    conventions.push_back(series + ": " + std::to_string(skipped - for_reason) + " rows with a non-finite value skipped");
+  if (for_reason) conventions.push_back(series + ": " + std::to_string(for_reason) + " rows " + reason + " skipped");
+}
+
 // How the log gives the attitude, in the order they are looked for.
 enum class AttitudeSource {
   kEuler,                 // stateEstimate.roll/pitch/yaw [deg], legacy pitch sign
@@ -235,12 +244,7 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
   out.conventions.push_back("position: " + pt.name + " " + pos_group + ".x/y/z " +
                             (pos_compressed ? "[mm] → [m] (int16: 1 mm steps, ±32.767 m)" : "[m] as logged") +
                             " (the Crazyflie world frame is z up, x/y those of its positioning system)");
-  if (skipped > pos_saturated)
-    out.conventions.push_back("position: " + std::to_string(skipped - pos_saturated) +
-                              " rows with a non-finite value skipped");
-  if (pos_saturated)
-    out.conventions.push_back("position: " + std::to_string(pos_saturated) +
-                              " rows at the int16 limit (±32.767 m, saturated) skipped");
+  noteSkippedRows(out.conventions, "position", skipped, pos_saturated, "at the int16 limit (±32.767 m, saturated)");
 
   // Attitude → quadfdi's ZYX Euler angles, body FLU. The Euler angles are degrees with the pitch
   // negated (the firmware logs positive = nose up); the quaternion is the FLU body → world rotation
@@ -259,35 +263,35 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
   };
   std::string att_fields;
   std::string att_note;
+  auto describe = [&](const std::string& fields, const std::string& note, const std::string& convention) {
+    att_fields = fields;
+    att_note = note;
+    out.conventions.push_back("attitude: " + at.name + " " + convention);
+  };
   switch (att_source) {
     case AttitudeSource::kEuler:
     case AttitudeSource::kStabilizerEuler: {
       const std::string group = att_source == AttitudeSource::kStabilizerEuler ? "stabilizer" : "stateEstimate";
-      att_fields = group + ".roll,pitch,yaw";
-      att_note = "deg → rad, pitch negated; ";
-      out.conventions.push_back("attitude: " + at.name + " " + group + ".roll/pitch/yaw [deg] → [rad]; pitch negated "
-                                "(the firmware logs −pitch, positive = nose up: kalman_core.c 'legacy CF2 body "
-                                "coordinate system'; quadfdi: positive = nose down); roll (positive = right side "
-                                "down) and yaw (positive = counter-clockwise from above) unchanged, ZYX, body x "
-                                "forward, y left, z up");
+      describe(group + ".roll,pitch,yaw", "deg → rad, pitch negated; ",
+               group + ".roll/pitch/yaw [deg] → [rad]; pitch negated (the firmware logs −pitch, positive = nose up: "
+                       "kalman_core.c 'legacy CF2 body coordinate system'; quadfdi: positive = nose down); roll "
+                       "(positive = right side down) and yaw (positive = counter-clockwise from above) unchanged, ZYX, "
+                       "body x forward, y left, z up");
       if (att_source == AttitudeSource::kStabilizerEuler)
         out.conventions.push_back("attitude: stateEstimate.roll/pitch/yaw not all logged; stabilizer.roll/pitch/yaw "
                                   "used instead (the same state estimate, same sign convention)");
       break;
     }
     case AttitudeSource::kQuaternion:
-      att_fields = "stateEstimate.qw,qx,qy,qz";
-      att_note = "quaternion → ZYX Euler; ";
-      out.conventions.push_back("attitude: " + at.name + " stateEstimate.qw/qx/qy/qz (state.attitudeQuaternion, "
-                                "the FLU body → world rotation) → ZYX Euler angles, normalised; no sign change "
-                                "(the legacy pitch negation applies to the logged Euler pitch only)");
+      describe("stateEstimate.qw,qx,qy,qz", "quaternion → ZYX Euler; ",
+               "stateEstimate.qw/qx/qy/qz (state.attitudeQuaternion, the FLU body → world rotation) → ZYX Euler "
+               "angles, normalised; no sign change (the legacy pitch negation applies to the logged Euler pitch only)");
       break;
     case AttitudeSource::kCompressedQuaternion:
-      att_fields = "stateEstimateZ.quat";
-      att_note = "compressed quaternion → ZYX Euler; ";
-      out.conventions.push_back("attitude: " + at.name + " stateEstimateZ.quat (state.attitudeQuaternion in the "
-                                "firmware's quatcompress.h format: the three smallest components, 9 bits and a sign "
-                                "each, steps of 0.0014, about 0.16°) → ZYX Euler angles; no sign change");
+      describe("stateEstimateZ.quat", "compressed quaternion → ZYX Euler; ",
+               "stateEstimateZ.quat (state.attitudeQuaternion in the firmware's quatcompress.h format: the three "
+               "smallest components, 9 bits and a sign each, steps of 0.0014, about 0.16°) → ZYX Euler angles; no sign "
+               "change");
       break;
   }
   if (LogIssue i = fill<3>(att, origin, att_fields,
@@ -317,12 +321,8 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
       !i.ok())
     return i;
   out.attitude.source.note = att_note + rateNote(out.attitude.t);
-  if (skipped > att_rejected)
-    out.conventions.push_back("attitude: " + std::to_string(skipped - att_rejected) +
-                              " rows with a non-finite value skipped");
-  if (att_rejected)
-    out.conventions.push_back("attitude: " + std::to_string(att_rejected) +
-                              " rows whose quaternion is no rotation (zero, or no unit quaternion) skipped");
+  noteSkippedRows(out.conventions, "attitude", skipped, att_rejected,
+                  "whose quaternion is no rotation (zero, or no unit quaternion)");
 
   // Motors: Crazyflie M1..M4 are quadfdi 1..4 (FR, BR, BL, FL).
   const LogTopic& ct = *cmd.topic;
@@ -396,8 +396,7 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
   if (clamped)
     out.conventions.push_back("thrust: " + std::to_string(clamped) + " motor commands outside [0, " +
                               std::to_string(static_cast<long long>(fs)) + "] clamped");
-  if (skipped)
-    out.conventions.push_back("motors: " + std::to_string(skipped) + " rows with a non-finite value skipped");
+  noteSkippedRows(out.conventions, "motors", skipped);
   out.conventions.push_back("time: micro-SD timestamps [µs since boot] minus the log's first record, in seconds");
   return {};
 }
