@@ -452,8 +452,20 @@ int runDetect(const DetectOptions& o) {
                          fmtMs(o.max_input_period) + " (--max-input-period); the model needs " + fmtMs(m.dt) + " samples" + hint);
   }
   const DetectorSummary& s = detector->summary();
+  // Rows with empty cells throughout are the mark of an export that merges signals sampled at
+  // different times, each row holding only the ones sampled then: say so, rather than only count.
+  const std::string merged_hint =
+      "an export that merges signals logged at different times (PlotJuggler, a ROS bag) leaves the others' cells "
+      "empty: fill every column on one clock first (interpolate the states, hold the commands; docs/conventions.md)";
   // Before the commit: a header-only log must not replace an existing output file.
-  if (s.input_samples == 0) throw TelemetryError(name + ": no telemetry rows after the header");
+  if (s.input_samples == 0)
+    throw TelemetryError(name + ": no telemetry rows after the header" +
+                         (r.skipped > 0 ? ": all " + std::to_string(r.skipped) + " rows have an empty or non-finite cell; " +
+                                              merged_hint
+                                        : std::string()));
+  if (!o.quiet && format == "csv" && r.skipped >= r.samples)
+    std::fprintf(stderr, "detect: warning: %s: %ld of %ld rows skipped for an empty or non-finite cell; %s\n", name.c_str(),
+                 r.skipped, r.skipped + r.samples, merged_hint.c_str());
   out.flush();
   if (!out) throw std::runtime_error(o.output + ": write failed");
   if (file_out) file_out->commit();

@@ -723,6 +723,29 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
     EXPECT_EQ(countLines(r.out), 1) << c.name << ": " << r.out;
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.name << ": " << r.out;
   }
+  // A merged export of asynchronous signals: every row lacks some cells. Refused with what to do.
+  std::ostringstream merged;
+  merged << good_header;
+  for (int k = 0; k < 40; ++k)
+    merged << 0.002 * k << (k % 2 ? ",,,,,,,0.07,0.07,0.07,0.07\n" : ",0,0,1,0,0,0,,,,\n");
+  std::ofstream(temp("merged.csv")) << merged.str();
+  const CommandResult m = run("detect --input " + temp("merged.csv") + " --output " + temp("bad.jsonl"));
+  EXPECT_EQ(m.exit_code, 1) << m.out;
+  EXPECT_NE(m.out.find("merged.csv: no telemetry rows after the header: all 40 rows have an empty or non-finite cell; an "
+                       "export that merges signals logged at different times (PlotJuggler, a ROS bag)"),
+            std::string::npos)
+      << m.out;
+  // Half merged: complete rows every 2 ms between rows of states alone. Read, with the same hint.
+  std::ostringstream half;
+  half << good_header;
+  for (int k = 0; k < 300; ++k)
+    half << 0.001 * k << (k % 2 ? ",0,0,1,0,0,0,,,,\n" : ",0,0,1,0,0,0,0.07,0.07,0.07,0.07\n");
+  std::ofstream(temp("half-merged.csv")) << half.str();
+  const CommandResult h = run("detect --input " + temp("half-merged.csv") + " --output " + temp("half.jsonl"));
+  EXPECT_EQ(h.exit_code, 0) << h.out;
+  EXPECT_NE(h.out.find("half-merged.csv: 150 of 300 rows skipped for an empty or non-finite cell; an export that merges"),
+            std::string::npos)
+      << h.out;
   // A header-only log does not replace an existing output either.
   std::ofstream(temp("kept-header.jsonl")) << "precious\n";
   EXPECT_EQ(run("detect --input " + temp("header-only.csv") + " --output " + temp("kept-header.jsonl")).exit_code, 1);
