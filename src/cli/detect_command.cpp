@@ -305,15 +305,20 @@ int runDetect(const DetectOptions& o) {
   const bool renumber = o.csv_numbering == "vehicle";  // checked before any work or message
   if (renumber && o.log.vehicle.empty())
     throw ConfigError("--csv-numbering vehicle: needs --vehicle FILE, whose [motor.N] sections give the numbering");
-  const bool ned = o.csv_frame == "ned", rotor_speed = o.csv_commands == "rotor-speed";
-  const bool through_curve = o.csv_commands == "throttle" || o.csv_commands == "pwm";
+  const bool ned = o.csv_frame == "ned";
+  const CommandQuantity commands = o.csv_commands == "rotor-speed" ? CommandQuantity::kRotorSpeed
+                                   : o.csv_commands == "throttle"  ? CommandQuantity::kThrottle
+                                   : o.csv_commands == "pwm"       ? CommandQuantity::kPwm
+                                                                   : CommandQuantity::kThrust;
+  const bool rotor_speed = commands == CommandQuantity::kRotorSpeed;
+  const bool through_curve = commands == CommandQuantity::kThrottle || commands == CommandQuantity::kPwm;
   if (through_curve && o.log.vehicle.empty())
     throw ConfigError("--csv-commands " + o.csv_commands + ": needs --vehicle FILE, whose [thrust] max and model_factor "
                       "turn the motor command into newtons (docs/vehicles.md)");
-  if (o.csv_commands != "pwm") refuseGiven(o.log.given, {"csv_pwm_min", "csv_pwm_max"}, "is read only with --csv-commands pwm");
+  if (commands != CommandQuantity::kPwm) refuseGiven(o.log.given, {"csv_pwm_min", "csv_pwm_max"}, "is read only with --csv-commands pwm");
   if (o.csv_pwm_max <= o.csv_pwm_min)
     throw ConfigError("--csv-pwm-max must be above --csv-pwm-min");
-  if (const std::string format = renumber || ned || o.csv_commands != "thrust" ? resolveInputFormat(o.input, o.log.format) : "csv";
+  if (const std::string format = renumber || ned || commands != CommandQuantity::kThrust ? resolveInputFormat(o.input, o.log.format) : "csv";
       format != "csv")
     throw ConfigError(renumber ? "--csv-numbering: reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering"
                       : ned    ? "--csv-frame: reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows"
@@ -409,10 +414,7 @@ int runDetect(const DetectOptions& o) {
     }
     TelemetryReaderOptions reading;
     reading.frame = ned ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
-    reading.commands = rotor_speed                   ? CommandQuantity::kRotorSpeed
-                       : o.csv_commands == "throttle" ? CommandQuantity::kThrottle
-                       : o.csv_commands == "pwm"      ? CommandQuantity::kPwm
-                                                      : CommandQuantity::kThrust;
+    reading.commands = commands;
     reading.curve = command_curve;
     csv = std::make_unique<TelemetryReader>(live ? std::cin : file, name, reading);  // throws on an empty file or a bad header
     source = csv.get();

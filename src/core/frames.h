@@ -40,6 +40,16 @@ inline EulerZyx eulerZyxFromUnitQuaternion(double w, double x, double y, double 
   return {std::atan2(r32, r33), std::asin(std::clamp(-r31, -1.0, 1.0)), std::atan2(r21, r11)};
 }
 
+// The same for any quaternion a log holds, normalised first; false for a zero or non-finite one
+// (written before the estimator's first attitude), whose row the readers skip.
+inline bool eulerZyxFromQuaternion(double w, double x, double y, double z, EulerZyx& out) {
+  constexpr double kMinNorm = 1e-6;  // [-] below it the direction is round-off, not an attitude
+  const double norm = std::sqrt(w * w + x * x + y * y + z * z);
+  if (!(norm > kMinNorm) || !std::isfinite(norm)) return false;
+  out = eulerZyxFromUnitQuaternion(w / norm, x / norm, y / norm, z / norm);
+  return true;
+}
+
 // The angle [rad, 0..π] of the rotation from attitude a to attitude b: the geodesic distance, which
 // Euler differences are not (they wrap, and roll and yaw swing by π through pitch ±π/2).
 inline double rotationAngleBetween(const EulerZyx& a, const EulerZyx& b) {

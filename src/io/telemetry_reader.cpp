@@ -11,6 +11,8 @@
 #include <sstream>
 #include <vector>
 
+#include "model/vehicle_params.h"
+
 namespace quadfdi {
 namespace {
 
@@ -97,8 +99,6 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
         !(c.pwm_max > c.pwm_min) || !std::isfinite(c.max_thrust) || !std::isfinite(c.pwm_max))
       throw std::invalid_argument("TelemetryReader: a command curve needs max_thrust > 0, model_factor in [0, 1] and "
                                   "0 <= pwm_min < pwm_max");
-    thrust_curve_.max_thrust = c.max_thrust;
-    thrust_curve_.thrust_model_factor = c.model_factor;
   }
   column_.fill(-1);  // no header yet: readLine takes the numbering comment until it is read
   std::string header;
@@ -234,9 +234,11 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
     switch (quantity) {
       case CommandQuantity::kThrust: sample.u[i] = v; break;
       case CommandQuantity::kRotorSpeed: sample.u[i] = v * v; break;
-      case CommandQuantity::kThrottle: sample.u[i] = thrust_curve_.thrustAtCommand(v); break;  // clamps c to [0, 1]
+      case CommandQuantity::kThrottle:  // c clamped to [0, 1]
+        sample.u[i] = thrustAtCommand(curve.max_thrust, curve.model_factor, v);
+        break;
       case CommandQuantity::kPwm:
-        sample.u[i] = thrust_curve_.thrustAtCommand((v - curve.pwm_min) / (curve.pwm_max - curve.pwm_min));
+        sample.u[i] = thrustAtCommand(curve.max_thrust, curve.model_factor, (v - curve.pwm_min) / (curve.pwm_max - curve.pwm_min));
         break;
     }
   }

@@ -15,7 +15,6 @@
 #include "core/frames.h"
 #include "core/motor_numbering.h"
 #include "core/sample_source.h"
-#include "model/vehicle_params.h"
 
 namespace quadfdi {
 
@@ -36,7 +35,7 @@ enum class CommandQuantity {
 };
 
 // Motor command → thrust for kThrottle and kPwm, from a vehicle description's [thrust] table
-// (docs/vehicles.md): f = max_thrust·((1 − k)·c + k·c²), VehicleParams::thrustAtCommand.
+// (docs/vehicles.md): f = max_thrust·((1 − k)·c + k·c²), thrustAtCommand (model/vehicle_params.h).
 struct CommandCurve {
   double max_thrust = 0.0;    // [N] per motor at c = 1 (thrust.max)
   double model_factor = 0.0;  // [-] k in [0, 1] (thrust.model_factor; PX4's THR_MDL_FAC convention)
@@ -93,7 +92,6 @@ class TelemetryReader : public SampleSource {
   bool quaternion_ = false;       // attitude from qw, qx, qy, qz
   std::vector<std::string> cells_buffer_;
   std::optional<MotorNumbering> numbering_;
-  VehicleParams thrust_curve_;  // max_thrust and thrust_model_factor of options_.curve
 };
 
 }  // namespace quadfdi

@@ -252,12 +252,11 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
   const LogTopic& at = *att.topic;
   std::size_t att_rejected = 0;  // quaternions that are not a rotation (zero, or no unit decompression)
   auto from_quaternion = [&](double w, double x, double y, double z, std::array<double, 3>& v) {
-    const double norm = std::sqrt(w * w + x * x + y * y + z * z);
-    if (!finite(norm) || !(norm > 1e-6)) {
+    EulerZyx e;
+    if (!eulerZyxFromQuaternion(w, x, y, z, e)) {
       ++att_rejected;
       return false;
     }
-    const EulerZyx e = eulerZyxFromUnitQuaternion(w / norm, x / norm, y / norm, z / norm);
     v = {e.roll, e.pitch, e.yaw};
     return true;
   };

@@ -119,14 +119,13 @@ LogIssue extractAttitude(const DecodedLog& log, FlightSignals& out) {
   if (LogIssue e = columnsOf(*t, {"q[0]", "q[1]", "q[2]", "q[3]"}, c); !e.ok()) return e;
   std::size_t skipped = 0;
   for (std::size_t r = 0; r < t->rows(); ++r) {
-    const double w = (*c[0])[r], x = (*c[1])[r], y = (*c[2])[r], z = (*c[3])[r];
-    const double norm = std::sqrt(w * w + x * x + y * y + z * z);
-    if (!(norm > 1e-6) || !std::isfinite(norm)) {
+    EulerZyx frd;
+    if (!eulerZyxFromQuaternion((*c[0])[r], (*c[1])[r], (*c[2])[r], (*c[3])[r], frd)) {
       ++skipped;
       continue;
     }
     // q rotates FRD into NED; both frames turned 180° about x give quadfdi's (core/frames.h).
-    const EulerZyx e = turnedAboutX(eulerZyxFromUnitQuaternion(w / norm, x / norm, y / norm, z / norm));
+    const EulerZyx e = turnedAboutX(frd);
     append<3>(out.attitude, seconds(t->timestamp_us[r]), {e.roll, e.pitch, e.yaw}, skipped);
   }
   out.attitude.source = {"vehicle_attitude", "q[0..3]",

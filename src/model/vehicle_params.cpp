@@ -12,9 +12,13 @@ double VehicleParams::rollLever() const { return rotor_y > 0.0 ? rotor_y : std::
 double VehicleParams::pitchLever() const { return rotor_x > 0.0 ? rotor_x : std::sqrt(2.0) * arm_length; }
 double VehicleParams::yawCoeff() const { return yaw_moment_coeff > 0.0 ? yaw_moment_coeff : drag_coeff / thrust_coeff; }
 
-double VehicleParams::thrustAtCommand(double command) const {
-  const double c = std::clamp(command, 0.0, 1.0), k = thrust_model_factor;
+double thrustAtCommand(double max_thrust, double model_factor, double command) {
+  const double c = std::clamp(command, 0.0, 1.0), k = model_factor;
   return max_thrust * ((1.0 - k) * c + k * c * c);
+}
+
+double VehicleParams::thrustAtCommand(double command) const {
+  return quadfdi::thrustAtCommand(max_thrust, thrust_model_factor, command);
 }
 
 double VehicleParams::commandForThrust(double thrust) const {

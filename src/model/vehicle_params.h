@@ -44,6 +44,10 @@ struct VehicleParams {
   double hoverThrust() const; // [N] m g / 4 per motor
 };
 
+// [N] The thrust curve above for any max_thrust [N] and model_factor k [-] (c clamped to [0, 1]):
+// what a telemetry reader applies to commands with a vehicle description's two numbers.
+double thrustAtCommand(double max_thrust, double model_factor, double command);
+
 // Named sets from docs/model.md. Throws std::invalid_argument for an unknown name.
 VehicleParams nominalParams();
 VehicleParams perturbedParams();        // the paper's table, authors' PERT_2

@@ -493,20 +493,17 @@ TEST(DetectCli, ThrottleAndPwmCommandsAreReadThroughTheVehiclesThrustCurve) {
     EXPECT_LE(r, 1.0) << "a simulated command above the motor's maximum";
     return (-(1.0 - kFactor) + std::sqrt((1.0 - kFactor) * (1.0 - kFactor) + 4.0 * kFactor * r)) / (2.0 * kFactor);
   };
-  rewriteRows(thrust, throttle, [&](std::vector<std::string>& cells) {
-    for (std::size_t i = 7; i < 11; ++i) {
-      char text[40];
-      std::snprintf(text, sizeof text, "%.17g", commandOf(cells[i]));
-      cells[i] = text;
-    }
-  });
-  rewriteRows(thrust, pwm, [&](std::vector<std::string>& cells) {
-    for (std::size_t i = 7; i < 11; ++i) {
-      char text[40];
-      std::snprintf(text, sizeof text, "%.17g", 1100.0 + 800.0 * commandOf(cells[i]));
-      cells[i] = text;
-    }
-  });
+  auto writeCommands = [&](const std::string& to, double zero, double full) {  // u = zero + (full − zero)·c
+    rewriteRows(thrust, to, [&](std::vector<std::string>& cells) {
+      for (std::size_t i = 7; i < 11; ++i) {
+        char text[40];
+        std::snprintf(text, sizeof text, "%.17g", zero + (full - zero) * commandOf(cells[i]));
+        cells[i] = text;
+      }
+    });
+  };
+  writeCommands(throttle, 0.0, 1.0);
+  writeCommands(pwm, 1100.0, 1900.0);
   const CommandResult reference = run("detect --vehicle " + vehicle + " --input " + thrust);
   const CommandResult from_throttle = run("detect --vehicle " + vehicle + " --csv-commands throttle --input " + throttle);
   const CommandResult from_pwm = run("detect --vehicle " + vehicle +
@@ -724,11 +721,13 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.name << ": " << r.out;
   }
   // A merged export of asynchronous signals: every row lacks some cells. Refused with what to do.
-  std::ostringstream merged;
-  merged << good_header;
-  for (int k = 0; k < 40; ++k)
-    merged << 0.002 * k << (k % 2 ? ",,,,,,,0.07,0.07,0.07,0.07\n" : ",0,0,1,0,0,0,,,,\n");
-  std::ofstream(temp("merged.csv")) << merged.str();
+  auto writeAlternating = [&](const std::string& name, int rows, double dt, const char* even, const char* odd) {
+    std::ostringstream text;
+    text << good_header;
+    for (int k = 0; k < rows; ++k) text << dt * k << (k % 2 ? odd : even);
+    std::ofstream(temp(name)) << text.str();
+  };
+  writeAlternating("merged.csv", 40, 0.002, ",0,0,1,0,0,0,,,,\n", ",,,,,,,0.07,0.07,0.07,0.07\n");
   const CommandResult m = run("detect --input " + temp("merged.csv") + " --output " + temp("bad.jsonl"));
   EXPECT_EQ(m.exit_code, 1) << m.out;
   EXPECT_NE(m.out.find("merged.csv: no telemetry rows after the header: all 40 rows have an empty or non-finite cell; an "
@@ -736,11 +735,7 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
             std::string::npos)
       << m.out;
   // Half merged: complete rows every 2 ms between rows of states alone. Read, with the same hint.
-  std::ostringstream half;
-  half << good_header;
-  for (int k = 0; k < 300; ++k)
-    half << 0.001 * k << (k % 2 ? ",0,0,1,0,0,0,,,,\n" : ",0,0,1,0,0,0,0.07,0.07,0.07,0.07\n");
-  std::ofstream(temp("half-merged.csv")) << half.str();
+  writeAlternating("half-merged.csv", 300, 0.001, ",0,0,1,0,0,0,0.07,0.07,0.07,0.07\n", ",0,0,1,0,0,0,,,,\n");
   const CommandResult h = run("detect --input " + temp("half-merged.csv") + " --output " + temp("half.jsonl"));
   EXPECT_EQ(h.exit_code, 0) << h.out;
   EXPECT_NE(h.out.find("half-merged.csv: 150 of 300 rows skipped for an empty or non-finite cell; an export that merges"),
