@@ -2,6 +2,7 @@
 // tests/logs/dataflash_writer.h. `fuzz_make_dataflash_seeds DIR`.
 #include <array>
 #include <cstdint>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -21,8 +22,11 @@ void save(const std::string& dir, const char* name, const std::vector<std::uint8
 }
 
 // frame_type: ArduPilot's FRAME_TYPE (1 X; 12 Betaflight order: the extractor maps motors by it).
-DataflashWriter copter(int rows, bool fmtu, int frame_type = 1) {
+// With `ekf_status`, XKF4 per core: SS without a position on the first row, an OFN/OFE reset
+// shift changing half-way.
+DataflashWriter copter(int rows, bool fmtu, int frame_type = 1, bool ekf_status = false) {
   DataflashWriter w;
+  if (ekf_status) w.fmt(35, "XKF4", "QBcccccfffHBIHb", "TimeUS,C,SV,SP,SH,SM,SVT,errRP,OFN,OFE,FS,TS,SS,GPS,PI");
   w.fmt(30, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
   w.fmt(31, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
   w.fmt(32, "RCOU", "QHHHHHHHHHHHHHH", "TimeUS,C1,C2,C3,C4,C5,C6,C7,C8,C9,C10,C11,C12,C13,C14");
@@ -46,8 +50,14 @@ DataflashWriter copter(int rows, bool fmtu, int frame_type = 1) {
   for (int k = 0; k < rows; ++k) {
     const unsigned long long t = 1000000ull + 2500ull * static_cast<unsigned long long>(k);
     w.write(30, {t, 0, centi(1.0 * k), 0, centi(-0.5 * k), 0, centi(10.0 * k), 0, 0, 3});
-    for (unsigned core = 0; core < 2; ++core)
+    for (unsigned core = 0; core < 2; ++core) {
       w.write(31, {t, core, 0, 0, 0, 0.0, 0.0, 0.0, 0.0, 0.1 * k, 0.2 * k, -1.0 - 0.1 * k, 0, 0, 0, 0});
+      if (ekf_status) {
+        const double shift = k >= rows / 2 ? 1.5 : 0.0;
+        const unsigned ss = k == 0 ? 1u | 128u : 1u | 2u | 4u | 8u | 32u;
+        w.write(35, {t, core, 0, 0, 0, 0, 0, 0.0, shift, -shift, 0u, 0u, ss, 0u, 0});
+      }
+    }
     w.write(32, {t, 1500 + k, 1400, 1600 - k, 1450, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
   }
   w.write(33, {9000000ull, 28});
@@ -66,6 +76,19 @@ int main(int argc, char** argv) {
   save(dir, "copter-fmtu.bin", copter(4, true).bytes);
   save(dir, "copter-plain.bin", copter(3, false).bytes);
   save(dir, "copter-bf-x.bin", copter(3, true, 12).bytes);
+  save(dir, "copter-ekf-status.bin", copter(4, false, 1, true).bytes);
+  {
+    // Finding 13: an XKF4 whose SS is a float no uint32 holds (−5, 1e12, NaN).
+    DataflashWriter w = copter(3, false);
+    w.fmt(35, "XKF4", "QBfff", "TimeUS,C,OFN,OFE,SS");
+    for (unsigned core = 0; core < 2; ++core) {
+      w.write(35, {1000000ull, core, 0.0, 0.0, -5.0});
+      w.write(35, {1002500ull, core, 0.0, 0.0, 1e12});
+      w.write(35, {1005000ull, core, 1.0, 1.0, std::nan("")});
+    }
+    w.write(33, {9800000ull, 18});  // last byte 18: the fuzz target reads EKF core 18 % 3 = 0
+    save(dir, "regress-ekf-status-out-of-range.bin", w.bytes);
+  }
   {
     DataflashWriter w;  // every format character, TimeMS, VER
     w.fmt(200, "ALL", "QbBhHiIfdcCeELMq", "TimeUS,b,B,h,H,i,I,f,d,c,C,e,E,L,M,q");

@@ -20,7 +20,8 @@ void save(const std::string& dir, const std::string& name, const std::vector<std
 // The PX4 topics the extractor reads, a few rows of each.
 // With `geometry`, the control allocation's rotor table (PX4 ≥ 1.13), numbered clockwise from the
 // front right rather than PX4's quad-X order, so the extractor maps the motors by it.
-UlogWriter px4Flight(bool motors, int rows, bool geometry = false) {
+// With `resets`, the EKF2 validity flags and reset counters with their shifts (PX4 ≥ 1.10).
+UlogWriter px4Flight(bool motors, int rows, bool geometry = false, bool resets = false) {
   UlogWriter w(1, 5000);
   w.flagBits();
   w.info("sys_name", "PX4");
@@ -36,8 +37,14 @@ UlogWriter px4Flight(bool motors, int rows, bool geometry = false) {
   w.paramFloat("THR_MDL_FAC", 0.3f);
   w.paramInt("PWM_MAIN_MIN", 1000);
   w.paramInt("PWM_MAIN_MAX", 2000);
-  w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
-  w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+  if (resets) {
+    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;float[2] delta_xy;float delta_z;"
+             "bool xy_valid;bool z_valid;uint8_t xy_reset_counter;uint8_t z_reset_counter;");
+    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;float[4] delta_q_reset;uint8_t quat_reset_counter;");
+  } else {
+    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
+    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+  }
   w.format("actuator_motors:uint64_t timestamp;float[4] control;");
   w.format("actuator_outputs:uint64_t timestamp;uint32_t noutputs;float[4] output;");
   w.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;");
@@ -50,8 +57,20 @@ UlogWriter px4Flight(bool motors, int rows, bool geometry = false) {
   for (int i = 0; i < rows; ++i) {
     const std::uint64_t t = 1000000 + static_cast<std::uint64_t>(i) * 4000;
     const float a = 0.1f * static_cast<float>(i);
-    w.data(0, UlogPayload().put(t).put(a).put(-a).put(-1.0f).put(true).pad(3));
-    w.data(1, UlogPayload().put(t).put(std::cos(a)).put(0.0f).put(std::sin(a)).put(0.0f));
+    if (resets) {
+      // Counters: one step at row 2, two at row 4 (a break), a wrap 255 → 0 for the attitude;
+      // row 1 flagged invalid; a non-finite shift at row 5.
+      const std::uint8_t xy_counter = static_cast<std::uint8_t>(i < 2 ? 7 : i < 4 ? 8 : 10);
+      const float shift = i == 5 ? NAN : 0.5f;
+      w.data(0, UlogPayload().put(t).put(a).put(-a).put(-1.0f).put(shift).put(-shift).put(0.2f).put(i != 1).put(true)
+                    .put(xy_counter).put<std::uint8_t>(static_cast<std::uint8_t>(i >= 5)));
+      w.data(1, UlogPayload().put(t).put(std::cos(a)).put(0.0f).put(std::sin(a)).put(0.0f)
+                    .put(std::cos(0.1f)).put(0.0f).put(0.0f).put(std::sin(0.1f))
+                    .put<std::uint8_t>(static_cast<std::uint8_t>(i < 3 ? 255 : 0)));
+    } else {
+      w.data(0, UlogPayload().put(t).put(a).put(-a).put(-1.0f).put(true).pad(3));
+      w.data(1, UlogPayload().put(t).put(std::cos(a)).put(0.0f).put(std::sin(a)).put(0.0f));
+    }
     if (motors)
       w.data(2, UlogPayload().put(t).put(0.5f).put(0.6f).put(NAN).put(-0.1f));
     else
@@ -73,6 +92,7 @@ int main(int argc, char** argv) {
   save(dir, "px4-actuator-motors.ulg", px4Flight(true, 6).bytes());
   save(dir, "px4-actuator-outputs.ulg", px4Flight(false, 6).bytes());
   save(dir, "px4-rotor-geometry.ulg", px4Flight(true, 6, true).bytes());
+  save(dir, "px4-estimator-resets.ulg", px4Flight(true, 6, false, true).bytes());
   {
     std::vector<std::uint8_t> b = px4Flight(true, 4).bytes();
     b.resize(b.size() - 7);

@@ -29,6 +29,20 @@ struct EulerZyx {
   double yaw = 0.0;    // [rad] ψ, in [−π, π]
 };
 
+// A Hamilton quaternion (w, x, y, z), for composing the rotations logs hold (estimator resets).
+struct Quaternion {
+  double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
+};
+// a·b: the rotation b, then a.
+inline Quaternion operator*(const Quaternion& a, const Quaternion& b) {
+  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+// The inverse of a unit quaternion.
+inline Quaternion conjugate(const Quaternion& q) { return {q.w, -q.x, -q.y, -q.z}; }
+// The angle [rad, 0..π] of the rotation a unit quaternion stands for.
+inline double rotationAngle(const Quaternion& q) { return 2.0 * std::acos(std::min(1.0, std::abs(q.w))); }
+
 // ZYX Euler angles of the rotation body → world given by the Hamilton quaternion (w, x, y, z),
 // which must be of unit norm: R = Rz(ψ)·Ry(θ)·Rx(φ).
 inline EulerZyx eulerZyxFromUnitQuaternion(double w, double x, double y, double z) {

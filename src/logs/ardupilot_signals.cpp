@@ -104,6 +104,45 @@ double param(const DecodedLog& log, const char* name, double fallback, bool* fou
   return it == log.parameters.end() ? fallback : it->second;
 }
 
+// nav_filter_status bits the EKF logs as XKF4/NKF4 SS (AP_Nav_Common.h NavFilterStatusBit).
+constexpr std::uint32_t kHorizPosRel = 8;  // relative horizontal position valid (false in constant-position mode)
+constexpr std::uint32_t kVertPos = 32;     // vertical position valid
+
+// The EKF's own word on the position of one core: XKF4 (EKF3) or NKF4 (EKF2), written by the same
+// Log_Write call as XKF1/NKF1 and with the same TimeUS. SS is the solution status; OFN, OFE [m]
+// the shift of the latest horizontal position reset (posResetNE = after − before), float since
+// Copter 4.0 (older NKF4 logs int8 of unknown scale: not used).
+struct EkfStatus {
+  std::string name;                 // "XKF4", "NKF4"; empty when the log has none
+  std::vector<double> t;            // [s]
+  std::vector<std::uint32_t> solution;
+  std::vector<double> north, east;  // [m] shift of the latest reset; empty when not logged as float
+};
+
+EkfStatus ekfStatus(const DecodedLog& log, const std::string& name, int core) {
+  EkfStatus s;
+  const LogTopic* t = log.find(name, core);
+  if (!t && core != 0) t = log.find(name, 0);
+  const double* ss = t ? column(*t, "SS") : nullptr;
+  if (!ss) return s;
+  s.name = name;
+  const double* c = column(*t, "C");
+  const int ofn = t->fieldIndex("OFN"), ofe = t->fieldIndex("OFE");
+  const bool shifts = ofn >= 0 && ofe >= 0 && t->fields[static_cast<std::size_t>(ofn)].type == FieldType::kFloat &&
+                      t->fields[static_cast<std::size_t>(ofe)].type == FieldType::kFloat;
+  std::size_t dropped = 0;
+  for (std::size_t r : usableRows(*t, c, static_cast<double>(core), dropped)) {
+    s.t.push_back(seconds(t->timestamp_us[r]));
+    // A value no uint32 holds (a damaged log) flags nothing valid.
+    s.solution.push_back(ss[r] >= 0.0 && ss[r] <= 4294967295.0 ? static_cast<std::uint32_t>(ss[r]) : 0u);
+    if (shifts) {
+      s.north.push_back(t->columns[static_cast<std::size_t>(ofn)][r]);
+      s.east.push_back(t->columns[static_cast<std::size_t>(ofe)][r]);
+    }
+  }
+  return s;
+}
+
 }  // namespace
 
 double ArdupilotThrustMap::thrustFraction(double pwm) const {
@@ -176,12 +215,60 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
     const double* pe = column(*pos, "PE");
     const double* pd = column(*pos, "PD");
     const bool filter = c != nullptr;
+    // The EKF's status of the same core: rows it flags without a position estimate are skipped
+    // (without GPS, flow or beacons EKF3 holds PN, PE in constant-position mode), and the shifts
+    // of its horizontal position resets are taken out so that the track is continuous (every
+    // feature is relative to the window or the previous sample: the offset does not matter).
+    const std::string status_name = std::string(pos_name).substr(0, 3) + "4";
+    const EkfStatus status = ekfStatus(log, status_name, options.ekf_core);
+    std::size_t k = 0, invalid = 0, resets = 0, position_rows = 0;
+    double north = 0.0, east = 0.0, largest = 0.0;  // [m] sum of the reset shifts so far; largest one
     for (std::size_t r : usableRows(*pos, filter ? c : nullptr, static_cast<double>(options.ekf_core), dropped)) {
-      out.position.t.push_back(seconds(pos->timestamp_us[r]));
-      out.position.v.push_back({pn[r], -pe[r], -pd[r]});
+      const double t = seconds(pos->timestamp_us[r]);
+      ++position_rows;
+      bool valid = true;
+      if (!status.t.empty()) {
+        // The status row written with this position (same TimeUS), else the latest before it.
+        while (k + 1 < status.t.size() && status.t[k + 1] <= t) {
+          ++k;
+          if (!status.north.empty()) {
+            const double dn = status.north[k] - status.north[k - 1], de = status.east[k] - status.east[k - 1];
+            if ((dn != 0.0 || de != 0.0) && std::isfinite(status.north[k]) && std::isfinite(status.east[k])) {
+              north += status.north[k];
+              east += status.east[k];
+              largest = std::max(largest, std::hypot(status.north[k], status.east[k]));
+              ++resets;
+            }
+          }
+        }
+        const std::uint32_t ss = status.solution[k];
+        valid = status.t[k] <= t && (ss & kHorizPosRel) != 0 && (ss & kVertPos) != 0;
+      }
+      if (!valid) {
+        ++invalid;
+        continue;
+      }
+      out.position.t.push_back(t);
+      out.position.v.push_back({pn[r] - north, -(pe[r] - east), -pd[r]});
     }
+    if (out.position.empty() && invalid > 0)
+      return missing(pos_name, std::string(pos_name) + ": " + status.name + " SS flags no position estimate in all " +
+                                   std::to_string(invalid) + " rows of EKF core " + std::to_string(options.ekf_core) +
+                                   " (relative horizontal position and vertical position valid, bits 3 and 5): "
+                                   "without GPS, optical flow or beacons the EKF holds PN and PE, it does not "
+                                   "measure them, and the detector needs the vehicle's measured motion");
     if (out.position.empty())
       return missing(pos_name, std::string(pos_name) + " has no rows of EKF core " + std::to_string(options.ekf_core));
+    if (invalid > 0)
+      out.conventions.push_back("position: " + std::to_string(invalid) + " of " + std::to_string(position_rows) + " " +
+                                pos_name + " rows skipped: " + status.name +
+                                " SS flags no position estimate there; nothing is evaluated across the holes they leave");
+    if (resets > 0) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "position: %zu horizontal position reset%s (largest %.3g m) taken out with %s OFN, OFE, "
+                    "so the track is continuous", resets, resets == 1 ? "" : "s", largest, status.name.c_str());
+      out.conventions.push_back(buf);
+    }
     out.position.source = {pos_name, "PN,PE,PD", "NED → x north, y west, z up: (PN, −PE, −PD), core " + std::to_string(options.ekf_core)};
     out.conventions.push_back(std::string("position: ") + pos_name + " PN, PE, PD [m] (NED, EKF core " +
                               std::to_string(options.ekf_core) + ") → (x, y, z) = (PN, −PE, −PD)");

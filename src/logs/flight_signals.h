@@ -44,6 +44,14 @@ struct FlightStateEvent {
   bool landed = true;     // the autopilot's own landed/maybe-landed flag
 };
 
+// A moment when a signal jumps by an amount the log does not record (say, two estimator resets
+// between two logged rows, of which only the last one's shift was logged): nothing is evaluated
+// across it, as across a hole.
+struct SignalBreak {
+  double t = 0.0;   // [s]
+  std::string why;  // for the import report, e.g. "vehicle_local_position: 2 position resets between two rows"
+};
+
 struct FlightSignals {
   SignalSeries<3> position;        // x, y, z [m], world frame, z up
   SignalSeries<3> attitude;        // roll, pitch, yaw [rad], ZYX, body x forward, y left, z up
@@ -51,6 +59,7 @@ struct FlightSignals {
   CommandKind command_kind = CommandKind::kThrustFraction;
   MotorNumbering numbering;        // the autopilot's own motor numbers, for reporting a motor to its pilot
   std::vector<FlightStateEvent> states;  // in time order
+  std::vector<SignalBreak> breaks;       // in any order
   std::vector<std::string> conventions;  // one line per convention applied, for the report
 };
 

@@ -56,6 +56,8 @@ const LogTopic* findNonEmpty(const DecodedLog& log, const std::string& name, int
   return t && t->rows() > 0 ? t : nullptr;
 }
 
+constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
+
 double seconds(std::int64_t us) { return static_cast<double>(us) * 1e-6; }
 
 // Appends a sample if its time is after the last one and every value is finite; counts the rest.
@@ -99,38 +101,189 @@ double pwmLimit(const DecodedLog& log, const char* which, int channel, double fa
   return fallback;
 }
 
+// A field that only some PX4 versions log (validity flags, reset counters), or nullptr.
+const std::vector<double>* optionalColumn(const LogTopic& topic, const std::string& name) {
+  const int i = topic.fieldIndex(name);
+  return i < 0 ? nullptr : &topic.columns[static_cast<std::size_t>(i)];
+}
+
+// Resets of an estimator state between row r − 1 and row r: the step of its uint8 reset counter,
+// which wraps at 256 (PX4 msg/VehicleLocalPosition.msg, VehicleAttitude.msg).
+// A counter that is not a uint8 (a damaged log) counts as stepping by 2: a break, not a shift.
+int resetsBefore(const std::vector<double>& counter, std::size_t r) {
+  const double a = counter[r - 1], b = counter[r];
+  if (a == b) return 0;
+  if (!(a >= 0.0 && a <= 255.0 && b >= 0.0 && b <= 255.0)) return 2;
+  const int step = static_cast<int>(b) - static_cast<int>(a);
+  return (step % 256 + 256) % 256;
+}
+
+// The resets of one estimator state found in a log, for the conventions line.
+struct ResetTally {
+  int count = 0;         // resets whose shift was taken out
+  double largest = 0.0;  // [m or rad] largest shift taken out
+  int unlogged = 0;      // counter steps whose shift the log does not hold (breaks)
+  void add(double shift) {
+    ++count;
+    largest = std::max(largest, shift);
+  }
+  std::string text(const std::string& what, const char* unit, double scale) const {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d %s reset%s (largest %.3g%s)", count, what.c_str(), count == 1 ? "" : "s",
+                  largest * scale, unit);
+    return buf;
+  }
+};
+
+// Records a counter step whose shift is not in the log: two or more resets between two logged
+// rows (each row holds only the last one's shift, or their sum within one estimator update: the
+// log cannot tell which), or a non-finite shift.
+void breakAt(FlightSignals& out, double t, const std::string& topic, int resets, const std::string& what) {
+  out.breaks.push_back({t, topic + ": " + std::to_string(resets) + " " + what + " reset" + (resets == 1 ? "" : "s") +
+                               " whose shift the log does not hold"});
+}
+
+// Position, continuous across the estimator's resets and only where the estimator says it is
+// valid. EKF2 shifts its position at a reset (GPS regained, a height source switched) and logs
+// the shift: delta_xy = position after − before, delta_z likewise, with the counters
+// xy_reset_counter and z_reset_counter (PX4 ekf2 resetHorizontalPositionTo / resetVerticalPositionTo).
+// Subtracting the sum of the shifts so far removes the step, which the detector would otherwise see
+// as a sudden acceleration; every feature is relative to the window or the previous sample, so the
+// resulting offset does not matter. Without horizontal or vertical aiding EKF2 holds x, y (or z) and
+// flags them invalid (xy_valid, z_valid): those rows are skipped, and a log in which no row is
+// valid is refused — held values are not a measured motion.
 LogIssue extractPosition(const DecodedLog& log, FlightSignals& out) {
-  const LogTopic* t = findNonEmpty(log, "vehicle_local_position");
-  if (!t) return missing("vehicle_local_position", "the log has no vehicle_local_position data (needed for position)");
+  const std::string name = "vehicle_local_position";
+  const LogTopic* t = findNonEmpty(log, name);
+  if (!t) return missing(name, "the log has no vehicle_local_position data (needed for position)");
   std::vector<const std::vector<double>*> c;
   if (LogIssue e = columnsOf(*t, {"x", "y", "z"}, c); !e.ok()) return e;
-  std::size_t skipped = 0;
-  for (std::size_t r = 0; r < t->rows(); ++r)
-    append<3>(out.position, seconds(t->timestamp_us[r]), {(*c[0])[r], -(*c[1])[r], -(*c[2])[r]}, skipped);
-  out.position.source = {"vehicle_local_position", "x,y,z", "NED → north, west, up: (x, −y, −z)"};
-  noteSkipped(out, "vehicle_local_position", skipped);
+  const std::vector<double>* xy_valid = optionalColumn(*t, "xy_valid");
+  const std::vector<double>* z_valid = optionalColumn(*t, "z_valid");
+  const std::vector<double>* xy_counter = optionalColumn(*t, "xy_reset_counter");
+  const std::vector<double>* dx = optionalColumn(*t, "delta_xy[0]");
+  const std::vector<double>* dy = optionalColumn(*t, "delta_xy[1]");
+  const std::vector<double>* z_counter = optionalColumn(*t, "z_reset_counter");
+  const std::vector<double>* dz = optionalColumn(*t, "delta_z");
+  const bool xy_resets = xy_counter && dx && dy, z_resets = z_counter && dz;
+  double north = 0.0, east = 0.0, down = 0.0;  // [m] sum of the resets' shifts so far
+  ResetTally xy_tally, z_tally;
+  std::size_t skipped = 0, xy_invalid = 0, z_invalid = 0;
+  for (std::size_t r = 0; r < t->rows(); ++r) {
+    const double time = seconds(t->timestamp_us[r]);
+    if (r > 0 && xy_resets) {
+      if (const int n = resetsBefore(*xy_counter, r); n > 0) {
+        const double sx = (*dx)[r], sy = (*dy)[r];
+        if (n == 1 && std::isfinite(sx) && std::isfinite(sy)) {
+          north += sx;
+          east += sy;
+          xy_tally.add(std::hypot(sx, sy));
+        } else {
+          ++xy_tally.unlogged;
+          breakAt(out, time, name, n, "horizontal position");
+        }
+      }
+    }
+    if (r > 0 && z_resets) {
+      if (const int n = resetsBefore(*z_counter, r); n > 0) {
+        const double sz = (*dz)[r];
+        if (n == 1 && std::isfinite(sz)) {
+          down += sz;
+          z_tally.add(std::abs(sz));
+        } else {
+          ++z_tally.unlogged;
+          breakAt(out, time, name, n, "height");
+        }
+      }
+    }
+    const bool bad_xy = xy_valid && (*xy_valid)[r] == 0.0, bad_z = z_valid && (*z_valid)[r] == 0.0;
+    xy_invalid += bad_xy;
+    z_invalid += bad_z;
+    if (bad_xy || bad_z) continue;
+    append<3>(out.position, time, {(*c[0])[r] - north, -((*c[1])[r] - east), -((*c[2])[r] - down)}, skipped);
+  }
+  const std::size_t rows = t->rows();
+  if (out.position.empty() && (xy_invalid > 0 || z_invalid > 0)) {
+    const bool xy = xy_invalid == rows;
+    return missing(name, std::string(xy ? "xy_valid" : z_invalid == rows ? "z_valid" : "xy_valid or z_valid") +
+                             " is false in all " + std::to_string(rows) + " rows: PX4's estimator had no " +
+                             (xy ? "horizontal " : "") +
+                             "position (with no GPS, optical flow, vision or motion capture it holds x and y, it "
+                             "does not measure them), and the detector needs the vehicle's measured motion");
+  }
+  out.position.source = {name, "x,y,z", "NED → north, west, up: (x, −y, −z)"};
+  if (xy_invalid > 0 || z_invalid > 0)
+    out.conventions.push_back(name + ": " + std::to_string(std::max(xy_invalid, z_invalid)) + " of " + std::to_string(rows) +
+                              " rows skipped: the estimator flagged its position invalid (" +
+                              (xy_invalid ? std::to_string(xy_invalid) + " xy_valid false" : std::string()) +
+                              (xy_invalid && z_invalid ? ", " : "") +
+                              (z_invalid ? std::to_string(z_invalid) + " z_valid false" : std::string()) +
+                              "); nothing is evaluated across the holes they leave");
+  if (xy_tally.count + z_tally.count > 0) {
+    const std::string xy = xy_tally.count ? xy_tally.text("horizontal position", " m", 1.0) : "";
+    const std::string z = z_tally.count ? z_tally.text("height", " m", 1.0) : "";
+    out.conventions.push_back(name + ": " + xy + (xy.empty() || z.empty() ? "" : " and ") + z + " taken out with " +
+                              (xy.empty() ? "delta_z" : z.empty() ? "delta_xy" : "delta_xy and delta_z") +
+                              ", so the track is continuous");
+  }
+  if (xy_tally.unlogged + z_tally.unlogged > 0)
+    out.conventions.push_back(name + ": " + std::to_string(xy_tally.unlogged + z_tally.unlogged) +
+                              " reset counter steps without their shift in the log: the flight is cut there");
+  noteSkipped(out, name, skipped);
   return {};
 }
 
+// Attitude, continuous across the estimator's resets (yaw alignment, a heading source switched):
+// EKF2 logs each reset's rotation delta_q_reset = q_after · q_before⁻¹ with quat_reset_counter
+// (PX4 ekf2 resetQuatStateYaw), so q_continuous = (d₁⁻¹ · d₂⁻¹ · …) · q.
 LogIssue extractAttitude(const DecodedLog& log, FlightSignals& out) {
-  const LogTopic* t = findNonEmpty(log, "vehicle_attitude");
-  if (!t) return missing("vehicle_attitude", "the log has no vehicle_attitude data (needed for attitude)");
+  const std::string name = "vehicle_attitude";
+  const LogTopic* t = findNonEmpty(log, name);
+  if (!t) return missing(name, "the log has no vehicle_attitude data (needed for attitude)");
   std::vector<const std::vector<double>*> c;
   if (LogIssue e = columnsOf(*t, {"q[0]", "q[1]", "q[2]", "q[3]"}, c); !e.ok()) return e;
+  const std::vector<double>* counter = optionalColumn(*t, "quat_reset_counter");
+  std::vector<const std::vector<double>*> d;
+  const bool resets = counter && columnsOf(*t, {"delta_q_reset[0]", "delta_q_reset[1]", "delta_q_reset[2]", "delta_q_reset[3]"}, d).ok();
+  Quaternion undo;  // the inverse of every reset so far, composed
+  ResetTally tally;
   std::size_t skipped = 0;
   for (std::size_t r = 0; r < t->rows(); ++r) {
+    const double time = seconds(t->timestamp_us[r]);
+    if (r > 0 && resets) {
+      if (const int n = resetsBefore(*counter, r); n > 0) {
+        Quaternion shift{(*d[0])[r], (*d[1])[r], (*d[2])[r], (*d[3])[r]};
+        const double norm = std::sqrt(shift.w * shift.w + shift.x * shift.x + shift.y * shift.y + shift.z * shift.z);
+        constexpr double kUnitTolerance = 0.01;  // [-] a logged float unit quaternion is within 1e-6 of norm 1
+        if (n == 1 && std::abs(norm - 1.0) < kUnitTolerance) {
+          shift = {shift.w / norm, shift.x / norm, shift.y / norm, shift.z / norm};
+          undo = undo * conjugate(shift);
+          tally.add(rotationAngle(shift));
+        } else {
+          ++tally.unlogged;
+          breakAt(out, time, name, n, "attitude");
+        }
+      }
+    }
+    const Quaternion q = undo * Quaternion{(*c[0])[r], (*c[1])[r], (*c[2])[r], (*c[3])[r]};
     EulerZyx frd;
-    if (!eulerZyxFromQuaternion((*c[0])[r], (*c[1])[r], (*c[2])[r], (*c[3])[r], frd)) {
+    if (!eulerZyxFromQuaternion(q.w, q.x, q.y, q.z, frd)) {
       ++skipped;
       continue;
     }
     // q rotates FRD into NED; both frames turned 180° about x give quadfdi's (core/frames.h).
     const EulerZyx e = turnedAboutX(frd);
-    append<3>(out.attitude, seconds(t->timestamp_us[r]), {e.roll, e.pitch, e.yaw}, skipped);
+    append<3>(out.attitude, time, {e.roll, e.pitch, e.yaw}, skipped);
   }
-  out.attitude.source = {"vehicle_attitude", "q[0..3]",
+  out.attitude.source = {name, "q[0..3]",
                          "q (w,x,y,z) FRD→NED; both frames turned 180° about x: ZYX Euler (φ, −θ, −ψ)"};
-  noteSkipped(out, "vehicle_attitude", skipped);
+  if (tally.count > 0)
+    out.conventions.push_back(name + ": " + tally.text("attitude", "°", kDegreesPerRadian) +
+                              " taken out with delta_q_reset, so the attitude is continuous");
+  if (tally.unlogged > 0)
+    out.conventions.push_back(name + ": " + std::to_string(tally.unlogged) +
+                              " reset counter steps without their rotation in the log: the flight is cut there");
+  noteSkipped(out, name, skipped);
   return {};
 }
 

@@ -107,6 +107,26 @@ void cutHoles(std::vector<Span>& spans, const std::vector<double>& t, double lim
   spans.swap(out);
 }
 
+// Removes from `spans` a stretch of half-width `half` around every break: the two sides stay
+// apart (2·half > restart_gap), so the detector restarts rather than seeing the jump.
+// `first` is the first break that cut anything.
+void cutBreaks(std::vector<Span>& spans, const std::vector<SignalBreak>& breaks, double half, int& cuts,
+               const SignalBreak*& first) {
+  for (const SignalBreak& b : breaks) {
+    std::vector<Span> out;
+    for (const Span& s : spans) {
+      if (b.t + half <= s.a || b.t - half >= s.b) {
+        out.push_back(s);
+        continue;
+      }
+      if (cuts++ == 0) first = &b;
+      if (b.t - half > s.a) out.push_back({s.a, b.t - half});
+      if (b.t + half < s.b) out.push_back({b.t + half, s.b});
+    }
+    spans.swap(out);
+  }
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
   const auto k = static_cast<std::size_t>(std::clamp(p, 0.0, 1.0) * static_cast<double>(v.size() - 1));
@@ -183,6 +203,9 @@ std::string coarseTopicsNote(const DecodedLog& log, const ImportOptions& o) {
     for (std::size_t r = 0; r < t.rows(); ++r) times[r] = static_cast<double>(t.timestamp_us[r]) * 1e-6;
     const double dt = medianInterval(times);
     if (!(dt > 0.0) || 1.0 / dt >= need) continue;
+    if (note.find(" " + t.name + " is logged at ") != std::string::npos ||
+        note.find("'" + t.name + "' is logged at ") != std::string::npos)
+      continue;  // another instance of a topic already named
     note += "; also, " + std::string(log.format == LogFormat::kCrazyflieUsd ? "event '" : "topic ") + t.name +
             (log.format == LogFormat::kCrazyflieUsd ? "'" : "") + " is logged at " + hz(1.0 / dt) + " (median interval " +
             ms(dt) + "), below the " + hz(need) + " attitude and motor commands need: " +
@@ -357,6 +380,11 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
     cutHoles(mine, signals.position.t, hole_limit[1], holes);
     cutHoles(mine, signals.command.t, hole_limit[2], holes);
     if (holes) notes.push_back(std::to_string(holes) + " hole" + (holes == 1 ? "" : "s") + " in the signals: not bridged");
+    int cuts = 0;
+    const SignalBreak* first_cut = nullptr;
+    cutBreaks(mine, signals.breaks, std::max({o.restart_gap, o.max_hole, o.dt}), cuts, first_cut);
+    if (cuts) notes.push_back(std::to_string(cuts) + " jump" + (cuts == 1 ? "" : "s") + " the log does not size (" +
+                              first_cut->why + (cuts > 1 ? "; …" : "") + "): cut there");
     std::vector<Span> kept;
     for (const Span& m : mine)
       if (m.length() >= o.min_phase) kept.push_back(m);

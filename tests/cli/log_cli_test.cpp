@@ -169,7 +169,7 @@ TEST(LogCli, ThrustFractionsWithoutAScaleAreRefusedNamingWhatToGive) {
   EXPECT_EQ(countLines(r.out), 1) << r.out;
 }
 
-TEST(LogCli, RealPx4LogsAreRefusedForTheirActuatorOutputsRate) {
+TEST(LogCli, RealPx4LogsAreRefusedForTheirHeldPositionAndActuatorOutputsRate) {
   for (const char* name : {"px4/sample_log_small.ulg", "px4/sample_logging_tagged_and_default_params.ulg"}) {
     if (!exists(kReal + name)) GTEST_SKIP() << "no real logs";
     const std::string out = temp("real.jsonl");
@@ -177,7 +177,11 @@ TEST(LogCli, RealPx4LogsAreRefusedForTheirActuatorOutputsRate) {
     const CommandResult r = run("detect --input " + kReal + name + " --max-thrust 5 --output " + out);
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_EQ(countLines(r.out), 1) << r.out;
-    EXPECT_TRUE(contains(r.out, "topic actuator_outputs: actuator_outputs (commands) is logged at ")) << r.out;
+    // Flown without horizontal aiding (EKF2 held x, y): refused for that, naming the coarse outputs too.
+    EXPECT_TRUE(contains(r.out, "topic vehicle_local_position: xy_valid is false in all ")) << r.out;
+    EXPECT_TRUE(contains(r.out, "also, topic actuator_outputs is logged at ")) << r.out;
+    EXPECT_EQ(r.out.find("also, topic actuator_outputs"), r.out.rfind("also, topic actuator_outputs"))
+        << "named once, whatever its instances: " << r.out;
     EXPECT_TRUE(contains(r.out, "SDLOG_PROFILE")) << r.out;
     EXPECT_EQ(readFile(out), "keep me\n");  // nothing already written is lost
   }

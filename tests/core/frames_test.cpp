@@ -64,3 +64,31 @@ TEST(Frames, TurningAboutXTwiceIsTheIdentity) {
   EXPECT_EQ(back.pitch, e.pitch);
   EXPECT_EQ(back.yaw, e.yaw);
 }
+
+// The product composes rotations (qz·qy·qx is the ZYX attitude), the conjugate undoes one, and
+// rotationAngle agrees with the Euler-side rotationAngleBetween.
+TEST(Frames, QuaternionProductComposesAndConjugateUndoes) {
+  const double roll = 0.3, pitch = -0.4, yaw = 2.0;
+  const Quaternion qz{std::cos(yaw / 2), 0, 0, std::sin(yaw / 2)};
+  const Quaternion qy{std::cos(pitch / 2), 0, std::sin(pitch / 2), 0};
+  const Quaternion qx{std::cos(roll / 2), std::sin(roll / 2), 0, 0};
+  const Quaternion q = qz * qy * qx;
+  const EulerZyx e = eulerZyxFromUnitQuaternion(q.w, q.x, q.y, q.z);
+  EXPECT_NEAR(e.roll, roll, 1e-12);
+  EXPECT_NEAR(e.pitch, pitch, 1e-12);
+  EXPECT_NEAR(e.yaw, yaw, 1e-12);
+  const Quaternion one = conjugate(q) * q;
+  EXPECT_NEAR(one.w, 1.0, 1e-12);
+  EXPECT_NEAR(std::abs(one.x) + std::abs(one.y) + std::abs(one.z), 0.0, 1e-12);
+  // A yaw step applied on the world side (an estimator heading reset) and taken out again.
+  const Quaternion step{std::cos(0.15), 0, 0, std::sin(0.15)};
+  EXPECT_NEAR(rotationAngle(step), 0.3, 1e-12);
+  const Quaternion reset = step * q;
+  const EulerZyx r = eulerZyxFromUnitQuaternion(reset.w, reset.x, reset.y, reset.z);
+  EXPECT_NEAR(r.yaw, yaw + 0.3, 1e-12);
+  EXPECT_NEAR(r.roll, roll, 1e-12);
+  EXPECT_NEAR(rotationAngleBetween(e, r), 0.3, 1e-9);
+  const Quaternion undone = conjugate(step) * reset;
+  EXPECT_NEAR(undone.w, q.w, 1e-12);
+  EXPECT_NEAR(undone.z, q.z, 1e-12);
+}

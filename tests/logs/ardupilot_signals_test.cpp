@@ -276,6 +276,70 @@ TEST(ArdupilotSignals, PositionWithoutFmtuIsFilteredByCore) {
   EXPECT_EQ(s.position.v[0][0], 10.0);
 }
 
+// XKF4 of EKF3 (LogStructure.h: "QBcccccfffHBIHb"), written with the same TimeUS as XKF1.
+constexpr std::uint8_t kXkf4 = 35;
+constexpr unsigned kSolutionPosition = 1 | 2 | 4 | 8 | 32;  // attitude, velocities, horiz_pos_rel, vert_pos
+constexpr unsigned kSolutionConstPos = 1 | 4 | 32 | 128;    // constant-position mode: no horiz_pos_rel
+
+TEST(ArdupilotSignals, EkfStatusSkipsHeldPositionsAndResetShiftsAreTakenOut) {
+  DataflashWriter w = apLog(false);
+  w.fmt(kXkf4, "XKF4", "QBcccccfffHBIHb", "TimeUS,C,SV,SP,SH,SM,SVT,errRP,OFN,OFE,FS,TS,SS,GPS,PI");
+  rcou(w, 1000, {1000, 1000, 1000, 1000});
+  att(w, 1000, 0, 0, 0);
+  // True track: PN = t, PE = −t [m, t in s] at 25 Hz. Rows 0–4 in constant-position mode; at
+  // row 20 the EKF resets its position by (+4, +2) m; core 1's status must not be used for core 0.
+  double ofn = 0.5, ofe = -0.5;  // a reset from before the log: not applied
+  for (int i = 0; i < 40; ++i) {
+    const std::uint64_t t = 1000000 + static_cast<std::uint64_t>(i) * 40000;
+    const double tt = static_cast<double>(t) * 1e-6;
+    double pn = tt, pe = -tt;
+    if (i >= 20) {
+      pn += 4.0;
+      pe += 2.0;
+      ofn = 4.0;
+      ofe = 2.0;
+    }
+    const unsigned ss = i < 5 ? kSolutionConstPos : kSolutionPosition;
+    xkf1(w, t, 0, pn, pe, 1.0);
+    w.write(kXkf4, {t, 0u, 0, 0, 0, 0, 0, 0.0, ofn, ofe, 0u, 0u, ss, 0u, 0});
+    w.write(kXkf4, {t + 1, 1u, 0, 0, 0, 0, 0, 0.0, 7.0 * i, 0.0, 0u, 0u, kSolutionConstPos, 0u, 0});
+  }
+  FlightSignals s;
+  const LogIssue issue = extract(w, s);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  ASSERT_EQ(s.position.v.size(), 35u);
+  for (std::size_t j = 0; j < s.position.v.size(); ++j) {
+    EXPECT_NEAR(s.position.v[j][0], s.position.t[j], 1e-5) << j;   // north
+    EXPECT_NEAR(s.position.v[j][1], s.position.t[j], 1e-5) << j;   // west = −PE
+    EXPECT_NEAR(s.position.v[j][2], -1.0, 1e-9) << j;
+  }
+  auto has = [&](const std::string& part) {
+    for (const std::string& c : s.conventions)
+      if (c.find(part) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(has("5 of 40 XKF1 rows skipped: XKF4 SS flags no position estimate"));
+  EXPECT_TRUE(has("1 horizontal position reset (largest 4.47 m) taken out with XKF4 OFN, OFE"));
+
+  // Core 1 never had a position: refused by its flag, naming both messages.
+  ArdupilotSignalOptions core1;
+  core1.ekf_core = 1;
+  DataflashWriter w1 = apLog(false);
+  w1.fmt(kXkf4, "XKF4", "QBcccccfffHBIHb", "TimeUS,C,SV,SP,SH,SM,SVT,errRP,OFN,OFE,FS,TS,SS,GPS,PI");
+  rcou(w1, 1000, {1000, 1000, 1000, 1000});
+  att(w1, 1000, 0, 0, 0);
+  for (int i = 0; i < 5; ++i) {
+    const std::uint64_t t = 1000000 + static_cast<std::uint64_t>(i) * 40000;
+    xkf1(w1, t, 1, 0.0, 0.0, 0.0);
+    w1.write(kXkf4, {t, 1u, 0, 0, 0, 0, 0, 0.0, 0.0, 0.0, 0u, 0u, kSolutionConstPos, 0u, 0});
+  }
+  const LogIssue refused = extract(w1, s, core1);
+  EXPECT_EQ(refused.status, LogStatus::kMissingSignal);
+  EXPECT_EQ(refused.topic, "XKF1");
+  EXPECT_TRUE(refused.message.find("XKF4 SS flags no position estimate in all 5 rows of EKF core 1") != std::string::npos)
+      << refused.message;
+}
+
 TEST(ArdupilotSignals, MissingMessagesAreNamed) {
   {
     DataflashWriter w = apLog();

@@ -5,12 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
 
+#include "core/frames.h"
 #include "logs/ulog.h"
 #include "logs/ulog_writer.h"
 
@@ -20,19 +22,13 @@ namespace {
 using testing::UlogPayload;
 using testing::UlogWriter;
 
-struct Quat {
-  double w, x, y, z;
-};
-Quat multiply(const Quat& a, const Quat& b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
-}
+using Quat = Quaternion;
 // PX4's FRD→NED attitude from its ZYX Euler angles: Rz(ψ)·Ry(θ)·Rx(φ).
 Quat px4Quaternion(double roll, double pitch, double yaw) {
   const Quat qz{std::cos(yaw / 2), 0, 0, std::sin(yaw / 2)};
   const Quat qy{std::cos(pitch / 2), 0, std::sin(pitch / 2), 0};
   const Quat qx{std::cos(roll / 2), std::sin(roll / 2), 0, 0};
-  return multiply(multiply(qz, qy), qx);
+  return qz * qy * qx;
 }
 
 struct Px4Flight {
@@ -320,12 +316,160 @@ TEST(Px4Signals, MissingTopicIsNamed) {
   EXPECT_EQ(issue.topic, "actuator_motors");
 }
 
+// A 1 s flight at 100 Hz whose estimator resets: its position jumps by a logged shift at row 30
+// (x, y) and row 40 (z), by an unlogged one at row 60 (the counter steps by 2), its attitude by a
+// logged yaw rotation at row 50 (the counter wraps 255 → 0); rows 80–84 are flagged invalid. The
+// counters start nonzero, with stale shifts from before the log that must not be applied.
+struct ResetFlight {
+  static constexpr int kRows = 100;
+  static double time(int i) { return 1.0 + 0.01 * i; }
+  static std::array<double, 3> trueNed(int i) { return {0.5 * time(i), 0.2 * time(i), -2.0}; }
+  static double trueYaw(int i) { return 0.1 + 0.2 * time(i); }  // [rad] PX4's (NED) heading
+  static constexpr double kYawReset = 0.3;                        // [rad] the attitude reset's rotation
+  bool all_invalid = false;
+
+  std::vector<std::uint8_t> write() const {
+    UlogWriter w;
+    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;float[2] delta_xy;float delta_z;"
+             "bool xy_valid;bool z_valid;uint8_t xy_reset_counter;uint8_t z_reset_counter;");
+    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;float[4] delta_q_reset;uint8_t quat_reset_counter;");
+    w.format("actuator_motors:uint64_t timestamp;uint64_t timestamp_sample;uint16_t reversible_flags;float[12] control;");
+    w.subscribe(0, 0, "vehicle_local_position");
+    w.subscribe(0, 1, "vehicle_attitude");
+    w.subscribe(0, 2, "actuator_motors");
+    const Quat yaw_reset{std::cos(kYawReset / 2), 0, 0, std::sin(kYawReset / 2)};
+    for (int i = 0; i < kRows; ++i) {
+      const std::uint64_t t = static_cast<std::uint64_t>(std::llround(time(i) * 1e6));
+      std::array<double, 3> p = trueNed(i);
+      float dx = 9.0f, dy = 9.0f, dz = 9.0f;  // stale until the first reset in the log
+      std::uint8_t xy_counter = 3, z_counter = 0;
+      if (i >= 30) {
+        p[0] += 3.0;
+        p[1] -= 1.0;
+        dx = 3.0f;
+        dy = -1.0f;
+        xy_counter = 4;
+      }
+      if (i >= 40) {
+        p[2] += 0.4;
+        dz = 0.4f;
+        z_counter = 1;
+      }
+      if (i >= 60) {  // two resets: the log holds only the last one's shift
+        p[0] += 5.0;
+        p[1] += 5.0;
+        dx = 1.0f;
+        dy = 1.0f;
+        xy_counter = 6;
+      }
+      const bool valid = !all_invalid && (i < 80 || i >= 85);
+      w.data(0, UlogPayload()
+                    .put(t)
+                    .put(static_cast<float>(p[0]))
+                    .put(static_cast<float>(p[1]))
+                    .put(static_cast<float>(p[2]))
+                    .put(dx)
+                    .put(dy)
+                    .put(dz)
+                    .put(valid)
+                    .put(true)
+                    .put(xy_counter)
+                    .put(z_counter));
+      Quat q = px4Quaternion(0.05, -0.02, trueYaw(i));
+      Quat d{0.5, 0.5, 0.5, 0.5};  // stale
+      std::uint8_t q_counter = 255;
+      if (i >= 50) {
+        q = yaw_reset * q;
+        d = yaw_reset;
+        q_counter = 0;
+      }
+      UlogPayload a;
+      a.put(t + 1);
+      for (double v : {q.w, q.x, q.y, q.z, d.w, d.x, d.y, d.z}) a.put(static_cast<float>(v));
+      w.data(1, a.put(q_counter));
+      UlogPayload m;
+      m.put(t + 2).put(t).put<std::uint16_t>(0);
+      for (int k = 0; k < 12; ++k) m.put(k < 4 ? 0.5f : NAN);
+      w.data(2, m);
+    }
+    return w.bytes();
+  }
+};
+
+bool anyContains(const std::vector<std::string>& lines, const std::string& part) {
+  for (const std::string& l : lines)
+    if (l.find(part) != std::string::npos) return true;
+  return false;
+}
+
+TEST(Px4Signals, EstimatorResetsAreTakenOutAndInvalidPositionsSkipped) {
+  LogIssue issue;
+  const FlightSignals s = extract(ResetFlight().write(), issue);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  // Position: the true track (north, west, up) until the unlogged reset at row 60, then still
+  // continuous from row to row; rows 80–84 absent.
+  ASSERT_EQ(s.position.t.size(), static_cast<std::size_t>(ResetFlight::kRows - 5));
+  for (std::size_t j = 0; j < s.position.t.size(); ++j) {
+    const int i = static_cast<int>(std::lround((s.position.t[j] - 1.0) / 0.01));
+    ASSERT_FALSE(i >= 80 && i < 85) << i;
+    const std::array<double, 3> ned = ResetFlight::trueNed(i);
+    if (i < 60) {
+      EXPECT_NEAR(s.position.v[j][0], ned[0], 1e-5) << i;
+      EXPECT_NEAR(s.position.v[j][1], -ned[1], 1e-5) << i;
+      EXPECT_NEAR(s.position.v[j][2], -ned[2], 1e-5) << i;
+    } else if (j > 0 && i != 60 && i != 85) {
+      EXPECT_NEAR(s.position.v[j][0] - s.position.v[j - 1][0], 0.005, 1e-5) << i;
+      EXPECT_NEAR(s.position.v[j][1] - s.position.v[j - 1][1], -0.002, 1e-5) << i;
+    }
+  }
+  ASSERT_EQ(s.breaks.size(), 1u);
+  EXPECT_NEAR(s.breaks[0].t, ResetFlight::time(60), 1e-9);
+  EXPECT_TRUE(s.breaks[0].why.find("2 horizontal position resets") != std::string::npos) << s.breaks[0].why;
+  // Attitude: PX4's heading without the reset (quadfdi yaw = −ψ), across the counter's wrap.
+  ASSERT_EQ(s.attitude.t.size(), static_cast<std::size_t>(ResetFlight::kRows));
+  for (int i = 0; i < ResetFlight::kRows; ++i) {
+    EXPECT_NEAR(s.attitude.v[static_cast<std::size_t>(i)][2], -ResetFlight::trueYaw(i), 1e-5) << i;
+    EXPECT_NEAR(s.attitude.v[static_cast<std::size_t>(i)][0], 0.05, 1e-5) << i;
+    EXPECT_NEAR(s.attitude.v[static_cast<std::size_t>(i)][1], 0.02, 1e-5) << i;
+  }
+  EXPECT_TRUE(anyContains(s.conventions, "1 horizontal position reset (largest 3.16 m) and 1 height reset (largest 0.4 m)"));
+  EXPECT_TRUE(anyContains(s.conventions, "1 attitude reset (largest 17.2°)"));
+  EXPECT_TRUE(anyContains(s.conventions, "5 of 100 rows skipped"));
+  EXPECT_TRUE(anyContains(s.conventions, "1 reset counter steps without their shift"));
+}
+
+TEST(Px4Signals, APositionNeverValidIsRefusedByItsFlag) {
+  ResetFlight f;
+  f.all_invalid = true;
+  LogIssue issue;
+  extract(f.write(), issue);
+  EXPECT_EQ(issue.status, LogStatus::kMissingSignal);
+  EXPECT_EQ(issue.topic, "vehicle_local_position");
+  EXPECT_TRUE(issue.message.find("xy_valid is false in all 100 rows") != std::string::npos) << issue.message;
+}
+
+// The real sample log with its position flagged valid: what the rest of the extractor reads.
+void flagPositionValid(DecodedLog& log) {
+  for (LogTopic& t : log.topics)
+    if (t.name == "vehicle_local_position")
+      for (const char* flag : {"xy_valid", "z_valid"})
+        if (const int i = t.fieldIndex(flag); i >= 0) std::fill(t.columns[static_cast<std::size_t>(i)].begin(), t.columns[static_cast<std::size_t>(i)].end(), 1.0);
+}
+
 TEST(Px4Signals, RealSampleLog) {
   std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/sample_log_small.ulg", std::ios::binary);
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.empty()) GTEST_SKIP() << "../shared/logs/px4/sample_log_small.ulg not found";
+  // Flown without horizontal aiding: EKF2 held x, y at 0 and flagged them invalid.
   LogIssue issue;
-  const FlightSignals s = extract(bytes, issue);
+  extract(bytes, issue);
+  EXPECT_EQ(issue.topic, "vehicle_local_position");
+  EXPECT_TRUE(issue.message.find("xy_valid is false in all 636 rows") != std::string::npos) << issue.message;
+  DecodedLog log;
+  ASSERT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok());
+  flagPositionValid(log);
+  FlightSignals s;
+  issue = extractPx4Signals(log, Px4SignalOptions{}, s);
   ASSERT_TRUE(issue.ok()) << issue.topic << ": " << issue.message;
   EXPECT_GT(s.position.v.size(), 500u);
   EXPECT_GT(s.attitude.v.size(), 1000u) << s.position.t.back() - s.position.t.front();
@@ -340,6 +484,51 @@ TEST(Px4Signals, RealSampleLog) {
     ASSERT_LE(std::abs(a[0]), M_PI);
     ASSERT_LE(std::abs(a[1]), M_PI / 2);
   }
+}
+
+
+// PX4 SITL on the ground: EKF2 reset its heading twice (t = 1.244 s and 8.856 s, by 4.1 and 1.2 mrad),
+// and vehicle_attitude jumps there by as much: read, the attitude is continuous.
+TEST(Px4Signals, RealLogsHeadingResetsAreTakenOut) {
+  std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/sample_logging_tagged_and_default_params.ulg",
+                   std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.empty()) GTEST_SKIP() << "../shared/logs/px4/sample_logging_tagged_and_default_params.ulg not found";
+  DecodedLog log;
+  ASSERT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok());
+  flagPositionValid(log);
+  FlightSignals s;
+  const LogIssue issue = extractPx4Signals(log, Px4SignalOptions{}, s);
+  ASSERT_TRUE(issue.ok()) << issue.topic << ": " << issue.message;
+  EXPECT_TRUE(anyContains(s.conventions, "vehicle_attitude: 2 attitude resets")) << s.conventions.size();
+  EXPECT_TRUE(s.breaks.empty());
+  // Each reset row's yaw step, raw and as read.
+  const LogTopic* att = log.find("vehicle_attitude");
+  ASSERT_NE(att, nullptr);
+  const std::vector<double>& counter = att->columns[static_cast<std::size_t>(att->fieldIndex("quat_reset_counter"))];
+  const std::size_t q0 = static_cast<std::size_t>(att->fieldIndex("q[0]"));
+  auto rawYaw = [&](std::size_t r) {
+    EulerZyx e;
+    EXPECT_TRUE(eulerZyxFromQuaternion(att->columns[q0][r], att->columns[q0 + 1][r], att->columns[q0 + 2][r],
+                                       att->columns[q0 + 3][r], e));
+    return -e.yaw;
+  };
+  int resets = 0;
+  for (std::size_t r = 1; r < att->rows(); ++r) {
+    if (counter[r] == counter[r - 1]) continue;
+    ++resets;
+    const double t0 = static_cast<double>(att->timestamp_us[r - 1]) * 1e-6, t1 = static_cast<double>(att->timestamp_us[r]) * 1e-6;
+    const auto at = [&](double t) { return std::lower_bound(s.attitude.t.begin(), s.attitude.t.end(), t) - s.attitude.t.begin(); };
+    const std::size_t j0 = static_cast<std::size_t>(at(t0)), j1 = static_cast<std::size_t>(at(t1));
+    ASSERT_LT(j1, s.attitude.t.size());
+    const double raw_step = std::abs(wrapAngle(rawYaw(r) - rawYaw(r - 1)));
+    const double read_step = std::abs(wrapAngle(s.attitude.v[j1][2] - s.attitude.v[j0][2]));
+    // Measured: raw steps of 4.2 and 1.4 mrad, read as 0.015 and 0.039 mrad (the vehicle's own motion);
+    // the opposite sign convention would double the step instead.
+    EXPECT_GT(raw_step, 1e-3) << t1;
+    EXPECT_LT(read_step, 0.1 * raw_step) << t1;
+  }
+  EXPECT_EQ(resets, 2);
 }
 
 }  // namespace

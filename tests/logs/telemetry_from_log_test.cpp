@@ -196,6 +196,28 @@ TEST(TelemetryFromLog, ACrashKeepsItsLastMomentsAndAHoleIsNotBridged) {
   EXPECT_EQ(src.stretchCount(), 2u);
 }
 
+TEST(TelemetryFromLog, AJumpTheLogDoesNotSizeIsCutNotBridged) {
+  FlightSignals s = synthetic(0.002, 0.02, 0.002, 10.0);
+  s.breaks.push_back({5.0, "pos_topic: 2 horizontal position resets whose shift the log does not hold"});
+  s.breaks.push_back({30.0, "after the log: cuts nothing"});
+  LogSampleSource src;
+  ASSERT_FALSE(buildLogSampleSource(s, LogFormat::kUlog, ImportOptions{}, src).refused());
+  const PhaseReport& p = src.report().phases.at(0);
+  EXPECT_TRUE(contains(p.note, "1 jump the log does not size (pos_topic: 2 horizontal position resets")) << p.note;
+  EXPECT_EQ(src.stretchCount(), 2u);
+  const std::vector<TelemetrySample> out = drain(src);
+  int jumps = 0;
+  for (std::size_t i = 1; i < out.size(); ++i) {
+    const double d = out[i].t - out[i - 1].t;
+    if (d > 0.002 + 1e-9) {
+      ++jumps;
+      EXPECT_LE(out[i - 1].t, 5.0 - 0.02 + 1e-9);  // nothing within restart_gap of the jump
+      EXPECT_GE(out[i].t, 5.0 + 0.02 - 1e-9);
+    }
+  }
+  EXPECT_EQ(jumps, 1);
+}
+
 TEST(TelemetryFromLog, NoFlightIsRefused) {
   FlightSignals s = synthetic(0.002, 0.02, 0.002, 5.0);
   s.states = {{0.0, false, true}, {1.0, true, true}, {4.0, false, true}};  // armed, never airborne
@@ -417,7 +439,18 @@ TEST(TelemetryFromLogReal, Px4SampleLogsAreRefusedForTheirTenHertzActuatorOutput
     if (!readFile(kReal + name, bytes)) GTEST_SKIP() << "no real logs in " << kReal;
     DecodedLog log;
     ASSERT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok());
+    // Both were flown (or sat) without horizontal aiding: refused for that first; with the
+    // position flagged valid, the commands' rate is what remains.
     FlightSignals s;
+    const LogIssue invalid = extractPx4Signals(log, Px4SignalOptions{}, s);
+    EXPECT_EQ(invalid.topic, "vehicle_local_position");
+    EXPECT_TRUE(contains(invalid.message, "xy_valid is false in all")) << invalid.message;
+    for (LogTopic& t : log.topics)
+      if (t.name == "vehicle_local_position") {
+        auto& flag = t.columns[static_cast<std::size_t>(t.fieldIndex("xy_valid"))];
+        std::fill(flag.begin(), flag.end(), 1.0);
+      }
+    s = FlightSignals{};
     ASSERT_TRUE(extractPx4Signals(log, Px4SignalOptions{}, s).ok());
     ImportOptions o;
     o.max_thrust = 10.0;
