@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/frames.h"
 #include "logs/ardupilot_signals.h"
 #include "logs/crazyflie_signals.h"
 #include "logs/crazyflie_usd_writer.h"
@@ -47,20 +48,13 @@ inline TelemetrySample missionAt(const Mission& m, double t) {
 }
 
 // ---------- PX4 ----------
-struct Px4Quat {
-  double w, x, y, z;
-};
-inline Px4Quat px4Mul(const Px4Quat& a, const Px4Quat& b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
-}
 // quadfdi (roll, pitch, yaw) = PX4 (φ, −θ, −ψ); q = Rz(ψ)·Ry(θ)·Rx(φ) FRD → NED.
-inline Px4Quat px4QuatFromQuadfdi(double roll, double pitch, double yaw) {
+inline Quaternion px4QuatFromQuadfdi(double roll, double pitch, double yaw) {
   const double phi = roll, theta = -pitch, psi = -yaw;
-  const Px4Quat qz{std::cos(psi / 2), 0, 0, std::sin(psi / 2)};
-  const Px4Quat qy{std::cos(theta / 2), 0, std::sin(theta / 2), 0};
-  const Px4Quat qx{std::cos(phi / 2), std::sin(phi / 2), 0, 0};
-  return px4Mul(px4Mul(qz, qy), qx);
+  const Quaternion qz{std::cos(psi / 2), 0, 0, std::sin(psi / 2)};
+  const Quaternion qy{std::cos(theta / 2), 0, std::sin(theta / 2), 0};
+  const Quaternion qx{std::cos(phi / 2), std::sin(phi / 2), 0, 0};
+  return qz * qy * qx;
 }
 
 struct Px4LogOptions {
@@ -68,12 +62,28 @@ struct Px4LogOptions {
   int position_every = 10;  // [samples] 50 Hz
   int motors_every = 1;     // [samples] 500 Hz
   bool with_states = true;
+  // An EKF2 reset in flight (GPS regained, a heading source switched): from reset_at on the
+  // logged position is shifted by reset_shift and the attitude turned by reset_yaw about down.
+  // With log_reset_shifts the shifts are logged with their counters, as PX4 logs them
+  // (delta_xy, delta_z, delta_q_reset); without, only the jump (fields of PX4 < 1.10 layout).
+  double reset_at = -1.0;                                // [s] no reset when < 0
+  std::array<double, 3> reset_shift = {3.0, -2.0, 0.5};  // [m] NED
+  double reset_yaw = 0.35;                               // [rad] about NED down
+  bool log_reset_shifts = true;
 };
 
 inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogOptions& o = {}) {
   testing::UlogWriter w;
-  w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
-  w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+  const bool resets = o.reset_at >= 0.0 && o.log_reset_shifts;
+  if (resets) {
+    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;float[2] delta_xy;float delta_z;"
+             "bool xy_valid;bool z_valid;uint8_t xy_reset_counter;uint8_t z_reset_counter;");
+    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;float[4] delta_q_reset;uint8_t quat_reset_counter;");
+  } else {
+    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
+    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+  }
+  const Quaternion yaw_reset{std::cos(o.reset_yaw / 2), 0, 0, std::sin(o.reset_yaw / 2)};
   w.format("actuator_motors:uint64_t timestamp;uint64_t timestamp_sample;uint16_t reversible_flags;float[12] control;");
   w.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;");
   w.format("vehicle_land_detected:uint64_t timestamp;bool maybe_landed;bool landed;");
@@ -101,16 +111,31 @@ inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogO
       }
       status_written = true;
     }
-    if (i % static_cast<std::size_t>(o.position_every) == 0)
-      w.data(0, testing::UlogPayload()
-                    .put(t)
-                    .put(static_cast<float>(s.y[0]))
-                    .put(static_cast<float>(-s.y[1]))
-                    .put(static_cast<float>(-s.y[2]))
-                    .put(true));
+    const bool reset = o.reset_at >= 0.0 && s.t >= o.reset_at;
+    if (i % static_cast<std::size_t>(o.position_every) == 0) {
+      std::array<double, 3> ned = {s.y[0], -s.y[1], -s.y[2]};
+      for (std::size_t k = 0; k < 3; ++k) ned[k] += reset ? o.reset_shift[k] : 0.0;
+      testing::UlogPayload p;
+      p.put(t).put(static_cast<float>(ned[0])).put(static_cast<float>(ned[1])).put(static_cast<float>(ned[2]));
+      if (resets) {
+        const auto counter = static_cast<std::uint8_t>(reset ? 1 : 0);
+        p.put(static_cast<float>(o.reset_shift[0])).put(static_cast<float>(o.reset_shift[1])).put(static_cast<float>(o.reset_shift[2]));
+        p.put(true).put(true).put(counter).put(counter);
+      } else {
+        p.put(true);
+      }
+      w.data(0, p);
+    }
     if (i % static_cast<std::size_t>(o.attitude_every) == 0) {
-      const Px4Quat q = px4QuatFromQuadfdi(s.y[3], s.y[4], s.y[5]);
-      w.data(1, testing::UlogPayload().put(t).put(static_cast<float>(q.w)).put(static_cast<float>(q.x)).put(static_cast<float>(q.y)).put(static_cast<float>(q.z)));
+      Quaternion q = px4QuatFromQuadfdi(s.y[3], s.y[4], s.y[5]);
+      if (reset) q = yaw_reset * q;
+      testing::UlogPayload p;
+      p.put(t).put(static_cast<float>(q.w)).put(static_cast<float>(q.x)).put(static_cast<float>(q.y)).put(static_cast<float>(q.z));
+      if (resets) {
+        for (double v : {yaw_reset.w, yaw_reset.x, yaw_reset.y, yaw_reset.z}) p.put(static_cast<float>(v));
+        p.put(static_cast<std::uint8_t>(reset ? 1 : 0));
+      }
+      w.data(1, p);
     }
     if (i % static_cast<std::size_t>(o.motors_every) == 0) {
       std::array<float, 12> control;

@@ -393,6 +393,29 @@ TEST_F(LogDetection, HealthyTakeOffFlightAndLandingRaiseNoAlarmInAnyFormat) {
   }
 }
 
+// A healthy flight through an EKF2 reset (3.6 m of position, 0.5 m of height, 20° of heading) half-way.
+TEST_F(LogDetection, Px4EstimatorResetInAHealthyFlightRaisesNoAlarm) {
+  const test::Mission m = test::simulateMission(0, 1.0, -1.0);
+  ASSERT_GT(m.landed_at, 0.0);
+  test::Px4LogOptions o;
+  o.reset_at = 0.5 * (m.takeoff_at + m.landed_at);
+  const std::vector<std::uint8_t> bytes = test::writePx4Mission(m, o);
+  expectQuietLanding(bytes, m, "armed/landed events");
+  LogSampleSource src;
+  ASSERT_FALSE(fromBytes(bytes, options(), src).refused());
+  std::string conventions;
+  for (const std::string& c : src.report().conventions) conventions += c + "\n";
+  EXPECT_TRUE(contains(conventions, "1 horizontal position reset (largest 3.61 m) and 1 height reset (largest 0.5 m)")) << conventions;
+  EXPECT_TRUE(contains(conventions, "1 attitude reset (largest 20.1°)")) << conventions;
+  // The same jumps without their logged shifts.
+  o.log_reset_shifts = false;
+  LogSampleSource raw;
+  ASSERT_FALSE(fromBytes(test::writePx4Mission(m, o), options(), raw).refused());
+  const Result r = detect(raw);
+  std::printf("[ measured ] PX4, healthy, the reset's jumps not taken out: lowest Θ̂ %.2f, %ld alarms\n",
+              static_cast<double>(r.lowest), r.summary.alarms_raised);
+}
+
 TEST_F(LogDetection, HoverCalibrationRecoversTheMotorsMaximumThrust) {
   const test::Mission m = test::simulateMission(0, 1.0, -1.0);
   ImportOptions o = options();
