@@ -23,7 +23,7 @@ void save(const std::string& dir, const char* name, const std::vector<std::uint8
 
 // frame_type: ArduPilot's FRAME_TYPE (1 X; 12 Betaflight order: the extractor maps motors by it).
 // With `ekf_status`, XKF4 per core: SS without a position on the first row, an OFN/OFE reset
-// shift changing half-way.
+// shift changing half-way, the primary core (PI) switching from 0 to 1 half-way.
 DataflashWriter copter(int rows, bool fmtu, int frame_type = 1, bool ekf_status = false) {
   DataflashWriter w;
   if (ekf_status) w.fmt(35, "XKF4", "QBcccccfffHBIHb", "TimeUS,C,SV,SP,SH,SM,SVT,errRP,OFN,OFE,FS,TS,SS,GPS,PI");
@@ -55,7 +55,7 @@ DataflashWriter copter(int rows, bool fmtu, int frame_type = 1, bool ekf_status 
       if (ekf_status) {
         const double shift = k >= rows / 2 ? 1.5 : 0.0;
         const unsigned ss = k == 0 ? 1u | 128u : 1u | 2u | 4u | 8u | 32u;
-        w.write(35, {t, core, 0, 0, 0, 0, 0, 0.0, shift, -shift, 0u, 0u, ss, 0u, 0});
+        w.write(35, {t, core, 0, 0, 0, 0, 0, 0.0, shift, -shift, 0u, 0u, ss, 0u, k >= rows / 2 ? 1 : 0});
       }
     }
     w.write(32, {t, 1500 + k, 1400, 1600 - k, 1450, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});

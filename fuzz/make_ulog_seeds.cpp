@@ -37,14 +37,7 @@ UlogWriter px4Flight(bool motors, int rows, bool geometry = false, bool resets =
   w.paramFloat("THR_MDL_FAC", 0.3f);
   w.paramInt("PWM_MAIN_MIN", 1000);
   w.paramInt("PWM_MAIN_MAX", 2000);
-  if (resets) {
-    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;float[2] delta_xy;float delta_z;"
-             "bool xy_valid;bool z_valid;uint8_t xy_reset_counter;uint8_t z_reset_counter;");
-    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;float[4] delta_q_reset;uint8_t quat_reset_counter;");
-  } else {
-    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
-    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
-  }
+  quadfdi::testing::formatPx4Estimates(w, resets);
   w.format("actuator_motors:uint64_t timestamp;float[4] control;");
   w.format("actuator_outputs:uint64_t timestamp;uint32_t noutputs;float[4] output;");
   w.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;");

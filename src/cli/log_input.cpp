@@ -41,7 +41,7 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
   t.add("--settle-after-takeoff", o.import.settle_after_takeoff, "Skipped after each take-off [s]").atLeast(0.0);
   t.add("--settle-before-landing", o.import.settle_before_landing, "Skipped before each controlled landing [s]").atLeast(0.0);
   t.add("--phases-by-rule", o.phases_by_rule, "Find airborne phases from height and thrust even when the log has armed/landed events");
-  t.add("--ekf-core", o.ekf_core, "ArduPilot: the EKF core whose position is used").range(0, 255);
+  t.add("--ekf-core", o.ekf_core, "ArduPilot: the EKF core whose position is used").range(0, 255).defaultText("the primary core, as XKF4 PI names it over the flight");
   t.add("--cf-thrust-map", o.crazyflie_thrust,
         "Crazyflie: motor command → thrust: auto (battery model when pwm.* and pm.vbatMV are logged), duty, battery")
       .choices({"auto", "duty", "battery"});

@@ -21,7 +21,7 @@ struct LogInputOptions {
   // live in ImportOptions, logs/telemetry_from_log.h); dt and the hole limits are set per run.
   ImportOptions import;
   bool phases_by_rule = false;       // ignore the log's armed/landed events (import.use_events = false)
-  int ekf_core = 0;                  // ArduPilot
+  int ekf_core = -1;                 // ArduPilot: −1 = the primary core the log names (XKF4 PI)
   std::string crazyflie_thrust = "auto";  // auto|duty|battery
   std::string vehicle;               // a vehicle description (docs/vehicles.md): max thrust, mass, thrust curve
   std::set<std::string> given;       // keys the command was given (its whole table): options a format does not read

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -143,6 +145,89 @@ EkfStatus ekfStatus(const DecodedLog& log, const std::string& name, int core) {
   return s;
 }
 
+// The EKF core ArduPilot flew on from `from` [s] on.
+struct LaneSpan {
+  double from = 0.0;  // [s]
+  int core = 0;
+};
+
+// The primary core over time, from the status messages' PI (AP_NavEKF3::getPrimaryCoreIndex,
+// the same in every core's row); empty when the log does not say.
+std::vector<LaneSpan> primaryLanes(const DecodedLog& log, const std::string& status_name) {
+  std::vector<std::pair<std::int64_t, int>> said;
+  for (const LogTopic& t : log.topics) {
+    if (t.name != status_name) continue;
+    const double* pi = column(t, "PI");
+    if (!pi) continue;
+    for (std::size_t r = 0; r < t.rows(); ++r)
+      if (pi[r] >= 0.0 && pi[r] <= 255.0) said.emplace_back(t.timestamp_us[r], static_cast<int>(pi[r]));
+  }
+  std::stable_sort(said.begin(), said.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<LaneSpan> lanes;
+  for (const auto& [us, core] : said)
+    if (lanes.empty() || lanes.back().core != core) lanes.push_back({lanes.empty() ? -std::numeric_limits<double>::infinity() : seconds(us), core});
+  return lanes;
+}
+
+// One core's position: the rows its status flags valid, each reset's shift taken out.
+struct LanePosition {
+  std::vector<double> t;                  // [s]
+  std::vector<std::array<double, 3>> v;   // x north, y west, z up [m]
+  std::size_t rows = 0, invalid = 0, resets = 0;
+  double largest = 0.0;                   // [m] largest reset shift taken out
+};
+
+// The status rows of core `core` are checked against its position rows: rows it flags without
+// a position estimate are skipped (without GPS, flow or beacons EKF3 holds PN, PE in
+// constant-position mode), and the shifts of its horizontal position resets are taken out so that
+// the track is continuous (every feature is relative to the window or the previous sample: the
+// offset does not matter).
+LanePosition lanePosition(const DecodedLog& log, const char* pos_name, const std::string& status_name, int core,
+                          std::size_t& dropped) {
+  LanePosition lane;
+  // Split by FMTU's instance field (C) when the log has FMTU; else one topic, filtered on C.
+  const LogTopic* pos = log.find(pos_name, core);
+  if (!pos) pos = log.find(pos_name, 0);
+  if (!pos) return lane;
+  const double* c = column(*pos, "C");
+  const double* pn = column(*pos, "PN");
+  const double* pe = column(*pos, "PE");
+  const double* pd = column(*pos, "PD");
+  if (!pn || !pe || !pd) return lane;
+  const EkfStatus status = ekfStatus(log, status_name, core);
+  std::size_t k = 0;
+  double north = 0.0, east = 0.0;  // [m] sum of the reset shifts so far
+  for (std::size_t r : usableRows(*pos, c, static_cast<double>(core), dropped)) {
+    const double t = seconds(pos->timestamp_us[r]);
+    ++lane.rows;
+    bool valid = true;
+    if (!status.t.empty()) {
+      // The status row written with this position (same TimeUS), else the latest before it.
+      while (k + 1 < status.t.size() && status.t[k + 1] <= t) {
+        ++k;
+        if (!status.north.empty()) {
+          const double dn = status.north[k] - status.north[k - 1], de = status.east[k] - status.east[k - 1];
+          if ((dn != 0.0 || de != 0.0) && std::isfinite(status.north[k]) && std::isfinite(status.east[k])) {
+            north += status.north[k];
+            east += status.east[k];
+            lane.largest = std::max(lane.largest, std::hypot(status.north[k], status.east[k]));
+            ++lane.resets;
+          }
+        }
+      }
+      const std::uint32_t ss = status.solution[k];
+      valid = status.t[k] <= t && (ss & kHorizPosRel) != 0 && (ss & kVertPos) != 0;
+    }
+    if (!valid) {
+      ++lane.invalid;
+      continue;
+    }
+    lane.t.push_back(t);
+    lane.v.push_back({pn[r] - north, -(pe[r] - east), -pd[r]});
+  }
+  return lane;
+}
+
 }  // namespace
 
 double ArdupilotThrustMap::thrustFraction(double pwm) const {
@@ -197,81 +282,91 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
                             "roll = Roll, pitch = −Pitch, yaw = −Yaw wrapped to (−π, π] [rad] (world x north, y west, z up; body FLU)");
 
   // Position.
-  const LogTopic* pos = nullptr;
   const char* pos_name = nullptr;
   for (const char* name : {"XKF1", "NKF1"}) {
-    // Split by FMTU's instance field (C) when the log has FMTU; else one topic, filtered on C.
-    const LogTopic* t = log.find(name, options.ekf_core);
-    if (!t && options.ekf_core != 0) t = log.find(name, 0);
+    const LogTopic* t = log.find(name, std::max(options.ekf_core, 0));
+    if (!t) t = log.find(name, 0);
     if (t && column(*t, "PN") && column(*t, "PE") && column(*t, "PD")) {
-      pos = t;
       pos_name = name;
       break;
     }
   }
-  if (pos) {
-    const double* c = column(*pos, "C");
-    const double* pn = column(*pos, "PN");
-    const double* pe = column(*pos, "PE");
-    const double* pd = column(*pos, "PD");
-    const bool filter = c != nullptr;
-    // The EKF's status of the same core: rows it flags without a position estimate are skipped
-    // (without GPS, flow or beacons EKF3 holds PN, PE in constant-position mode), and the shifts
-    // of its horizontal position resets are taken out so that the track is continuous (every
-    // feature is relative to the window or the previous sample: the offset does not matter).
+  if (pos_name) {
+    // The lane (EKF core) whose position is read: the one given, else the one ArduPilot flew on,
+    // which its status messages name (PI) and which may change in flight (a lane switch).
     const std::string status_name = std::string(pos_name).substr(0, 3) + "4";
-    const EkfStatus status = ekfStatus(log, status_name, options.ekf_core);
-    std::size_t k = 0, invalid = 0, resets = 0, position_rows = 0;
-    double north = 0.0, east = 0.0, largest = 0.0;  // [m] sum of the reset shifts so far; largest one
-    for (std::size_t r : usableRows(*pos, filter ? c : nullptr, static_cast<double>(options.ekf_core), dropped)) {
-      const double t = seconds(pos->timestamp_us[r]);
-      ++position_rows;
-      bool valid = true;
-      if (!status.t.empty()) {
-        // The status row written with this position (same TimeUS), else the latest before it.
-        while (k + 1 < status.t.size() && status.t[k + 1] <= t) {
-          ++k;
-          if (!status.north.empty()) {
-            const double dn = status.north[k] - status.north[k - 1], de = status.east[k] - status.east[k - 1];
-            if ((dn != 0.0 || de != 0.0) && std::isfinite(status.north[k]) && std::isfinite(status.east[k])) {
-              north += status.north[k];
-              east += status.east[k];
-              largest = std::max(largest, std::hypot(status.north[k], status.east[k]));
-              ++resets;
-            }
-          }
+    std::vector<LaneSpan> lanes;
+    std::string lane_note;
+    if (options.ekf_core >= 0) {
+      lanes.push_back({-std::numeric_limits<double>::infinity(), options.ekf_core});
+      lane_note = "EKF core " + std::to_string(options.ekf_core) + ", as given";
+    } else {
+      lanes = primaryLanes(log, status_name);
+      if (lanes.empty()) {
+        lanes.push_back({-std::numeric_limits<double>::infinity(), 0});
+        lane_note = "EKF core 0: the log has no " + status_name + " PI naming the primary core (--ekf-core chooses one)";
+      } else {
+        lane_note = "the EKF's primary core (" + status_name + " PI): core " + std::to_string(lanes[0].core);
+        for (std::size_t i = 1; i < lanes.size(); ++i) {
+          char at[32];
+          std::snprintf(at, sizeof at, "%.3f", lanes[i].from);
+          lane_note += ", core " + std::to_string(lanes[i].core) + " from " + at + " s";
         }
-        const std::uint32_t ss = status.solution[k];
-        valid = status.t[k] <= t && (ss & kHorizPosRel) != 0 && (ss & kVertPos) != 0;
+        if (lanes.size() > 1)
+          lane_note += "; the cores' positions differ, so the flight is cut at each switch";
+        else
+          lane_note += " throughout";
       }
-      if (!valid) {
-        ++invalid;
-        continue;
-      }
-      out.position.t.push_back(t);
-      out.position.v.push_back({pn[r] - north, -(pe[r] - east), -pd[r]});
     }
+    // Each lane's whole track once, then the stretch of it that was primary.
+    std::map<int, LanePosition> tracks;
+    std::size_t rows = 0, invalid = 0, resets = 0;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < lanes.size(); ++i) {
+      auto it = tracks.find(lanes[i].core);
+      if (it == tracks.end()) {
+        it = tracks.emplace(lanes[i].core, lanePosition(log, pos_name, status_name, lanes[i].core, dropped)).first;
+        rows += it->second.rows;
+        invalid += it->second.invalid;
+        resets += it->second.resets;
+        largest = std::max(largest, it->second.largest);
+      }
+      const LanePosition& lane = it->second;
+      const double until = i + 1 < lanes.size() ? lanes[i + 1].from : std::numeric_limits<double>::infinity();
+      bool first = true;
+      for (std::size_t r = 0; r < lane.t.size(); ++r) {
+        if (lane.t[r] < lanes[i].from || lane.t[r] >= until) continue;
+        if (!out.position.t.empty() && lane.t[r] <= out.position.t.back()) continue;
+        if (first && i > 0) out.breaks.push_back({lane.t[r], status_name + ": the EKF's primary core switched to core " +
+                                                                 std::to_string(lanes[i].core)});
+        first = false;
+        out.position.t.push_back(lane.t[r]);
+        out.position.v.push_back(lane.v[r]);
+      }
+    }
+    std::string cores;
+    for (const auto& [core, lane] : tracks) cores += (cores.empty() ? "" : ", ") + std::to_string(core);
+    const std::string of_cores = std::string(tracks.size() == 1 ? "EKF core " : "EKF cores ") + cores;
     if (out.position.empty() && invalid > 0)
-      return missing(pos_name, std::string(pos_name) + ": " + status.name + " SS flags no position estimate in all " +
-                                   std::to_string(invalid) + " rows of EKF core " + std::to_string(options.ekf_core) +
+      return missing(pos_name, std::string(pos_name) + ": " + status_name + " SS flags no position estimate in all " +
+                                   std::to_string(invalid) + " rows of " + of_cores +
                                    " (relative horizontal position and vertical position valid, bits 3 and 5): "
                                    "without GPS, optical flow or beacons the EKF holds PN and PE, it does not "
                                    "measure them, and the detector needs the vehicle's measured motion");
-    if (out.position.empty())
-      return missing(pos_name, std::string(pos_name) + " has no rows of EKF core " + std::to_string(options.ekf_core));
+    if (out.position.empty()) return missing(pos_name, std::string(pos_name) + " has no rows of " + of_cores);
     if (invalid > 0)
-      out.conventions.push_back("position: " + std::to_string(invalid) + " of " + std::to_string(position_rows) + " " +
-                                pos_name + " rows skipped: " + status.name +
+      out.conventions.push_back("position: " + std::to_string(invalid) + " of " + std::to_string(rows) + " " + pos_name +
+                                " rows skipped: " + status_name +
                                 " SS flags no position estimate there; nothing is evaluated across the holes they leave");
     if (resets > 0) {
       char buf[200];
       std::snprintf(buf, sizeof buf, "position: %zu horizontal position reset%s (largest %.3g m) taken out with %s OFN, OFE, "
-                    "so the track is continuous", resets, resets == 1 ? "" : "s", largest, status.name.c_str());
+                    "so the track is continuous", resets, resets == 1 ? "" : "s", largest, status_name.c_str());
       out.conventions.push_back(buf);
     }
-    out.position.source = {pos_name, "PN,PE,PD", "NED → x north, y west, z up: (PN, −PE, −PD), core " + std::to_string(options.ekf_core)};
-    out.conventions.push_back(std::string("position: ") + pos_name + " PN, PE, PD [m] (NED, EKF core " +
-                              std::to_string(options.ekf_core) + ") → (x, y, z) = (PN, −PE, −PD)");
+    out.position.source = {pos_name, "PN,PE,PD", "NED → x north, y west, z up: (PN, −PE, −PD), " + of_cores};
+    out.conventions.push_back(std::string("position: ") + pos_name + " PN, PE, PD [m] (NED) of " + lane_note +
+                              " → (x, y, z) = (PN, −PE, −PD)");
   } else if (const LogTopic* p = log.find("POS"); p && column(*p, "Lat") && column(*p, "Lng") && column(*p, "Alt")) {
     const double* lat = column(*p, "Lat");
     const double* lng = column(*p, "Lng");

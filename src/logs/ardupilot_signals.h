@@ -10,8 +10,10 @@
 //    north seen from above, quadfdi's counter-clockwise about z up), and position
 //    (x, y, z) = (PN, −PE, −PD).
 //  * attitude: ATT Roll, Pitch, Yaw [deg].
-//  * position: XKF1 (EKF3) PN, PE, PD [m] of core `ekf_core`; else NKF1 (EKF2) likewise; else
-//    POS Lat, Lng [deg], Alt [m] on a flat earth around the first fix.
+//  * position: XKF1 (EKF3) PN, PE, PD [m] of core `ekf_core`, by default of the primary core as
+//    XKF4 PI names it over time (a lane switch is a SignalBreak); else NKF1 (EKF2) likewise; else
+//    POS Lat, Lng [deg], Alt [m] on a flat earth around the first fix. Rows XKF4 SS flags without
+//    a position estimate are skipped; XKF4 OFN/OFE reset shifts are taken out.
 //  * commands: RCOU C<n> [µs] of the servo output driving each motor (SERVOn_FUNCTION 33..36 =
 //    motors 1..4 when logged, else outputs 1..4) → thrust fraction with ArduPilot's own model
 //    (AP_MotorsMulticopter / Thrust_Linearization): a = (pwm − MOT_PWM_MIN)/(MOT_PWM_MAX −
@@ -41,7 +43,8 @@ namespace quadfdi {
 // Values used where the log has no PARM of that name. Sources: ArduPilot
 // libraries/AP_Motors/AP_MotorsMulticopter.cpp/.h parameter table (Copter 4.x defaults).
 struct ArdupilotSignalOptions {
-  int ekf_core = 0;            // [-] EKF core (XKF1/NKF1 field C, FMTU instance) whose position is used
+  int ekf_core = -1;           // [-] EKF core (XKF1/NKF1 field C, FMTU instance) whose position is used;
+                               //     −1: the primary core, as XKF4/NKF4 PI says over time (core 0 if not logged)
   double pwm_min = 1000.0;     // [µs] MOT_PWM_MIN default (4.x; 0 in older firmware meant RC3_MIN)
   double pwm_max = 2000.0;     // [µs] MOT_PWM_MAX default (4.x; 0 in older firmware meant RC3_MAX)
   double rc3_min = 1100.0;     // [µs] RC3_MIN default, used when MOT_PWM_MIN is logged as 0

@@ -340,6 +340,43 @@ TEST(ArdupilotSignals, EkfStatusSkipsHeldPositionsAndResetShiftsAreTakenOut) {
       << refused.message;
 }
 
+// Two lanes whose positions differ by 10 m north; XKF4 PI names core 0 primary, then core 1 from
+// row 20 (a lane switch). By default the position follows the primary, cut at the switch.
+TEST(ArdupilotSignals, PositionFollowsThePrimaryCoreAndALaneSwitchIsCut) {
+  DataflashWriter w = apLog(false);
+  w.fmt(kXkf4, "XKF4", "QBcccccfffHBIHb", "TimeUS,C,SV,SP,SH,SM,SVT,errRP,OFN,OFE,FS,TS,SS,GPS,PI");
+  rcou(w, 1000, {1000, 1000, 1000, 1000});
+  att(w, 1000, 0, 0, 0);
+  auto time = [](int i) { return 1000000 + static_cast<std::uint64_t>(i) * 40000; };
+  for (int i = 0; i < 40; ++i) {
+    const double tt = static_cast<double>(time(i)) * 1e-6;
+    const int primary = i < 20 ? 0 : 1;
+    for (unsigned core = 0; core < 2; ++core) {
+      xkf1(w, time(i), core, tt + 10.0 * core, 0.0, -1.0);
+      w.write(kXkf4, {time(i), core, 0, 0, 0, 0, 0, 0.0, 0.0, 0.0, 0u, 0u, kSolutionPosition, 0u, primary});
+    }
+  }
+  FlightSignals s;
+  const LogIssue issue = extract(w, s);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  ASSERT_EQ(s.position.v.size(), 40u);
+  for (std::size_t j = 0; j < 40; ++j) EXPECT_NEAR(s.position.v[j][0], s.position.t[j] + (j < 20 ? 0.0 : 10.0), 1e-5) << j;
+  ASSERT_EQ(s.breaks.size(), 1u);
+  EXPECT_NEAR(s.breaks[0].t, static_cast<double>(time(20)) * 1e-6, 1e-9);
+  EXPECT_TRUE(s.breaks[0].why.find("switched to core 1") != std::string::npos) << s.breaks[0].why;
+  bool named = false;
+  for (const std::string& c : s.conventions)
+    named = named || c.find("the EKF's primary core (XKF4 PI): core 0, core 1 from 1.800 s") != std::string::npos;
+  EXPECT_TRUE(named);
+  // A core given is read throughout, without a cut.
+  ArdupilotSignalOptions core0;
+  core0.ekf_core = 0;
+  ASSERT_TRUE(extract(w, s, core0).ok());
+  ASSERT_EQ(s.position.v.size(), 40u);
+  EXPECT_NEAR(s.position.v[39][0], s.position.t[39], 1e-5);
+  EXPECT_TRUE(s.breaks.empty());
+}
+
 TEST(ArdupilotSignals, MissingMessagesAreNamed) {
   {
     DataflashWriter w = apLog();

@@ -75,14 +75,7 @@ struct Px4LogOptions {
 inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogOptions& o = {}) {
   testing::UlogWriter w;
   const bool resets = o.reset_at >= 0.0 && o.log_reset_shifts;
-  if (resets) {
-    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;float[2] delta_xy;float delta_z;"
-             "bool xy_valid;bool z_valid;uint8_t xy_reset_counter;uint8_t z_reset_counter;");
-    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;float[4] delta_q_reset;uint8_t quat_reset_counter;");
-  } else {
-    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
-    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
-  }
+  testing::formatPx4Estimates(w, resets);
   const Quaternion yaw_reset{std::cos(o.reset_yaw / 2), 0, 0, std::sin(o.reset_yaw / 2)};
   w.format("actuator_motors:uint64_t timestamp;uint64_t timestamp_sample;uint16_t reversible_flags;float[12] control;");
   w.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;");

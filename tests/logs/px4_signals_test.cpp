@@ -41,8 +41,7 @@ struct Px4Flight {
 };
 
 std::vector<std::uint8_t> writeFlight(const Px4Flight& f, UlogWriter w = UlogWriter()) {
-  w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
-  w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+  testing::formatPx4Estimates(w, false);
   w.format("actuator_motors:uint64_t timestamp;uint64_t timestamp_sample;uint16_t reversible_flags;float[12] control;");
   w.format("actuator_outputs:uint64_t timestamp;uint32_t noutputs;float[16] output;");
   w.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;");
@@ -330,9 +329,7 @@ struct ResetFlight {
 
   std::vector<std::uint8_t> write() const {
     UlogWriter w;
-    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;float[2] delta_xy;float delta_z;"
-             "bool xy_valid;bool z_valid;uint8_t xy_reset_counter;uint8_t z_reset_counter;");
-    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;float[4] delta_q_reset;uint8_t quat_reset_counter;");
+    testing::formatPx4Estimates(w, true);
     w.format("actuator_motors:uint64_t timestamp;uint64_t timestamp_sample;uint16_t reversible_flags;float[12] control;");
     w.subscribe(0, 0, "vehicle_local_position");
     w.subscribe(0, 1, "vehicle_attitude");

@@ -155,4 +155,19 @@ class UlogWriter {
   std::vector<std::uint8_t> bytes_;
 };
 
+// PX4's vehicle_local_position and vehicle_attitude formats as the tests write them: with
+// `with_resets`, EKF2's validity flags, reset shifts and counters (PX4 ≥ 1.10) — x, y, z,
+// delta_xy[2], delta_z, xy_valid, z_valid, xy_reset_counter, z_reset_counter and q[4],
+// delta_q_reset[4], quat_reset_counter; else x, y, z, xy_valid (+3 padding bytes) and q[4].
+inline void formatPx4Estimates(UlogWriter& w, bool with_resets) {
+  if (with_resets) {
+    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;float[2] delta_xy;float delta_z;"
+             "bool xy_valid;bool z_valid;uint8_t xy_reset_counter;uint8_t z_reset_counter;");
+    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;float[4] delta_q_reset;uint8_t quat_reset_counter;");
+  } else {
+    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;float z;bool xy_valid;uint8_t[3] _padding0;");
+    w.format("vehicle_attitude:uint64_t timestamp;float[4] q;");
+  }
+}
+
 }  // namespace quadfdi::testing
