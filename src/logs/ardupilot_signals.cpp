@@ -337,8 +337,9 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
       for (std::size_t r = 0; r < lane.t.size(); ++r) {
         if (lane.t[r] < lanes[i].from || lane.t[r] >= until) continue;
         if (!out.position.t.empty() && lane.t[r] <= out.position.t.back()) continue;
-        if (first && i > 0) out.breaks.push_back({lane.t[r], status_name + ": the EKF's primary core switched to core " +
-                                                                 std::to_string(lanes[i].core)});
+        if (first && i > 0 && !out.position.t.empty())
+          out.breaks.push_back({lane.t[r], out.position.t.back(),
+                                status_name + ": the EKF's primary core switched to core " + std::to_string(lanes[i].core)});
         first = false;
         out.position.t.push_back(lane.t[r]);
         out.position.v.push_back(lane.v[r]);

@@ -48,8 +48,9 @@ struct FlightStateEvent {
 // between two logged rows, of which only the last one's shift was logged): nothing is evaluated
 // across it, as across a hole.
 struct SignalBreak {
-  double t = 0.0;   // [s]
-  std::string why;  // for the import report, e.g. "vehicle_local_position: 2 position resets between two rows"
+  double t = 0.0;            // [s] the first sample after the jump
+  double last_before = 0.0;  // [s] the last sample before it: nothing later is interpolated toward the jump
+  std::string why;           // for the import report, e.g. "vehicle_local_position: 2 position resets between two rows"
 };
 
 struct FlightSignals {

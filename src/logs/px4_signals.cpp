@@ -138,9 +138,9 @@ struct ResetTally {
 // Records a counter step whose shift is not in the log: two or more resets between two logged
 // rows (each row holds only the last one's shift, or their sum within one estimator update: the
 // log cannot tell which), or a non-finite shift.
-void breakAt(FlightSignals& out, double t, const std::string& topic, int resets, const std::string& what) {
-  out.breaks.push_back({t, topic + ": " + std::to_string(resets) + " " + what + " reset" + (resets == 1 ? "" : "s") +
-                               " whose shift the log does not hold"});
+void breakAt(FlightSignals& out, double before, double t, const std::string& topic, int resets, const std::string& what) {
+  out.breaks.push_back({t, before, topic + ": " + std::to_string(resets) + " " + what + " reset" + (resets == 1 ? "" : "s") +
+                                       " whose shift the log does not hold"});
 }
 
 // Position, continuous across the estimator's resets and only where the estimator says it is
@@ -180,7 +180,7 @@ LogIssue extractPosition(const DecodedLog& log, FlightSignals& out) {
           xy_tally.add(std::hypot(sx, sy));
         } else {
           ++xy_tally.unlogged;
-          breakAt(out, time, name, n, "horizontal position");
+          breakAt(out, seconds(t->timestamp_us[r - 1]), time, name, n, "horizontal position");
         }
       }
     }
@@ -192,7 +192,7 @@ LogIssue extractPosition(const DecodedLog& log, FlightSignals& out) {
           z_tally.add(std::abs(sz));
         } else {
           ++z_tally.unlogged;
-          breakAt(out, time, name, n, "height");
+          breakAt(out, seconds(t->timestamp_us[r - 1]), time, name, n, "height");
         }
       }
     }
@@ -261,7 +261,7 @@ LogIssue extractAttitude(const DecodedLog& log, FlightSignals& out) {
           tally.add(rotationAngle(shift));
         } else {
           ++tally.unlogged;
-          breakAt(out, time, name, n, "attitude");
+          breakAt(out, seconds(t->timestamp_us[r - 1]), time, name, n, "attitude");
         }
       }
     }

@@ -107,21 +107,23 @@ void cutHoles(std::vector<Span>& spans, const std::vector<double>& t, double lim
   spans.swap(out);
 }
 
-// Removes from `spans` a stretch of half-width `half` around every break: the two sides stay
-// apart (2·half > restart_gap), so the detector restarts rather than seeing the jump.
+// Removes from `spans` every break's stretch, from its last sample before the jump (or `half`
+// before the jump, if earlier) to `half` after it: nothing evaluated is interpolated across the
+// jump, and the two sides stay apart (≥ 2·half > restart_gap), so the detector restarts.
 // `first` is the first break that cut anything.
 void cutBreaks(std::vector<Span>& spans, const std::vector<SignalBreak>& breaks, double half, int& cuts,
                const SignalBreak*& first) {
   for (const SignalBreak& b : breaks) {
+    const double from = std::min(b.t - half, b.last_before), to = b.t + half;
     std::vector<Span> out;
     for (const Span& s : spans) {
-      if (b.t + half <= s.a || b.t - half >= s.b) {
+      if (to <= s.a || from >= s.b) {
         out.push_back(s);
         continue;
       }
       if (cuts++ == 0) first = &b;
-      if (b.t - half > s.a) out.push_back({s.a, b.t - half});
-      if (b.t + half < s.b) out.push_back({b.t + half, s.b});
+      if (from > s.a) out.push_back({s.a, from});
+      if (to < s.b) out.push_back({to, s.b});
     }
     spans.swap(out);
   }

@@ -363,6 +363,7 @@ TEST(ArdupilotSignals, PositionFollowsThePrimaryCoreAndALaneSwitchIsCut) {
   for (std::size_t j = 0; j < 40; ++j) EXPECT_NEAR(s.position.v[j][0], s.position.t[j] + (j < 20 ? 0.0 : 10.0), 1e-5) << j;
   ASSERT_EQ(s.breaks.size(), 1u);
   EXPECT_NEAR(s.breaks[0].t, static_cast<double>(time(20)) * 1e-6, 1e-9);
+  EXPECT_NEAR(s.breaks[0].last_before, static_cast<double>(time(19)) * 1e-6, 1e-9);
   EXPECT_TRUE(s.breaks[0].why.find("switched to core 1") != std::string::npos) << s.breaks[0].why;
   bool named = false;
   for (const std::string& c : s.conventions)

@@ -421,6 +421,7 @@ TEST(Px4Signals, EstimatorResetsAreTakenOutAndInvalidPositionsSkipped) {
   }
   ASSERT_EQ(s.breaks.size(), 1u);
   EXPECT_NEAR(s.breaks[0].t, ResetFlight::time(60), 1e-9);
+  EXPECT_NEAR(s.breaks[0].last_before, ResetFlight::time(59), 1e-9);
   EXPECT_TRUE(s.breaks[0].why.find("2 horizontal position resets") != std::string::npos) << s.breaks[0].why;
   // Attitude: PX4's heading without the reset (quadfdi yaw = −ψ), across the counter's wrap.
   ASSERT_EQ(s.attitude.t.size(), static_cast<std::size_t>(ResetFlight::kRows));
