@@ -168,7 +168,7 @@ LogIssue extractPosition(const DecodedLog& log, FlightSignals& out) {
   const bool xy_resets = xy_counter && dx && dy, z_resets = z_counter && dz;
   double north = 0.0, east = 0.0, down = 0.0;  // [m] sum of the resets' shifts so far
   ResetTally xy_tally, z_tally;
-  std::size_t skipped = 0, xy_invalid = 0, z_invalid = 0;
+  std::size_t skipped = 0, xy_invalid = 0, z_invalid = 0, invalid = 0;
   for (std::size_t r = 0; r < t->rows(); ++r) {
     const double time = seconds(t->timestamp_us[r]);
     if (r > 0 && xy_resets) {
@@ -199,11 +199,14 @@ LogIssue extractPosition(const DecodedLog& log, FlightSignals& out) {
     const bool bad_xy = xy_valid && (*xy_valid)[r] == 0.0, bad_z = z_valid && (*z_valid)[r] == 0.0;
     xy_invalid += bad_xy;
     z_invalid += bad_z;
-    if (bad_xy || bad_z) continue;
+    if (bad_xy || bad_z) {
+      ++invalid;
+      continue;
+    }
     append<3>(out.position, time, {(*c[0])[r] - north, -((*c[1])[r] - east), -((*c[2])[r] - down)}, skipped);
   }
   const std::size_t rows = t->rows();
-  if (out.position.empty() && (xy_invalid > 0 || z_invalid > 0)) {
+  if (out.position.empty() && invalid > 0) {
     const bool xy = xy_invalid == rows;
     return missing(name, std::string(xy ? "xy_valid" : z_invalid == rows ? "z_valid" : "xy_valid or z_valid") +
                              " is false in all " + std::to_string(rows) + " rows: PX4's estimator had no " +
@@ -212,8 +215,8 @@ LogIssue extractPosition(const DecodedLog& log, FlightSignals& out) {
                              "does not measure them), and the detector needs the vehicle's measured motion");
   }
   out.position.source = {name, "x,y,z", "NED → north, west, up: (x, −y, −z)"};
-  if (xy_invalid > 0 || z_invalid > 0)
-    out.conventions.push_back(name + ": " + std::to_string(std::max(xy_invalid, z_invalid)) + " of " + std::to_string(rows) +
+  if (invalid > 0)
+    out.conventions.push_back(name + ": " + std::to_string(invalid) + " of " + std::to_string(rows) +
                               " rows skipped: the estimator flagged its position invalid (" +
                               (xy_invalid ? std::to_string(xy_invalid) + " xy_valid false" : std::string()) +
                               (xy_invalid && z_invalid ? ", " : "") +

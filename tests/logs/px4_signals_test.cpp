@@ -317,7 +317,8 @@ TEST(Px4Signals, MissingTopicIsNamed) {
 
 // A 1 s flight at 100 Hz whose estimator resets: its position jumps by a logged shift at row 30
 // (x, y) and row 40 (z), by an unlogged one at row 60 (the counter steps by 2), its attitude by a
-// logged yaw rotation at row 50 (the counter wraps 255 → 0); rows 80–84 are flagged invalid. The
+// logged yaw rotation at row 50 (the counter wraps 255 → 0); rows 80–84 are flagged xy-invalid,
+// 85–86 z-invalid. The
 // counters start nonzero, with stale shifts from before the log that must not be applied.
 struct ResetFlight {
   static constexpr int kRows = 100;
@@ -369,7 +370,7 @@ struct ResetFlight {
                     .put(dy)
                     .put(dz)
                     .put(valid)
-                    .put(true)
+                    .put(i != 85 && i != 86)  // z_valid
                     .put(xy_counter)
                     .put(z_counter));
       Quat q = px4Quaternion(0.05, -0.02, trueYaw(i));
@@ -404,17 +405,17 @@ TEST(Px4Signals, EstimatorResetsAreTakenOutAndInvalidPositionsSkipped) {
   const FlightSignals s = extract(ResetFlight().write(), issue);
   ASSERT_TRUE(issue.ok()) << issue.message;
   // Position: the true track (north, west, up) until the unlogged reset at row 60, then still
-  // continuous from row to row; rows 80–84 absent.
-  ASSERT_EQ(s.position.t.size(), static_cast<std::size_t>(ResetFlight::kRows - 5));
+  // continuous from row to row; rows 80–86 absent.
+  ASSERT_EQ(s.position.t.size(), static_cast<std::size_t>(ResetFlight::kRows - 7));
   for (std::size_t j = 0; j < s.position.t.size(); ++j) {
     const int i = static_cast<int>(std::lround((s.position.t[j] - 1.0) / 0.01));
-    ASSERT_FALSE(i >= 80 && i < 85) << i;
+    ASSERT_FALSE(i >= 80 && i < 87) << i;
     const std::array<double, 3> ned = ResetFlight::trueNed(i);
     if (i < 60) {
       EXPECT_NEAR(s.position.v[j][0], ned[0], 1e-5) << i;
       EXPECT_NEAR(s.position.v[j][1], -ned[1], 1e-5) << i;
       EXPECT_NEAR(s.position.v[j][2], -ned[2], 1e-5) << i;
-    } else if (j > 0 && i != 60 && i != 85) {
+    } else if (j > 0 && i != 60 && i != 87) {
       EXPECT_NEAR(s.position.v[j][0] - s.position.v[j - 1][0], 0.005, 1e-5) << i;
       EXPECT_NEAR(s.position.v[j][1] - s.position.v[j - 1][1], -0.002, 1e-5) << i;
     }
@@ -432,7 +433,7 @@ TEST(Px4Signals, EstimatorResetsAreTakenOutAndInvalidPositionsSkipped) {
   }
   EXPECT_TRUE(anyContains(s.conventions, "1 horizontal position reset (largest 3.16 m) and 1 height reset (largest 0.4 m)"));
   EXPECT_TRUE(anyContains(s.conventions, "1 attitude reset (largest 17.2°)"));
-  EXPECT_TRUE(anyContains(s.conventions, "5 of 100 rows skipped"));
+  EXPECT_TRUE(anyContains(s.conventions, "7 of 100 rows skipped: the estimator flagged its position invalid (5 xy_valid false, 2 z_valid false)"));
   EXPECT_TRUE(anyContains(s.conventions, "1 reset counter steps without their shift"));
 }
 
