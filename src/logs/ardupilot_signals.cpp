@@ -121,10 +121,17 @@ struct EkfStatus {
   std::vector<double> north, east;  // [m] shift of the latest reset; empty when not logged as float
 };
 
+// The topic holding EKF core `core`'s rows of message `name`: with FMTU the log splits the
+// message by its instance field C, so that core's own topic; without, the one topic, whose rows
+// are then filtered on C. nullptr if the log has neither.
+const LogTopic* coreTopic(const DecodedLog& log, const std::string& name, int core) {
+  const LogTopic* t = log.find(name, core);
+  return t ? t : log.find(name, 0);
+}
+
 EkfStatus ekfStatus(const DecodedLog& log, const std::string& name, int core) {
   EkfStatus s;
-  const LogTopic* t = log.find(name, core);
-  if (!t && core != 0) t = log.find(name, 0);
+  const LogTopic* t = coreTopic(log, name, core);
   const double* ss = t ? column(*t, "SS") : nullptr;
   if (!ss) return s;
   s.name = name;
@@ -185,9 +192,7 @@ struct LanePosition {
 LanePosition lanePosition(const DecodedLog& log, const char* pos_name, const std::string& status_name, int core,
                           std::size_t& dropped) {
   LanePosition lane;
-  // Split by FMTU's instance field (C) when the log has FMTU; else one topic, filtered on C.
-  const LogTopic* pos = log.find(pos_name, core);
-  if (!pos) pos = log.find(pos_name, 0);
+  const LogTopic* pos = coreTopic(log, pos_name, core);
   if (!pos) return lane;
   const double* c = column(*pos, "C");
   const double* pn = column(*pos, "PN");
@@ -284,8 +289,7 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   // Position.
   const char* pos_name = nullptr;
   for (const char* name : {"XKF1", "NKF1"}) {
-    const LogTopic* t = log.find(name, std::max(options.ekf_core, 0));
-    if (!t) t = log.find(name, 0);
+    const LogTopic* t = coreTopic(log, name, std::max(options.ekf_core, 0));
     if (t && column(*t, "PN") && column(*t, "PE") && column(*t, "PD")) {
       pos_name = name;
       break;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -189,6 +190,7 @@ std::string ImportReport::text() const {
 
 std::string coarseTopicsNote(const DecodedLog& log, const ImportOptions& o) {
   std::string note;
+  std::set<std::string> named;  // a topic's other instances are not named again
   const double need = std::max(o.min_rate_attitude, o.min_rate_command);
   for (const LogTopic& t : log.topics) {
     bool relevant = false;
@@ -205,9 +207,7 @@ std::string coarseTopicsNote(const DecodedLog& log, const ImportOptions& o) {
     for (std::size_t r = 0; r < t.rows(); ++r) times[r] = static_cast<double>(t.timestamp_us[r]) * 1e-6;
     const double dt = medianInterval(times);
     if (!(dt > 0.0) || 1.0 / dt >= need) continue;
-    if (note.find(" " + t.name + " is logged at ") != std::string::npos ||
-        note.find("'" + t.name + "' is logged at ") != std::string::npos)
-      continue;  // another instance of a topic already named
+    if (!named.insert(t.name).second) continue;
     note += "; also, " + std::string(log.format == LogFormat::kCrazyflieUsd ? "event '" : "topic ") + t.name +
             (log.format == LogFormat::kCrazyflieUsd ? "'" : "") + " is logged at " + hz(1.0 / dt) + " (median interval " +
             ms(dt) + "), below the " + hz(need) + " attitude and motor commands need: " +
