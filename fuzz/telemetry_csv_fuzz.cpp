@@ -1,6 +1,7 @@
 // Telemetry CSV (io/telemetry_reader.h) into the resampler and the online detector, as
 // `quadfdi detect` reads a log: any bytes must end in samples, skipped rows or one
-// TelemetryError — never a crash, a hang or a sanitizer report.
+// TelemetryError — never a crash, a hang or a sanitizer report. The same bytes read as a merged
+// export (io/merged_telemetry.h, `--format csv-merged`) go through the conventions layer.
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -11,9 +12,11 @@
 
 #include <vector>
 
+#include "conventions_check.h"
 #include "detection/resampler.h"
 #include "detection/session.h"
 #include "fuzz_support.h"
+#include "io/merged_telemetry.h"
 #include "io/telemetry_reader.h"
 #include "networks/model.h"
 
@@ -129,6 +132,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       QUADFDI_FUZZ_CHECK(std::isfinite(sample.t) && std::abs(sample.t) <= 1e13);
       samples.push_back(sample);
     }
+  } catch (const TelemetryError& e) {
+    fuzz::report(e);
+    QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.csv", 0) == 0);
+  }
+  // As a merged export: signals from the rows that hold them, or one TelemetryError naming a line.
+  try {
+    std::istringstream merged_in(fuzz::text(data, size));
+    TelemetryReader reader(merged_in, "fuzz.csv", reading);
+    FlightSignals signals;
+    const MergedTelemetryCounts counts = readMergedTelemetry(reader, signals);
+    QUADFDI_FUZZ_CHECK(counts.without_time + counts.without_signal <= counts.rows);
+    for (const SignalSeries<3>* s : {&signals.position, &signals.attitude})
+      for (std::size_t i = 1; i < s->t.size(); ++i) QUADFDI_FUZZ_CHECK(s->t[i] > s->t[i - 1]);
+    checkConventionsLayer(signals, LogFormat::kMergedCsv, false, 5000);
   } catch (const TelemetryError& e) {
     fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.csv", 0) == 0);

@@ -114,20 +114,6 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
          "front-left) or vehicle (the --vehicle description's [motor.N] numbering, e.g. PX4's, as a simulator of that "
          "autopilot writes them); outputs keep quadfdi's `motor` and add the vehicle's `autopilot_motor`")
       .choices({"quadfdi", "vehicle"});
-  t->add("--csv-frame", o.csv_frame,
-         "Telemetry CSV: the frames of its position and attitude: zup (quadfdi's: world z up, body x forward, y left, z "
-         "up) or ned (world north, east, down, body forward, right, down: PX4, ArduPilot, AirSim, PX4's Gazebo bridge); "
-         "either way the attitude may be roll,pitch,yaw (ZYX Euler) or qw,qx,qy,qz (quaternion, body → world)")
-      .choices({"zup", "ned"});
-  t->add("--csv-commands", o.csv_commands,
-         "Telemetry CSV: what u1..u4 hold: thrust (commanded thrust per motor [N]); rotor-speed (commanded rotor "
-         "speed in any unit — rad/s, RPM, a fraction of the maximum — as simulators write it: read as its square, "
-         "which a fixed-pitch propeller's thrust is proportional to; needs a scale-free model, as every shipped one is); "
-         "throttle (the motor command in [0, 1]) or pwm (the ESC pulse [µs]): both through the --vehicle "
-         "description's thrust curve ([thrust] max and model_factor)")
-      .choices({"thrust", "rotor-speed", "throttle", "pwm"});
-  t->add("--csv-pwm-min", o.csv_pwm_min, "--csv-commands pwm: the pulse at zero throttle [µs]").atLeast(0.0);
-  t->add("--csv-pwm-max", o.csv_pwm_max, "--csv-commands pwm: the pulse at full throttle [µs]").above(0.0);
   addLogInputOptions(*t, o.log);
   attachOptions(*cmd, t);
   return cmd;
@@ -292,37 +278,22 @@ int runDetect(const DetectOptions& o) {
   // The motor numbers a pilot reads: a CSV is in quadfdi's numbering, which the description's
   // [motor.N] table (its autopilot's numbering) translates; a log's extractor overrides both.
   MotorNumbering numbering;
-  CommandCurve command_curve;  // --csv-commands throttle | pwm: the description's thrust curve
   if (!o.log.vehicle.empty()) {
     const VehicleDescription vehicle = loadVehicleDescription(o.log.vehicle);
     numbering.name = vehicle.motor_numbering.substr(0, vehicle.motor_numbering.find(" ("));
     numbering.autopilot_motor = vehicle.autopilot_motor_of_quadfdi_motor;
-    command_curve.max_thrust = vehicle.params.max_thrust;
-    command_curve.model_factor = vehicle.params.thrust_model_factor;
   }
-  command_curve.pwm_min = o.csv_pwm_min;
-  command_curve.pwm_max = o.csv_pwm_max;
   const bool renumber = o.csv_numbering == "vehicle";  // checked before any work or message
   if (renumber && o.log.vehicle.empty())
     throw ConfigError("--csv-numbering vehicle: needs --vehicle FILE, whose [motor.N] sections give the numbering");
-  const bool ned = o.csv_frame == "ned";
-  const CommandQuantity commands = o.csv_commands == "rotor-speed" ? CommandQuantity::kRotorSpeed
-                                   : o.csv_commands == "throttle"  ? CommandQuantity::kThrottle
-                                   : o.csv_commands == "pwm"       ? CommandQuantity::kPwm
-                                                                   : CommandQuantity::kThrust;
-  const bool rotor_speed = commands == CommandQuantity::kRotorSpeed;
-  const bool through_curve = commands == CommandQuantity::kThrottle || commands == CommandQuantity::kPwm;
-  if (through_curve && o.log.vehicle.empty())
-    throw ConfigError("--csv-commands " + o.csv_commands + ": needs --vehicle FILE, whose [thrust] max and model_factor "
-                      "turn the motor command into newtons (docs/vehicles.md)");
-  if (commands != CommandQuantity::kPwm) refuseGiven(o.log.given, {"csv_pwm_min", "csv_pwm_max"}, "is read only with --csv-commands pwm");
-  if (o.csv_pwm_max <= o.csv_pwm_min)
-    throw ConfigError("--csv-pwm-max must be above --csv-pwm-min");
-  if (const std::string format = renumber || ned || commands != CommandQuantity::kThrust ? resolveInputFormat(o.input, o.log.format) : "csv";
-      format != "csv")
-    throw ConfigError(renumber ? "--csv-numbering: reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering"
-                      : ned    ? "--csv-frame: reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows"
-                               : "--csv-commands: reads a telemetry CSV; a " + format + " log's commands are converted by its reader");
+  const std::string format = resolveInputFormat(o.input, o.log.format);
+  const bool csv = format == "csv" || format == "csv-merged";
+  if (renumber && !csv)
+    throw ConfigError("--csv-numbering: reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering");
+  refuseOptionsUnreadBy(format, o.log);  // --csv-frame, --csv-commands on a log; a log's options on a CSV
+  const TelemetryReaderOptions reading = csv ? csvReadingOptions(o.log) : TelemetryReaderOptions{};
+  const bool rotor_speed = reading.commands == CommandQuantity::kRotorSpeed;
+  const bool through_curve = reading.commands == CommandQuantity::kThrottle || reading.commands == CommandQuantity::kPwm;
   // The other rule's options are warned about, not refused: a config file may serve both rules.
   if (!o.quiet) {
     const std::string unread = sequential ? firstGiven(o.log.given, {"raise_below", "raise_after", "clear_above"})
@@ -389,12 +360,10 @@ int runDetect(const DetectOptions& o) {
   }
 
   if (!o.plot.empty()) requireGnuplot();  // before any work
-  const bool live = o.input == "-";
-  const std::string format = resolveInputFormat(o.input, o.log.format);
-  refuseOptionsUnreadBy(format, o.log);
+  const bool live = o.input == "-" && format == "csv";  // a merged export is read to its end first
   // With a telemetry CSV a vehicle description chooses the model and its calibration (and numbers the motors): say so
   // when it chose neither, rather than let it look as if the detector knew the airframe.
-  if (!o.quiet && format == "csv" && !o.log.vehicle.empty() && !renumber && !through_curve &&
+  if (!o.quiet && csv && !o.log.vehicle.empty() && !renumber && !through_curve &&
       choice.source != DetectModelChoice::Source::kVehicle &&
       choice.source != DetectModelChoice::Source::kGeneral && !vehicle_calibration)
     std::fprintf(stderr, "detect: warning: --vehicle %s only names the motors in its numbering: the model is given and has no "
@@ -403,7 +372,7 @@ int runDetect(const DetectOptions& o) {
   std::ios::sync_with_stdio(false);  // buffered standard input: the reader asks it what is waiting
   std::ifstream file;
   const std::string name = live ? std::string("<stdin>") : o.input;
-  std::unique_ptr<TelemetryReader> csv;
+  std::unique_ptr<TelemetryReader> reader;
   std::unique_ptr<RenumberedSource> renumbered;
   OpenedLog log;
   SampleSource* source = nullptr;
@@ -412,24 +381,22 @@ int runDetect(const DetectOptions& o) {
       file.open(o.input);
       require(file.is_open(), o.input + ": cannot open");
     }
-    TelemetryReaderOptions reading;
-    reading.frame = ned ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
-    reading.commands = commands;
-    reading.curve = command_curve;
-    csv = std::make_unique<TelemetryReader>(live ? std::cin : file, name, reading);  // throws on an empty file or a bad header
-    source = csv.get();
+    reader = std::make_unique<TelemetryReader>(live ? std::cin : file, name, reading);  // throws on an empty file or a bad header
+    source = reader.get();
     // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
-    if (csv->numbering() && !renumber) numbering = *csv->numbering();
-    if (renumber) {
-      renumbered = std::make_unique<RenumberedSource>(*csv, numbering.autopilot_motor);
-      source = renumbered.get();
-    }
+    if (reader->numbering() && !renumber) numbering = *reader->numbering();
   } else {
     log = openFlightLog(o.input, format, o.log, m.dt, o.max_gap);  // throws one line naming file, byte, topic
     source = log.source.get();
-    numbering = log.source->report().numbering;
+    // A merged CSV names its numbering only in a comment (else the description's stands); a log always.
+    const MotorNumbering& logged = log.source->report().numbering;
+    if (format != "csv-merged" || (!logged.isQuadfdis() && !renumber)) numbering = logged;
     if (!o.quiet)
       for (const std::string& w : log.warnings) std::fprintf(stderr, "detect: warning: %s\n", w.c_str());
+  }
+  if (renumber) {
+    renumbered = std::make_unique<RenumberedSource>(*source, numbering.autopilot_motor);
+    source = renumbered.get();
   }
 
   std::unique_ptr<AtomicFileWriter> file_out;
@@ -458,7 +425,7 @@ int runDetect(const DetectOptions& o) {
   // different times, each row holding only the ones sampled then: say so, rather than only count.
   const std::string merged_hint =
       "an export that merges signals logged at different times (PlotJuggler, a ROS bag) leaves the others' cells "
-      "empty: fill every column on one clock first (interpolate the states, hold the commands; docs/conventions.md)";
+      "empty: read it with --format csv-merged, which takes each signal from the rows that hold it (docs/conventions.md)";
   // Before the commit: a header-only log must not replace an existing output file.
   if (s.input_samples == 0)
     throw TelemetryError(name + ": no telemetry rows after the header" +

@@ -34,10 +34,6 @@ struct DetectOptions {
   bool quiet = false;
   std::string plot;                 // PNG of Θ̂ against time; empty: none
   std::string csv_numbering = "quadfdi";  // quadfdi | vehicle: whose motor numbers a CSV's u1..u4 are in
-  std::string csv_frame = "zup";          // zup | ned: the frames of a CSV's position and attitude
-  std::string csv_commands = "thrust";    // thrust | rotor-speed | throttle | pwm: what a CSV's u1..u4 hold
-  double csv_pwm_min = 1000.0;            // [µs] --csv-commands pwm: the pulse at zero throttle
-  double csv_pwm_max = 2000.0;            // [µs] --csv-commands pwm: the pulse at full throttle
   LogInputOptions log;              // flight logs (PX4, ArduPilot, Crazyflie): shared with `import`
 };
 

@@ -1,9 +1,12 @@
 #include "cli/log_input.h"
 
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <stdexcept>
 
+#include "io/key_value.h"
+#include "io/merged_telemetry.h"
 #include "io/vehicle_file.h"
 #include "logs/ardupilot_signals.h"
 #include "logs/crazyflie_signals.h"
@@ -17,14 +20,30 @@ namespace quadfdi::cli {
 void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
   t.recordGivenIn(o.given);
   t.add("--format", o.format,
-        "Input format: auto (from the content: ULog, DataFlash or Crazyflie magic, else CSV), csv, ulog, dataflash, crazyflie")
-      .choices({"auto", "csv", "ulog", "dataflash", "crazyflie"});
+        "Input format: auto (from the content: ULog, DataFlash or Crazyflie magic, else CSV), csv, csv-merged (a "
+        "telemetry CSV whose rows each hold only some signals, as PlotJuggler or a ROS bag export them: each signal "
+        "read from the rows that hold it, then put on the model's clock as a log's), ulog, dataflash, crazyflie")
+      .choices({"auto", "csv", "csv-merged", "ulog", "dataflash", "crazyflie"});
   t.add("--vehicle", o.vehicle,
         "Logs with thrust-fraction commands: a vehicle description FILE (docs/vehicles.md); its max thrust and mass "
         "stand in for --max-thrust and --mass where those are not given, and its thrust curve for THR_MDL_FAC / "
         "MOT_THST_EXPO where the log has none; detect also runs the vehicle's own shipped model (models/tcn-STEM.qfdw) when "
         "there is one")
       .defaultText("");
+  t.add("--csv-frame", o.csv_frame,
+        "Telemetry CSV: the frames of its position and attitude: zup (quadfdi's: world z up, body x forward, y left, z "
+        "up) or ned (world north, east, down, body forward, right, down: PX4, ArduPilot, AirSim, PX4's Gazebo bridge); "
+        "either way the attitude may be roll,pitch,yaw (ZYX Euler) or qw,qx,qy,qz (quaternion, body → world)")
+      .choices({"zup", "ned"});
+  t.add("--csv-commands", o.csv_commands,
+        "Telemetry CSV: what u1..u4 hold: thrust (commanded thrust per motor [N]); rotor-speed (commanded rotor "
+        "speed in any unit — rad/s, RPM, a fraction of the maximum — as simulators write it: read as its square, "
+        "which a fixed-pitch propeller's thrust is proportional to; needs a scale-free model, as every shipped one is); "
+        "throttle (the motor command in [0, 1]) or pwm (the ESC pulse [µs]): both through the --vehicle "
+        "description's thrust curve ([thrust] max and model_factor)")
+      .choices({"thrust", "rotor-speed", "throttle", "pwm"});
+  t.add("--csv-pwm-min", o.csv_pwm_min, "--csv-commands pwm: the pulse at zero throttle [µs]").atLeast(0.0);
+  t.add("--csv-pwm-max", o.csv_pwm_max, "--csv-commands pwm: the pulse at full throttle [µs]").above(0.0);
   t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
       .atLeast(0.0)
       .defaultText("");
@@ -48,12 +67,24 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
 }
 
 void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o) {
+  const bool csv = format == "csv" || format == "csv-merged";
+  if (!csv) {
+    // The message names what reads the flag instead: the log's own conventions.
+    refuseGiven(o.given, {"csv_frame"}, "reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows");
+    refuseGiven(o.given, {"csv_commands", "csv_pwm_min", "csv_pwm_max"},
+                "reads a telemetry CSV; a " + format + " log's commands are converted by its reader");
+  }
   if (format == "csv") {
     refuseGiven(o.given,
                 {"max_thrust", "mass", "hover_calibrate", "min_rate_attitude", "min_rate_command", "min_rate_position",
                  "settle_after_takeoff", "settle_before_landing", "phases_by_rule", "ekf_core", "cf_thrust_map"},
-                "reads flight logs (ULog, DataFlash, Crazyflie micro-SD); a telemetry CSV's u1..u4 are newtons per motor already "
-                "(docs/conventions.md)");
+                "reads flight logs (ULog, DataFlash, Crazyflie micro-SD) and merged CSV exports (--format csv-merged); a "
+                "telemetry CSV's u1..u4 are newtons per motor already (docs/conventions.md)");
+    return;
+  }
+  if (format == "csv-merged") {
+    refuseGiven(o.given, {"max_thrust", "mass", "hover_calibrate", "ekf_core", "cf_thrust_map"},
+                "reads flight logs (ULog, DataFlash, Crazyflie micro-SD); a merged CSV's u1..u4 are read as --csv-commands says");
     return;
   }
   if (format != "dataflash") refuseGiven(o.given, {"ekf_core"}, "is ArduPilot's (DataFlash); this log is " + format);
@@ -64,6 +95,28 @@ void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o) 
                 "map (--cf-thrust-map)");
   else if (o.given.count("max_thrust") && !o.import.hover_calibrate)
     refuseGiven(o.given, {"mass"}, "unused with --max-thrust unless --hover-calibrate (which calibrates the scale from the hover)");
+}
+
+TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o) {
+  TelemetryReaderOptions r;
+  r.frame = o.csv_frame == "ned" ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
+  r.commands = o.csv_commands == "rotor-speed" ? CommandQuantity::kRotorSpeed
+               : o.csv_commands == "throttle"  ? CommandQuantity::kThrottle
+               : o.csv_commands == "pwm"       ? CommandQuantity::kPwm
+                                               : CommandQuantity::kThrust;
+  if ((r.commands == CommandQuantity::kThrottle || r.commands == CommandQuantity::kPwm) && o.vehicle.empty())
+    throw quadfdi::ConfigError("--csv-commands " + o.csv_commands + ": needs --vehicle FILE, whose [thrust] max and model_factor "
+                      "turn the motor command into newtons (docs/vehicles.md)");
+  if (r.commands != CommandQuantity::kPwm) refuseGiven(o.given, {"csv_pwm_min", "csv_pwm_max"}, "is read only with --csv-commands pwm");
+  if (o.csv_pwm_max <= o.csv_pwm_min) throw quadfdi::ConfigError("--csv-pwm-max must be above --csv-pwm-min");
+  if (!o.vehicle.empty()) {
+    const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
+    r.curve.max_thrust = vehicle.params.max_thrust;
+    r.curve.model_factor = vehicle.params.thrust_model_factor;
+  }
+  r.curve.pwm_min = o.csv_pwm_min;
+  r.curve.pwm_max = o.csv_pwm_max;
+  return r;
 }
 
 namespace {
@@ -86,8 +139,8 @@ std::string where(const std::string& path, const LogIssue& issue, bool with_offs
 }  // namespace
 
 std::string resolveInputFormat(const std::string& path, const std::string& format) {
-  if (format != "auto" && format != "csv") return format;
-  if (path == "-") return "csv";
+  if (format != "auto" && format != "csv" && format != "csv-merged") return format;
+  if (path == "-") return format == "auto" ? "csv" : format;
   std::ifstream in(path, std::ios::binary);
   if (!in.is_open()) throw std::runtime_error(path + ": cannot open");
   std::vector<std::uint8_t> head(512);
@@ -98,11 +151,11 @@ std::string resolveInputFormat(const std::string& path, const std::string& forma
                       : looksLikeDataflash(span)   ? "dataflash"
                       : looksLikeCrazyflieUsd(span) ? "crazyflie"
                                                     : nullptr;
-  if (magic && format == "csv")
-    throw std::runtime_error(path + ": byte 0: --format csv, but the file starts with the " + magic +
+  if (magic && format != "auto")
+    throw std::runtime_error(path + ": byte 0: --format " + format + ", but the file starts with the " + magic +
                              " magic; use --format auto or " + magic);
   if (magic) return magic;
-  if (format == "csv") return "csv";
+  if (format != "auto") return format;
   for (std::uint8_t b : head)
     if (b == 0 || (b < 0x20 && b != '\t' && b != '\n' && b != '\r'))
       throw std::runtime_error(path + ": unknown format: binary, but no ULog, DataFlash or Crazyflie micro-SD magic at "
@@ -110,8 +163,54 @@ std::string resolveInputFormat(const std::string& path, const std::string& forma
   return "csv";
 }
 
+namespace {
+
+ImportOptions importOptions(const LogInputOptions& o, double dt, double max_gap, double* thrust_model_factor) {
+  quadfdi::ImportOptions io = o.import;
+  if (!o.vehicle.empty()) {
+    const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
+    if (!(io.max_thrust > 0.0)) io.max_thrust = vehicle.params.max_thrust;
+    if (!(io.mass > 0.0)) io.mass = vehicle.params.mass;
+    if (thrust_model_factor) *thrust_model_factor = vehicle.params.thrust_model_factor;
+  }
+  io.dt = dt;
+  io.use_events = !o.phases_by_rule;
+  io.max_hole = max_gap;
+  io.restart_gap = max_gap;
+  return io;
+}
+
+// A merged telemetry CSV: its signals from the rows that hold them, then the conventions layer.
+OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, double dt, double max_gap) {
+  const TelemetryReaderOptions reading = csvReadingOptions(o);
+  const ImportOptions io = importOptions(o, dt, max_gap, nullptr);
+  std::ifstream file;
+  if (path != "-") {
+    file.open(path);
+    if (!file.is_open()) throw std::runtime_error(path + ": cannot open");
+  }
+  const std::string name = path == "-" ? "<stdin>" : path;
+  TelemetryReader reader(path == "-" ? std::cin : file, name, reading);  // throws on an empty file or a bad header
+  FlightSignals signals;
+  const MergedTelemetryCounts counts = readMergedTelemetry(reader, signals);
+  OpenedLog opened;
+  if (counts.without_time > 0 || counts.partial > 0)
+    opened.warnings.push_back(std::to_string(counts.without_time + counts.partial) + " row" +
+                              (counts.without_time + counts.partial == 1 ? "" : "s") +
+                              " or signals left out for empty or non-finite cells (first: " + counts.first_problem + ")");
+  opened.source = std::make_unique<LogSampleSource>();
+  const ImportRefusal refusal = buildLogSampleSource(std::move(signals), LogFormat::kMergedCsv, io, *opened.source);
+  if (refusal.refused())
+    throw std::runtime_error(name + ": " + refusal.message);  // the message names the columns
+  opened.source->setName(name);
+  return opened;
+}
+
+}  // namespace
+
 OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o, double dt,
                         double max_gap) {
+  if (format == "csv-merged") return openMergedCsv(path, o, dt, max_gap);
   if (path == "-") throw std::runtime_error("flight logs (--format " + format + ") are read from a file, not standard input");
   const std::vector<std::uint8_t> bytes = readAll(path);
   const ByteSpan span{bytes.data(), bytes.size()};
@@ -126,18 +225,8 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
   OpenedLog opened;
   for (const std::string& w : log.warnings) opened.warnings.push_back(path + ": " + w);
 
-  quadfdi::ImportOptions io = o.import;
   double thrust_model_factor = -1.0;  // [-] the vehicle description's, < 0 without one
-  if (!o.vehicle.empty()) {
-    const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
-    if (!(io.max_thrust > 0.0)) io.max_thrust = vehicle.params.max_thrust;
-    if (!(io.mass > 0.0)) io.mass = vehicle.params.mass;
-    thrust_model_factor = vehicle.params.thrust_model_factor;
-  }
-  io.dt = dt;
-  io.use_events = !o.phases_by_rule;
-  io.max_hole = max_gap;
-  io.restart_gap = max_gap;
+  const ImportOptions io = importOptions(o, dt, max_gap, &thrust_model_factor);
 
   FlightSignals signals;
   if (format == "ulog") {

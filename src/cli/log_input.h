@@ -11,12 +11,13 @@
 #include <vector>
 
 #include "cli/options.h"
+#include "io/telemetry_reader.h"
 #include "logs/telemetry_from_log.h"
 
 namespace quadfdi::cli {
 
 struct LogInputOptions {
-  std::string format = "auto";       // auto|csv|ulog|dataflash|crazyflie
+  std::string format = "auto";       // auto|csv|csv-merged|ulog|dataflash|crazyflie
   // Rates, thrust scaling and phase margins, filled by the flags directly (defaults and units
   // live in ImportOptions, logs/telemetry_from_log.h); dt and the hole limits are set per run.
   ImportOptions import;
@@ -24,6 +25,11 @@ struct LogInputOptions {
   int ekf_core = -1;                 // ArduPilot: −1 = the primary core the log names (XKF4 PI)
   std::string crazyflie_thrust = "auto";  // auto|duty|battery
   std::string vehicle;               // a vehicle description (docs/vehicles.md): max thrust, mass, thrust curve
+  // Telemetry CSV (plain or merged): its frames and what its u1..u4 hold.
+  std::string csv_frame = "zup";          // zup | ned: the frames of a CSV's position and attitude
+  std::string csv_commands = "thrust";    // thrust | rotor-speed | throttle | pwm: what a CSV's u1..u4 hold
+  double csv_pwm_min = 1000.0;            // [µs] --csv-commands pwm: the pulse at zero throttle
+  double csv_pwm_max = 2000.0;            // [µs] --csv-commands pwm: the pulse at full throttle
   std::set<std::string> given;       // keys the command was given (its whole table): options a format does not read
 };
 
@@ -31,7 +37,7 @@ struct LogInputOptions {
 // --phases-by-rule, --ekf-core, --cf-thrust-map in a command's option table (cli/options.h).
 void addLogInputOptions(OptionTable& table, LogInputOptions& o);
 
-// "csv", "ulog", "dataflash" or "crazyflie": --format, else the file's first bytes (magic).
+// "csv", "csv-merged", "ulog", "dataflash" or "crazyflie": --format, else the file's first bytes (magic).
 // Throws "FILE: unknown format: …" for a binary file with no known magic.
 std::string resolveInputFormat(const std::string& path, const std::string& format);
 
@@ -40,12 +46,19 @@ std::string resolveInputFormat(const std::string& path, const std::string& forma
 // Crazyflie's, and so on. Run with the format resolveInputFormat gave, before any work.
 void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o);
 
+// How to read a telemetry CSV's cells (--csv-frame, --csv-commands, --csv-pwm-*; the thrust curve
+// from --vehicle). Throws ConfigError for a combination that cannot be read: a command quantity
+// that needs the vehicle's curve without --vehicle, pulse limits without pulses, an empty range.
+TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o);
+
 struct OpenedLog {
   std::unique_ptr<LogSampleSource> source;
   std::vector<std::string> warnings;  // the reader's, "FILE: …"
 };
 
 // Reads, extracts and converts a log; `dt` is the model's period, `max_gap` the detector's.
+// "csv-merged": a telemetry CSV whose rows each hold some of the signals (io/merged_telemetry.h),
+// read from `path` or standard input ("-") to its end.
 OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o, double dt,
                         double max_gap);
 

@@ -53,7 +53,7 @@ const char* const TelemetryReader::kColumns[15] = {"t",   "x",  "y",  "z",  "rol
                                                   "u2",  "u3", "u4", "qw", "qx",   "qy",    "qz"};
 
 namespace {
-constexpr int kRoll = 4, kQw = 11;  // indices into kColumns
+constexpr int kRoll = 4, kU1 = 7, kQw = 11;  // indices into kColumns
 }  // namespace
 
 bool TelemetryReader::readLine(std::string& text) {
@@ -131,23 +131,25 @@ bool TelemetryReader::isRead(int column) const {
   return true;
 }
 
-SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& problem) {
+// Splits the next data line and parses every read column: `present[r]` false for an empty,
+// non-finite or absurd cell, with `why[r]` saying which. Throws for what no row may hold.
+bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::string (&why)[15]) {
   std::string text;
   if (!readLine(text)) {
     if (in_.bad()) throw TelemetryError(name_ + ": read error after line " + std::to_string(line_));
-    return Row::kEnd;
+    return false;
   }
   std::vector<std::string>& cells = cells_buffer_;
   split(text, cells);
   if (static_cast<int>(cells.size()) != cells_)
     throw TelemetryError(where() + ": " + std::to_string(cells.size()) + " cells, the header has " + std::to_string(cells_));
-  double values[15];
   for (int r = 0; r < 15; ++r) {
+    present[r] = false;
     if (!isRead(r)) continue;
     const std::string& cell = cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])];
     if (cell.empty()) {
-      problem = where() + ": column '" + kColumns[r] + "' is empty; row skipped";
-      return Row::kSkipped;
+      why[r] = where() + ": column '" + kColumns[r] + "' is empty";
+      continue;
     }
     char* end = nullptr;
     errno = 0;
@@ -155,47 +157,61 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
     if (end == cell.c_str() || *end != '\0')
       throw TelemetryError(where() + ": column '" + kColumns[r] + "': '" + cell.substr(0, 40) + "' is not a number");
     if (!std::isfinite(v)) {
-      problem = where() + ": column '" + kColumns[r] + "' is " + cell + "; row skipped";
-      return Row::kSkipped;
+      why[r] = where() + ": column '" + kColumns[r] + "' is " + cell;
+      continue;
     }
     if (r == 0 && std::abs(v) > kMaxTime)
       throw TelemetryError(where() + ": t = " + cell.substr(0, 40) +
                            " is no time in seconds (over 1e13 s): microseconds or nanoseconds since 1970? detect reads seconds "
                            "(divide by 1e6 or 1e9)");
     if (r != 0 && std::abs(v) > kMaxMagnitude) {  // finite in a double, but no telemetry: it would overflow the network's floats
-      problem = where() + ": column '" + kColumns[r] + "' = " + cell.substr(0, 40) + " is out of range; row skipped";
-      return Row::kSkipped;
+      why[r] = where() + ": column '" + kColumns[r] + "' = " + cell.substr(0, 40) + " is out of range";
+      continue;
     }
     values[r] = v;
+    present[r] = true;
   }
-  auto cellOf = [&](int r) { return cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])].substr(0, 40); };
-  EulerZyx attitude;
+  return true;
+}
+
+std::string TelemetryReader::cellText(int column) const {
+  return cells_buffer_[static_cast<std::size_t>(column_[static_cast<std::size_t>(column)])].substr(0, 40);
+}
+
+// The attitude of a row whose attitude cells are all present, in the file's frame; false (with
+// `problem`) for the zero quaternion an estimator writes before its first attitude.
+bool TelemetryReader::attitudeOf(const double (&values)[15], EulerZyx& attitude, std::string& problem) const {
   if (quaternion_) {
     const double w = values[kQw], x = values[kQw + 1], y = values[kQw + 2], z = values[kQw + 3];
     const double norm = std::sqrt(w * w + x * x + y * y + z * z);
     if (norm == 0.0) {  // written before an estimator's first attitude
-      problem = where() + ": the quaternion qw,qx,qy,qz is zero; row skipped";
-      return Row::kSkipped;
+      problem = where() + ": the quaternion qw,qx,qy,qz is zero";
+      return false;
     }
     // A quaternion written rounded to 4–5 digits is unit within 1e-4; one off by more than 1 % is
     // no attitude quaternion (another column, another quantity) and is refused.
     constexpr double kNormTolerance = 0.01;  // [-]
     if (std::abs(norm - 1.0) > kNormTolerance)
-      throw TelemetryError(where() + ": qw,qx,qy,qz = " + cellOf(kQw) + "," + cellOf(kQw + 1) + "," + cellOf(kQw + 2) + "," +
-                           cellOf(kQw + 3) + " is no unit quaternion (norm " + std::to_string(norm) +
+      throw TelemetryError(where() + ": qw,qx,qy,qz = " + cellText(kQw) + "," + cellText(kQw + 1) + "," + cellText(kQw + 2) + "," +
+                           cellText(kQw + 3) + " is no unit quaternion (norm " + std::to_string(norm) +
                            "): the attitude is the Hamilton quaternion (w, x, y, z) of the body → world rotation (docs/conventions.md)");
     attitude = eulerZyxFromUnitQuaternion(w / norm, x / norm, y / norm, z / norm);
-  } else {
-    // ZYX Euler angles in radians have roll in [−π, π] and pitch in [−π/2, π/2], whatever the flight:
-    // a value outside is another unit or convention (degrees, most often), not a manoeuvre, and
-    // read as radians it would be a tumbling vehicle. Refused, naming the line.
-    constexpr double kSlack = 1e-6;  // [rad] round-off of converters (asin, atan2 of a unit quaternion)
-    const bool pitch_out = std::abs(values[kRoll + 1]) > M_PI / 2 + kSlack;
-    if (pitch_out || std::abs(values[kRoll]) > M_PI + kSlack)
-      throw TelemetryError(where() + ": " + (pitch_out ? "pitch = " + cellOf(kRoll + 1) + " is outside ±π/2" : "roll = " + cellOf(kRoll) + " is outside ±π") +
-                           ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? multiply by π/180; docs/conventions.md)");
-    attitude = {values[kRoll], values[kRoll + 1], values[kRoll + 2]};
+    return true;
   }
+  // ZYX Euler angles in radians have roll in [−π, π] and pitch in [−π/2, π/2], whatever the flight:
+  // a value outside is another unit or convention (degrees, most often), not a manoeuvre, and
+  // read as radians it would be a tumbling vehicle. Refused, naming the line.
+  constexpr double kSlack = 1e-6;  // [rad] round-off of converters (asin, atan2 of a unit quaternion)
+  const bool pitch_out = std::abs(values[kRoll + 1]) > M_PI / 2 + kSlack;
+  if (pitch_out || std::abs(values[kRoll]) > M_PI + kSlack)
+    throw TelemetryError(where() + ": " + (pitch_out ? "pitch = " + cellText(kRoll + 1) + " is outside ±π/2" : "roll = " + cellText(kRoll) + " is outside ±π") +
+                         ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? multiply by π/180; docs/conventions.md)");
+  attitude = {values[kRoll], values[kRoll + 1], values[kRoll + 2]};
+  return true;
+}
+
+// u1..u4 of a row whose command cells are all present → thrust per motor (or squared speed).
+std::array<double, kInputDim> TelemetryReader::commandsOf(const double (&values)[15]) const {
   // Commands in newtons per motor: the largest quadrotor motors make ~100 N (10 kg of thrust), so
   // hundreds are another unit (PWM µs, a raw 0–65535 command), which the thrust map must convert.
   constexpr double kMaxMotorThrust = 500.0;  // [N] five times the largest heavy-lift motor's thrust
@@ -204,44 +220,103 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
   constexpr double kThrottleSlack = 0.05;  // [-]
   const CommandQuantity quantity = options_.commands;
   const CommandCurve& curve = options_.curve;
-  for (int r = 7; r < 11; ++r) {
+  for (int r = kU1; r < kU1 + 4; ++r) {
     const double v = values[r];
     if (quantity == CommandQuantity::kThrust && std::abs(v) > kMaxMotorThrust)
-      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellOf(r) +
+      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellText(r) +
                            " is no thrust in newtons (over 500 N a motor): PWM or a throttle? read it with --csv-commands "
                            "pwm or throttle and the vehicle's thrust curve (docs/conventions.md)");
     if (quantity == CommandQuantity::kThrottle && !(v >= -kThrottleSlack && v <= 1.0 + kThrottleSlack))
-      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellOf(r) +
+      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellText(r) +
                            " is no throttle in [0, 1] (--csv-commands throttle): a PWM pulse (--csv-commands pwm) or a "
                            "thrust in newtons (--csv-commands thrust)?");
     if (quantity == CommandQuantity::kPwm && !(v >= 0.0 && v <= 2.0 * curve.pwm_max - curve.pwm_min))
-      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellOf(r) + " is no PWM pulse in µs between " +
+      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellText(r) + " is no PWM pulse in µs between " +
                            numberText(curve.pwm_min) + " and " + numberText(curve.pwm_max) +
                            " (--csv-commands pwm; the range: --csv-pwm-min, --csv-pwm-max)");
   }
-  sample.t = values[0];
-  if (options_.frame == TelemetryFrame::kNed) {  // north, east, down and FRD → north, west, up and FLU
-    sample.y = {values[1], -values[2], -values[3]};
-    attitude = turnedAboutX(attitude);
-  } else {
-    sample.y = {values[1], values[2], values[3]};
-  }
-  sample.y[3] = attitude.roll;
-  sample.y[4] = attitude.pitch;
-  sample.y[5] = attitude.yaw;
+  std::array<double, kInputDim> u{};
   for (std::size_t i = 0; i < 4; ++i) {
-    const double v = values[7 + i];
+    const double v = values[kU1 + i];
     switch (quantity) {
-      case CommandQuantity::kThrust: sample.u[i] = v; break;
-      case CommandQuantity::kRotorSpeed: sample.u[i] = v * v; break;
+      case CommandQuantity::kThrust: u[i] = v; break;
+      case CommandQuantity::kRotorSpeed: u[i] = v * v; break;
       case CommandQuantity::kThrottle:  // c clamped to [0, 1]
-        sample.u[i] = thrustAtCommand(curve.max_thrust, curve.model_factor, v);
+        u[i] = thrustAtCommand(curve.max_thrust, curve.model_factor, v);
         break;
       case CommandQuantity::kPwm:
-        sample.u[i] = thrustAtCommand(curve.max_thrust, curve.model_factor, (v - curve.pwm_min) / (curve.pwm_max - curve.pwm_min));
+        u[i] = thrustAtCommand(curve.max_thrust, curve.model_factor, (v - curve.pwm_min) / (curve.pwm_max - curve.pwm_min));
         break;
     }
   }
+  return u;
+}
+
+// Position and attitude from the file's frame into quadfdi's (north, east, down and FRD → north,
+// west, up and FLU: both turned 180° about x).
+std::array<double, 3> TelemetryReader::positionOf(const double (&values)[15]) const {
+  if (options_.frame == TelemetryFrame::kNed) return {values[1], -values[2], -values[3]};
+  return {values[1], values[2], values[3]};
+}
+
+SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& problem) {
+  double values[15];
+  bool present[15];
+  std::string why[15];
+  if (!readCells(values, present, why)) return Row::kEnd;
+  for (int r = 0; r < 15; ++r)
+    if (isRead(r) && !present[r]) {
+      problem = why[r] + "; row skipped";
+      return Row::kSkipped;
+    }
+  EulerZyx attitude;
+  if (!attitudeOf(values, attitude, problem)) {
+    problem += "; row skipped";
+    return Row::kSkipped;
+  }
+  if (options_.frame == TelemetryFrame::kNed) attitude = turnedAboutX(attitude);
+  const std::array<double, kInputDim> u = commandsOf(values);
+  sample.t = values[0];
+  const std::array<double, 3> p = positionOf(values);
+  sample.y = {p[0], p[1], p[2], attitude.roll, attitude.pitch, attitude.yaw};
+  sample.u = u;
+  return Row::kSample;
+}
+
+SampleSource::Next TelemetryReader::nextParts(TelemetryRowParts& parts, std::string& problem) {
+  double values[15];
+  bool present[15];
+  std::string why[15];
+  if (!readCells(values, present, why)) return Row::kEnd;
+  parts = TelemetryRowParts{};
+  if (!present[0]) {
+    problem = why[0] + "; row skipped";
+    return Row::kSkipped;
+  }
+  parts.t = values[0];
+  // A signal is in the row when all its cells are; one with some cells and not others is dropped, saying why.
+  auto whole = [&](int first, int count, bool& has) {
+    int n = 0, missing = -1;
+    for (int r = first; r < first + count; ++r) {
+      if (present[r]) ++n;
+      else if (missing < 0) missing = r;
+    }
+    has = n == count;
+    if (n > 0 && !has && parts.dropped.empty()) parts.dropped = why[missing];
+  };
+  whole(1, 3, parts.has_position);
+  whole(quaternion_ ? kQw : kRoll, quaternion_ ? 4 : 3, parts.has_attitude);
+  whole(kU1, 4, parts.has_commands);
+  if (parts.has_position) parts.position = positionOf(values);
+  if (parts.has_attitude) {
+    EulerZyx attitude;
+    std::string zero;
+    parts.has_attitude = attitudeOf(values, attitude, zero);
+    if (!parts.has_attitude && parts.dropped.empty()) parts.dropped = zero;
+    if (options_.frame == TelemetryFrame::kNed) attitude = turnedAboutX(attitude);
+    parts.attitude = {attitude.roll, attitude.pitch, attitude.yaw};
+  }
+  if (parts.has_commands) parts.u = commandsOf(values);
   return Row::kSample;
 }
 

@@ -51,6 +51,20 @@ struct TelemetryReaderOptions {
   CommandCurve curve;                                   // kThrottle and kPwm only
 };
 
+// One row of an export that merges signals sampled at different times (PlotJuggler, a ROS bag):
+// each row holds some of the three signals, each converted as TelemetryReader::next converts a
+// whole row (frames, quaternion, command quantity).
+struct TelemetryRowParts {
+  double t = 0.0;                     // [s]
+  bool has_position = false;          // x, y, z all present
+  bool has_attitude = false;          // roll, pitch, yaw (or qw..qz, non-zero) all present
+  bool has_commands = false;          // u1..u4 all present
+  std::array<double, 3> position{};   // x, y, z [m], world, z up
+  std::array<double, 3> attitude{};   // roll, pitch, yaw [rad], ZYX, body FLU
+  std::array<double, kInputDim> u{};  // per motor, as TelemetrySample::u
+  std::string dropped;  // "FILE:LINE: column 'y' is empty": a signal with some of its cells and not all, left out
+};
+
 class TelemetryReader : public SampleSource {
  public:
   // Reads the header (blank lines and lines starting with '#' are skipped). Throws TelemetryError
@@ -65,6 +79,9 @@ class TelemetryReader : public SampleSource {
   // Throws TelemetryError for a row that is not telemetry (wrong cell count, text in a number, an
   // angle or command out of range, a quaternion far from unit norm).
   Next next(TelemetrySample& sample, std::string& problem) override;
+  // The next row of a merged export: kSample with the signals it holds (possibly none), kSkipped
+  // when its t is empty or non-finite, kEnd. Throws as next() does.
+  Next nextParts(TelemetryRowParts& parts, std::string& problem);
   std::string where() const override { return name_ + ":" + std::to_string(line_); }
   bool moreReady() const override;  // standard input: buffered or pollable data; files: always
 
@@ -83,6 +100,11 @@ class TelemetryReader : public SampleSource {
   bool readLine(std::string& text);
   void readNumberingComment(const std::string& comment);
   bool isRead(int column) const;  // index into kColumns: read with the header's attitude
+  bool readCells(double (&values)[15], bool (&present)[15], std::string (&why)[15]);
+  std::string cellText(int column) const;  // of the row just read, cut at 40 characters
+  bool attitudeOf(const double (&values)[15], EulerZyx& attitude, std::string& problem) const;
+  std::array<double, kInputDim> commandsOf(const double (&values)[15]) const;
+  std::array<double, 3> positionOf(const double (&values)[15]) const;
   std::istream& in_;
   std::string name_;
   long line_ = 0;

@@ -10,6 +10,7 @@ const char* toString(LogFormat f) {
     case LogFormat::kUlog: return "PX4 ULog";
     case LogFormat::kCrazyflieUsd: return "Crazyflie micro-SD";
     case LogFormat::kDataflash: return "ArduPilot DataFlash";
+    case LogFormat::kMergedCsv: return "merged telemetry CSV";
   }
   return "?";
 }

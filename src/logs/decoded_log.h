@@ -19,7 +19,9 @@ struct ByteSpan {
   std::size_t size = 0;
 };
 
-enum class LogFormat { kUnknown, kUlog, kCrazyflieUsd, kDataflash };
+// kMergedCsv: a telemetry CSV merging signals sampled at different times (io/merged_telemetry.h),
+// which reaches the conventions layer as a log does.
+enum class LogFormat { kUnknown, kUlog, kCrazyflieUsd, kDataflash, kMergedCsv };
 const char* toString(LogFormat f);
 
 // The type a field had in the log; values are stored as double whatever the type (64-bit

@@ -54,6 +54,8 @@ std::string advice(LogFormat f, const std::string& what, const std::string& topi
     case LogFormat::kCrazyflieUsd:
       return "raise the uSD deck's logging frequency for event '" + topic +
              "' in config.txt (on:fixedFrequency, e.g. 500 Hz, mode 1)";
+    case LogFormat::kMergedCsv:
+      return "export the " + what + " at least that often (the rate is that of the rows holding them)";
     case LogFormat::kUnknown: break;
   }
   return "log " + topic + " faster";
@@ -166,7 +168,7 @@ std::string ImportReport::phasesLine() const {
 std::string ImportReport::text() const {
   std::string s = "format: " + format + "\nsignals:\n";
   for (const SignalReport& r : signals)
-    s += "  " + r.name + ": " + r.source.topic + " " + r.source.fields + ", " + std::to_string(r.samples) + " samples, " +
+    s += "  " + r.name + ": " + r.source.topic + (r.source.fields.empty() ? "" : " " + r.source.fields) + ", " + std::to_string(r.samples) + " samples, " +
          hz(r.rate_hz) + " (median interval " + ms(r.median_interval) + "), " + sec(r.t_first) + "–" + sec(r.t_last) +
          " s; " + r.method + (r.source.note.empty() ? "" : "; " + r.source.note) + "\n";
   s += "conventions:\n";
@@ -218,10 +220,7 @@ std::string coarseTopicsNote(const DecodedLog& log, const ImportOptions& o) {
 
 ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, const ImportOptions& o, LogSampleSource& out) {
   ImportReport& rep = out.report_;
-  rep.format = format == LogFormat::kUlog           ? "PX4 ULog"
-               : format == LogFormat::kDataflash    ? "ArduPilot DataFlash"
-               : format == LogFormat::kCrazyflieUsd ? "Crazyflie micro-SD"
-                                                    : "unknown";
+  rep.format = toString(format);
   rep.dt = o.dt;
   rep.conventions = signals.conventions;
   rep.numbering = signals.numbering;
@@ -279,7 +278,7 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   const bool events = o.use_events && !signals.states.empty();
   std::string no_flight_why;
   if (events) {
-    rep.phase_rule = "the autopilot's armed/landed events";
+    rep.phase_rule = format == LogFormat::kMergedCsv ? "a telemetry CSV: the whole file" : "the autopilot's armed/landed events";
     bool in = false;
     double start = 0.0;
     for (const FlightStateEvent& e : signals.states) {

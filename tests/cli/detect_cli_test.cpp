@@ -446,6 +446,115 @@ TEST(DetectCli, ANedCsvIsReadInItsFrame) {
   EXPECT_NE(misread.out, reference.out);
 }
 
+// A merged export (PlotJuggler, a ROS bag): each row holds one signal — position at 50 Hz,
+// attitude at 250 Hz, commands at 500 Hz — and another topic's column has rows of its own.
+// Refused as plain CSV with what to do; read with --format csv-merged, each signal from its own
+// rows onto the model's clock (attitude and position interpolated, commands held), it names the
+// same motor with Θ̂ within a few thousandths of the whole file's; --csv-frame reaches it; import
+// writes the clock's samples, which detect reads back to the same output byte for byte.
+TEST(DetectCli, AMergedExportIsReadSignalBySignal) {
+  const std::string merged = temp("merged-export.csv"), merged_ned = temp("merged-export-ned.csv");
+  {
+    std::istringstream in(readFile(faultyCsv()));
+    std::ofstream out(merged), ned(merged_ned);
+    std::string line;
+    std::getline(in, line);
+    out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,battery\n";
+    ned << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,battery\n";
+    for (int k = 0; std::getline(in, line); ++k) {
+      std::vector<std::string> c;
+      std::istringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) c.push_back(cell);
+      ASSERT_EQ(c.size(), 11u);
+      auto flip = [](const std::string& v) { return v[0] == '-' ? v.substr(1) : "-" + v; };
+      if (k % 10 == 0) {
+        out << c[0] << "," << c[1] << "," << c[2] << "," << c[3] << ",,,,,,,,\n";
+        ned << c[0] << "," << c[1] << "," << flip(c[2]) << "," << flip(c[3]) << ",,,,,,,,\n";
+      }
+      if (k % 2 == 0) {
+        out << c[0] << ",,,," << c[4] << "," << c[5] << "," << c[6] << ",,,,,\n";
+        ned << c[0] << ",,,," << c[4] << "," << flip(c[5]) << "," << flip(c[6]) << ",,,,,\n";
+      }
+      const std::string commands = c[0] + ",,,,,,," + c[7] + "," + c[8] + "," + c[9] + "," + c[10] + ",\n";
+      out << commands;
+      ned << commands;
+      if (k % 7 == 0) {
+        out << c[0] << ",,,,,,,,,,,3.9\n";
+        ned << c[0] << ",,,,,,,,,,,3.9\n";
+      }
+    }
+  }
+  const CommandResult plain = run("detect --input " + merged + " --output " + temp("merged-plain.jsonl"));
+  EXPECT_EQ(plain.exit_code, 1);
+  EXPECT_TRUE(plain.out.find("read it with --format csv-merged") != std::string::npos) << plain.out;
+
+  const CommandResult whole = run("detect --input " + faultyCsv() + " --output " + temp("whole.jsonl"));
+  const CommandResult read = run("detect --format csv-merged --input " + merged + " --output " + temp("merged.jsonl"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.out;
+  ASSERT_EQ(read.exit_code, 0) << read.out;
+  EXPECT_TRUE(read.out.find("detect: merged telemetry CSV, evaluated 1 of 1 airborne phase (a telemetry CSV: the whole file)") !=
+              std::string::npos)
+      << read.out;
+  const auto fault = [](const std::string& s) { return s.substr(s.find("FAULT in motor"), 26); };
+  ASSERT_TRUE(whole.out.find("FAULT in motor 3") != std::string::npos) << whole.out;
+  EXPECT_EQ(fault(read.out), fault(whole.out));
+  // Θ̂ at the times both evaluate: the interpolated position and attitude move it by little.
+  auto thetas = [](const std::string& path) {
+    std::vector<std::pair<std::string, std::vector<double>>> rows;
+    for (const std::string& l : lines(readFile(path))) {
+      const std::size_t t = l.find("\"t\": "), th = l.find("\"theta\": [");
+      if (t == std::string::npos || th == std::string::npos) continue;
+      std::vector<double> v;
+      std::istringstream cells(l.substr(th + 10, l.find(']', th) - th - 10));
+      for (std::string c; std::getline(cells, c, ',');) v.push_back(std::stod(c));
+      rows.emplace_back(l.substr(t + 5, l.find(',', t) - t - 5), v);
+    }
+    return rows;
+  };
+  const auto a = thetas(temp("whole.jsonl")), b = thetas(temp("merged.jsonl"));
+  ASSERT_GT(b.size(), 200u);
+  std::size_t compared = 0;
+  double largest = 0.0;
+  for (std::size_t i = 0, j = 0; i < a.size() && j < b.size();) {
+    if (std::stod(a[i].first) < std::stod(b[j].first) - 1e-6) ++i;
+    else if (std::stod(b[j].first) < std::stod(a[i].first) - 1e-6) ++j;
+    else {
+      for (std::size_t k = 0; k < 4; ++k) largest = std::max(largest, std::abs(a[i].second[k] - b[j].second[k]));
+      ++compared, ++i, ++j;
+    }
+  }
+  EXPECT_GT(compared, 200u);
+  EXPECT_LT(largest, 0.02);
+  EXPECT_GT(largest, 0.0);  // interpolated, not the same samples
+
+  const CommandResult ned = run("detect -q --format csv-merged --csv-frame ned --input " + merged_ned, false);
+  const CommandResult zup = run("detect -q --format csv-merged --input " + merged, false);
+  ASSERT_EQ(ned.exit_code, 0);
+  EXPECT_EQ(ned.out, zup.out);
+
+  const CommandResult imported = run("import -q --format csv-merged " + merged + " -o " + temp("merged-imported.csv"));
+  ASSERT_EQ(imported.exit_code, 0) << imported.out;
+  const CommandResult again = run("detect -q --input " + temp("merged-imported.csv"), false);
+  ASSERT_EQ(again.exit_code, 0);
+  EXPECT_EQ(again.out, zup.out);
+
+  // Commands every 10 ms are too coarse: one line naming the columns and their rate.
+  {
+    std::istringstream in(readFile(merged));
+    std::ofstream out(temp("merged-coarse.csv"));
+    std::string line;
+    for (int k = 0; std::getline(in, line);) {
+      const bool commands = line.find(",,,,,,,0") != std::string::npos || line.find(",,,,,,,1") != std::string::npos;
+      if (!commands || k++ % 5 == 0) out << line << "\n";
+    }
+  }
+  const CommandResult coarse = run("detect --format csv-merged --input " + temp("merged-coarse.csv") + " --output " + temp("c.jsonl"));
+  EXPECT_EQ(coarse.exit_code, 1);
+  EXPECT_EQ(countLines(coarse.out), 1) << coarse.out;
+  EXPECT_TRUE(coarse.out.find("merged-coarse.csv: columns u1,u2,u3,u4 (commands) is logged at 100.0 Hz") != std::string::npos)
+      << coarse.out;
+}
+
 // Simulators write rotor speeds. Read as thrust, a Θ = 0.6 fault (its rotor at √0.6 of the speed
 // commanded) is sized as 0.79; with --csv-commands rotor-speed the speeds are squared and the output
 // is the thrust file's, byte for byte, whatever the speed's unit. A model that reads newtons is
@@ -720,7 +829,8 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
     EXPECT_EQ(countLines(r.out), 1) << c.name << ": " << r.out;
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.name << ": " << r.out;
   }
-  // A merged export of asynchronous signals: every row lacks some cells. Refused with what to do.
+  // A merged export of asynchronous signals: every row lacks some cells. Refused with what to do
+  // (AMergedExportIsReadSignalBySignal reads one).
   auto writeAlternating = [&](const std::string& name, int rows, double dt, const char* even, const char* odd) {
     std::ostringstream text;
     text << good_header;

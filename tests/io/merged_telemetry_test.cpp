@@ -1,0 +1,125 @@
+// A merged export (each row holds some of the signals) read into FlightSignals: every signal from
+// the rows that hold it whole, converted as a whole row is, and bad rows named by line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "io/merged_telemetry.h"
+#include "io/telemetry_reader.h"
+
+namespace quadfdi {
+namespace {
+
+FlightSignals readMerged(const std::string& text, MergedTelemetryCounts* counts = nullptr,
+                         const TelemetryReaderOptions& options = {}) {
+  std::istringstream in(text);
+  TelemetryReader reader(in, "merged.csv", options);
+  FlightSignals s;
+  const MergedTelemetryCounts c = readMergedTelemetry(reader, s);
+  if (counts) *counts = c;
+  return s;
+}
+
+std::string errorOf(const std::string& text) {
+  try {
+    readMerged(text);
+  } catch (const TelemetryError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(MergedTelemetry, EachSignalComesFromTheRowsThatHoldItWhole) {
+  const std::string text =
+      "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,battery\n"
+      "0.000,1,2,3,,,,,,,,\n"             // position
+      "0.000,,,,0.1,0.2,0.3,,,,,\n"       // attitude, same time
+      "0.002,,,,,,,0.5,0.6,0.7,0.8,\n"    // commands
+      "0.003,,,,,,,,,,,12.1\n"            // another topic's column only
+      ",4,5,6,,,,,,,,\n"                  // no time: skipped
+      "0.004,4,,6,0.4,0.5,0.6,,,,,\n"     // position lacks y: left out; attitude kept
+      "0.006,7,8,9,,,,0.9,1.0,1.1,1.2,\n";
+  MergedTelemetryCounts c;
+  const FlightSignals s = readMerged(text, &c);
+  EXPECT_EQ(c.rows, 7u);
+  EXPECT_EQ(c.without_time, 1u);
+  EXPECT_EQ(c.without_signal, 1u);
+  EXPECT_EQ(c.partial, 1u);
+  EXPECT_EQ(c.first_problem, "merged.csv:6: column 't' is empty; row skipped");
+  ASSERT_EQ(s.position.t, (std::vector<double>{0.0, 0.006}));
+  EXPECT_EQ(s.position.v[1], (std::array<double, 3>{7, 8, 9}));
+  ASSERT_EQ(s.attitude.t, (std::vector<double>{0.0, 0.004}));
+  EXPECT_EQ(s.attitude.v[1], (std::array<double, 3>{0.4, 0.5, 0.6}));
+  ASSERT_EQ(s.command.t, (std::vector<double>{0.002, 0.006}));
+  EXPECT_EQ(s.command.v[0], (std::array<double, 4>{0.5, 0.6, 0.7, 0.8}));
+  EXPECT_EQ(s.command_kind, CommandKind::kThrustNewton);
+  // The file is the flight: one "airborne" event at its first row.
+  ASSERT_EQ(s.states.size(), 1u);
+  EXPECT_EQ(s.states[0].t, 0.0);
+  EXPECT_TRUE(s.states[0].armed);
+  EXPECT_FALSE(s.states[0].landed);
+  EXPECT_EQ(s.position.source.topic, "columns x,y,z");
+  EXPECT_TRUE(s.numbering.isQuadfdis());
+}
+
+// A row of every signal is read as the plain reader reads it, frames and quantities included.
+TEST(MergedTelemetry, WholeRowsReadAsThePlainReaderReadsThem) {
+  const std::string text =
+      "# motor_numbering: PX4 = 1 4 2 3\n"
+      "t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4\n"
+      "1.000,1,2,-3,0.5,0.5,-0.5,0.5,1200,1400,1500,1600\n"
+      "1.002,1.1,2.1,-3.1,0.8,0.2,-0.4,0.4,1250,1450,1550,1650\n";
+  TelemetryReaderOptions o;
+  o.frame = TelemetryFrame::kNed;
+  o.commands = CommandQuantity::kPwm;
+  o.curve.max_thrust = 8.0;
+  o.curve.model_factor = 0.5;
+  std::istringstream plain_in(text);
+  TelemetryReader plain(plain_in, "merged.csv", o);
+  const FlightSignals s = readMerged(text, nullptr, o);
+  ASSERT_EQ(s.attitude.t.size(), 2u);
+  ASSERT_EQ(s.command.t.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    TelemetrySample row;
+    std::string problem;
+    ASSERT_EQ(plain.next(row, problem), SampleSource::Next::kSample) << problem;
+    EXPECT_EQ(s.position.t[k], row.t);
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(s.position.v[k][i], row.y[i]);
+      EXPECT_EQ(s.attitude.v[k][i], row.y[3 + i]);
+    }
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(s.command.v[k][i], row.u[i]);
+  }
+  EXPECT_EQ(s.position.v[0][2], 3.0);  // NED down −3 is up +3
+  EXPECT_EQ(s.numbering.name, "PX4");
+  EXPECT_EQ(s.numbering.autopilot_motor, (std::array<int, 4>{1, 4, 2, 3}));
+}
+
+TEST(MergedTelemetry, ASignalGivenTwiceAtOneTimeKeepsTheLaterRow) {
+  MergedTelemetryCounts c;
+  const FlightSignals s = readMerged(
+      "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n"
+      "0,,,,,,,1,1,1,1\n"
+      "0,,,,,,,2,2,2,2\n"
+      "0.002,,,,,,,3,3,3,3\n",
+      &c);
+  EXPECT_EQ(c.repeated, 1u);
+  ASSERT_EQ(s.command.t, (std::vector<double>{0.0, 0.002}));
+  EXPECT_EQ(s.command.v[0][0], 2.0);
+}
+
+TEST(MergedTelemetry, BadRowsAreNamedByLine) {
+  const std::string header = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n";
+  EXPECT_EQ(errorOf(header + "0.002,1,2,3,,,,,,,\n0.001,,,,,,,1,1,1,1\n"),
+            "merged.csv:3: time goes backwards (t = 0.001000 s after 0.002000 s): a merged export's rows must be in time order");
+  EXPECT_EQ(errorOf(header + "0,,,,,,,1,one,1,1\n"), "merged.csv:2: column 'u2': 'one' is not a number");
+  EXPECT_EQ(errorOf(header + "0,,,,,,,,,,\n0,1,2\n"), "merged.csv:3: 3 cells, the header has 11");
+  EXPECT_NE(errorOf(header + "0,,,,30,10,0,,,,\n").find("merged.csv:2: pitch = 10 is outside ±π/2"), std::string::npos);
+  EXPECT_NE(errorOf(header + "0,,,,,,,1500,1500,1500,1500\n").find("merged.csv:2: column 'u1' = 1500 is no thrust in newtons"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace quadfdi
