@@ -415,7 +415,7 @@ int runDetect(const DetectOptions& o) {
     const double mean_interval = r.samples > 1 ? (r.t - r.first_t) / static_cast<double>(r.samples - 1) : 0.0;
     char hint[160] = "";
     if (mean_interval >= 0.5)
-      std::snprintf(hint, sizeof hint, " (its samples are %.4g s apart: is t in milliseconds or microseconds? detect reads seconds)",
+      std::snprintf(hint, sizeof hint, " (its samples are %.4g s apart: is t in milliseconds or microseconds? --csv-time-unit ms or us)",
                     mean_interval);
     throw TelemetryError(r.where + ": the log is sampled too coarsely: most of its first intervals exceed " +
                          fmtMs(o.max_input_period) + " (--max-input-period); the model needs " + fmtMs(m.dt) + " samples" + hint);

@@ -44,6 +44,22 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
       .choices({"thrust", "rotor-speed", "throttle", "pwm"});
   t.add("--csv-pwm-min", o.csv_pwm_min, "--csv-commands pwm: the pulse at zero throttle [µs]").atLeast(0.0);
   t.add("--csv-pwm-max", o.csv_pwm_max, "--csv-commands pwm: the pulse at full throttle [µs]").above(0.0);
+  t.add("--csv-columns", o.csv_columns,
+        "Telemetry CSV: columns named otherwise in the header, as COLUMN=NAME (e.g. t=__time "
+        "x=/mavros/local_position/pose/pose/position/x u1=/motors/0), COLUMN one of t, x, y, z, roll, pitch, yaw, qw, qx, qy, "
+        "qz, u1..u4")
+      .check([](const std::string& text) -> std::string {
+        const std::size_t eq = text.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) return "'" + text + "' is not COLUMN=NAME";
+        const std::string column = text.substr(0, eq);
+        for (const char* c : TelemetryReader::kColumns)
+          if (column == c) return "";
+        return "'" + column + "' is no telemetry column (t, x, y, z, roll, pitch, yaw, qw, qx, qy, qz, u1, u2, u3, u4)";
+      })
+      .defaultText("");
+  t.add("--csv-time-unit", o.csv_time_unit,
+        "Telemetry CSV: the unit of t: s, ms, us or ns (a ROS time stamp); seconds since 1970 are fine as s")
+      .choices({"s", "ms", "us", "ns"});
   t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
       .atLeast(0.0)
       .defaultText("");
@@ -73,6 +89,7 @@ void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o) 
     refuseGiven(o.given, {"csv_frame"}, "reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows");
     refuseGiven(o.given, {"csv_commands", "csv_pwm_min", "csv_pwm_max"},
                 "reads a telemetry CSV; a " + format + " log's commands are converted by its reader");
+    refuseGiven(o.given, {"csv_columns", "csv_time_unit"}, "reads a telemetry CSV; a " + format + " log names its own fields");
   }
   if (format == "csv") {
     refuseGiven(o.given,
@@ -116,6 +133,14 @@ TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o) {
   }
   r.curve.pwm_min = o.csv_pwm_min;
   r.curve.pwm_max = o.csv_pwm_max;
+  std::set<std::string> renamed;
+  for (const std::string& pair : o.csv_columns) {  // COLUMN=NAME, checked by the option
+    const std::size_t eq = pair.find('=');
+    if (!renamed.insert(pair.substr(0, eq)).second)
+      throw quadfdi::ConfigError("--csv-columns: column '" + pair.substr(0, eq) + "' is named twice");
+    r.header_names.emplace_back(pair.substr(0, eq), pair.substr(eq + 1));
+  }
+  r.time_unit = o.csv_time_unit == "ms" ? 1e-3 : o.csv_time_unit == "us" ? 1e-6 : o.csv_time_unit == "ns" ? 1e-9 : 1.0;
   return r;
 }
 

@@ -30,6 +30,8 @@ struct LogInputOptions {
   std::string csv_commands = "thrust";    // thrust | rotor-speed | throttle | pwm: what a CSV's u1..u4 hold
   double csv_pwm_min = 1000.0;            // [µs] --csv-commands pwm: the pulse at zero throttle
   double csv_pwm_max = 2000.0;            // [µs] --csv-commands pwm: the pulse at full throttle
+  std::vector<std::string> csv_columns;   // COLUMN=HEADER: read quadfdi's column from the header's cell named so
+  std::string csv_time_unit = "s";        // s | ms | us | ns: the unit of the t column
   std::set<std::string> given;       // keys the command was given (its whole table): options a format does not read
 };
 

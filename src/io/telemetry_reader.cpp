@@ -100,6 +100,19 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
       throw std::invalid_argument("TelemetryReader: a command curve needs max_thrust > 0, model_factor in [0, 1] and "
                                   "0 <= pwm_min < pwm_max");
   }
+  if (!(options_.time_unit > 0.0) || !std::isfinite(options_.time_unit))
+    throw std::invalid_argument("TelemetryReader: the time unit must be > 0 s");
+  for (int r = 0; r < 15; ++r) label_[static_cast<std::size_t>(r)] = kColumns[r];
+  std::array<bool, 15> renamed{};
+  for (const auto& [column, header_name] : options_.header_names) {
+    int r = 0;
+    while (r < 15 && column != kColumns[r]) ++r;
+    if (r == 15 || renamed[static_cast<std::size_t>(r)] || header_name.empty())
+      throw std::invalid_argument("TelemetryReader: header name '" + header_name + "' given for '" + column +
+                                  "', which is no column (t, x, y, z, roll, pitch, yaw, u1..u4, qw..qz), or given twice");
+    renamed[static_cast<std::size_t>(r)] = true;
+    label_[static_cast<std::size_t>(r)] = header_name;
+  }
   column_.fill(-1);  // no header yet: readLine takes the numbering comment until it is read
   std::string header;
   if (!readLine(header)) throw TelemetryError(name_ + ": empty input (expected the header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4)");
@@ -108,9 +121,9 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   cells_ = static_cast<int>(cells.size());
   for (int c = 0; c < cells_; ++c)
     for (int r = 0; r < 15; ++r)
-      if (cells[static_cast<std::size_t>(c)] == kColumns[r]) {
+      if (cells[static_cast<std::size_t>(c)] == label_[static_cast<std::size_t>(r)]) {
         if (column_[static_cast<std::size_t>(r)] >= 0)
-          throw TelemetryError(where() + ": column '" + kColumns[r] + "' appears twice in the header");
+          throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' appears twice in the header");
         column_[static_cast<std::size_t>(r)] = c;
       }
   auto has = [&](int r) { return column_[static_cast<std::size_t>(r)] >= 0; };
@@ -119,9 +132,13 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   quaternion_ = !has(kRoll) && !has(kRoll + 1) && !has(kRoll + 2) && (has(kQw) || has(kQw + 1) || has(kQw + 2) || has(kQw + 3));
   for (int r = 0; r < 15; ++r)
     if (!has(r) && isRead(r)) {
+      if (renamed[static_cast<std::size_t>(r)])
+        throw TelemetryError(where() + ": the header lacks column '" + label_[static_cast<std::size_t>(r)] + "' (read as " +
+                             kColumns[r] + ", --csv-columns)");
       const std::string needs = quaternion_ ? "t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4" : "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4";
       throw TelemetryError(where() + ": the header lacks column '" + kColumns[r] + "' (needs " + needs +
-                           (quaternion_ ? "" : ", or qw,qx,qy,qz for the attitude") + "; others are ignored)");
+                           (quaternion_ ? "" : ", or qw,qx,qy,qz for the attitude") +
+                           "; others are ignored; --csv-columns reads a column named otherwise)");
     }
 }
 
@@ -148,27 +165,28 @@ bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::
     if (!isRead(r)) continue;
     const std::string& cell = cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])];
     if (cell.empty()) {
-      why[r] = where() + ": column '" + kColumns[r] + "' is empty";
+      why[r] = where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' is empty";
       continue;
     }
     char* end = nullptr;
     errno = 0;
     const double v = std::strtod(cell.c_str(), &end);
     if (end == cell.c_str() || *end != '\0')
-      throw TelemetryError(where() + ": column '" + kColumns[r] + "': '" + cell.substr(0, 40) + "' is not a number");
+      throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "': '" + cell.substr(0, 40) + "' is not a number");
     if (!std::isfinite(v)) {
-      why[r] = where() + ": column '" + kColumns[r] + "' is " + cell;
+      why[r] = where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' is " + cell;
       continue;
     }
-    if (r == 0 && std::abs(v) > kMaxTime)
+    if (r == 0 && std::abs(v * options_.time_unit) > kMaxTime)
       throw TelemetryError(where() + ": t = " + cell.substr(0, 40) +
-                           " is no time in seconds (over 1e13 s): microseconds or nanoseconds since 1970? detect reads seconds "
-                           "(divide by 1e6 or 1e9)");
+                           (options_.time_unit == 1.0 ? " is no time in seconds (over 1e13 s): microseconds or nanoseconds since 1970? "
+                                                        "detect reads seconds (--csv-time-unit us or ns)"
+                                                      : " is over 1e13 s in the time unit given (--csv-time-unit)"));
     if (r != 0 && std::abs(v) > kMaxMagnitude) {  // finite in a double, but no telemetry: it would overflow the network's floats
-      why[r] = where() + ": column '" + kColumns[r] + "' = " + cell.substr(0, 40) + " is out of range";
+      why[r] = where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' = " + cell.substr(0, 40) + " is out of range";
       continue;
     }
-    values[r] = v;
+    values[r] = r == 0 ? v * options_.time_unit : v;
     present[r] = true;
   }
   return true;
@@ -223,15 +241,15 @@ std::array<double, kInputDim> TelemetryReader::commandsOf(const double (&values)
   for (int r = kU1; r < kU1 + 4; ++r) {
     const double v = values[r];
     if (quantity == CommandQuantity::kThrust && std::abs(v) > kMaxMotorThrust)
-      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellText(r) +
+      throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' = " + cellText(r) +
                            " is no thrust in newtons (over 500 N a motor): PWM or a throttle? read it with --csv-commands "
                            "pwm or throttle and the vehicle's thrust curve (docs/conventions.md)");
     if (quantity == CommandQuantity::kThrottle && !(v >= -kThrottleSlack && v <= 1.0 + kThrottleSlack))
-      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellText(r) +
+      throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' = " + cellText(r) +
                            " is no throttle in [0, 1] (--csv-commands throttle): a PWM pulse (--csv-commands pwm) or a "
                            "thrust in newtons (--csv-commands thrust)?");
     if (quantity == CommandQuantity::kPwm && !(v >= 0.0 && v <= 2.0 * curve.pwm_max - curve.pwm_min))
-      throw TelemetryError(where() + ": column '" + kColumns[r] + "' = " + cellText(r) + " is no PWM pulse in µs between " +
+      throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' = " + cellText(r) + " is no PWM pulse in µs between " +
                            numberText(curve.pwm_min) + " and " + numberText(curve.pwm_max) +
                            " (--csv-commands pwm; the range: --csv-pwm-min, --csv-pwm-max)");
   }

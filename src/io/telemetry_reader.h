@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/frames.h"
@@ -49,6 +50,11 @@ struct TelemetryReaderOptions {
   TelemetryFrame frame = TelemetryFrame::kZUp;            // of the position and attitude columns
   CommandQuantity commands = CommandQuantity::kThrust;  // of u1..u4
   CommandCurve curve;                                   // kThrottle and kPwm only
+  // Header names of quadfdi's columns where the file names them otherwise, as {column, header
+  // name}: a PlotJuggler export's "/mavros/local_position/pose/pose/position/x" read as x. A
+  // header cell with quadfdi's own name is then not read for that column.
+  std::vector<std::pair<std::string, std::string>> header_names;
+  double time_unit = 1.0;  // [s] per unit of the t column: 1e-3 (ms), 1e-6 (µs), 1e-9 (ns, a ROS stamp)
 };
 
 // One row of an export that merges signals sampled at different times (PlotJuggler, a ROS bag):
@@ -69,7 +75,8 @@ class TelemetryReader : public SampleSource {
  public:
   // Reads the header (blank lines and lines starting with '#' are skipped). Throws TelemetryError
   // for an empty input or a header without the required columns, std::invalid_argument for a
-  // curve that maps no command to thrust (kThrottle, kPwm).
+  // curve that maps no command to thrust (kThrottle, kPwm), a header name given for no column of
+  // kColumns or twice, or a time unit that is not > 0.
   TelemetryReader(std::istream& in, std::string name, const TelemetryReaderOptions& options = {});
 
   using Row = SampleSource::Next;
@@ -111,6 +118,7 @@ class TelemetryReader : public SampleSource {
   TelemetryReaderOptions options_;
   int cells_ = 0;                 // columns in the header
   std::array<int, 15> column_{};  // cell index of each of kColumns; −1: absent
+  std::array<std::string, 15> label_;  // how messages name each column: its name in the header
   bool quaternion_ = false;       // attitude from qw, qx, qy, qz
   std::vector<std::string> cells_buffer_;
   std::optional<MotorNumbering> numbering_;

@@ -532,6 +532,32 @@ TEST(DetectCli, AMergedExportIsReadSignalBySignal) {
   ASSERT_EQ(ned.exit_code, 0);
   EXPECT_EQ(ned.out, zup.out);
 
+  // The export's own column names and a ROS clock in nanoseconds, read by --csv-columns and --csv-time-unit.
+  {
+    std::istringstream in(readFile(merged));
+    std::ofstream out(temp("merged-named.csv"));
+    std::string line;
+    std::getline(in, line);
+    out << "__time,/pose/x,/pose/y,/pose/z,roll,pitch,yaw,/motors/0,/motors/1,/motors/2,/motors/3,battery\n";
+    while (std::getline(in, line)) {
+      const std::size_t comma = line.find(',');
+      out << std::llround(std::stod(line.substr(0, comma)) * 1e9) << line.substr(comma) << "\n";
+    }
+  }
+  const std::string names = " --csv-columns t=__time x=/pose/x y=/pose/y z=/pose/z u1=/motors/0 u2=/motors/1 u3=/motors/2 u4=/motors/3";
+  const CommandResult named = run("detect -q --format csv-merged --csv-time-unit ns" + names + " --input " + temp("merged-named.csv"), false);
+  ASSERT_EQ(named.exit_code, 0);
+  EXPECT_EQ(named.out, zup.out);
+  const CommandResult unnamed = run("detect -q --format csv-merged --input " + temp("merged-named.csv"));
+  EXPECT_EQ(unnamed.exit_code, 1);
+  EXPECT_TRUE(unnamed.out.find("the header lacks column 't' (needs t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4, or qw,qx,qy,qz for the "
+                               "attitude; others are ignored; --csv-columns reads a column named otherwise)") != std::string::npos)
+      << unnamed.out;
+  const CommandResult bad = run("detect --format csv-merged --csv-columns vx=/twist/x --input " + merged);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(countLines(bad.out), 1) << bad.out;
+  EXPECT_TRUE(bad.out.find("'vx' is no telemetry column") != std::string::npos) << bad.out;
+
   const CommandResult imported = run("import -q --format csv-merged " + merged + " -o " + temp("merged-imported.csv"));
   ASSERT_EQ(imported.exit_code, 0) << imported.out;
   const CommandResult again = run("detect -q --input " + temp("merged-imported.csv"), false);
@@ -874,7 +900,9 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
   const CommandResult ms = run("detect -q --input " + temp("in-ms.csv") + " --output " + temp("kept.jsonl"));
   EXPECT_EQ(ms.exit_code, 1);
   EXPECT_EQ(countLines(ms.out), 1) << ms.out;
-  EXPECT_NE(ms.out.find("(its samples are 2 s apart: is t in milliseconds or microseconds? detect reads seconds)"), std::string::npos) << ms.out;
+  EXPECT_NE(ms.out.find("(its samples are 2 s apart: is t in milliseconds or microseconds? --csv-time-unit ms or us)"), std::string::npos) << ms.out;
+  const CommandResult in_unit = run("detect -q --csv-time-unit ms --input " + temp("in-ms.csv") + " --output " + temp("in-ms.jsonl"));
+  EXPECT_EQ(in_unit.exit_code, 0) << in_unit.out;
   EXPECT_EQ(readFile(temp("kept.jsonl")), "precious\n");
 }
 

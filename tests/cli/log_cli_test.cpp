@@ -255,6 +255,7 @@ TEST(LogCli, OptionsTheFormatDoesNotReadAreRefused) {
       {"detect --input " + ulog + " --max-thrust 0.15 --ekf-core 1 --output " + out, "--ekf-core: ", "is ArduPilot's (DataFlash); this log is ulog"},
       {"import " + ulog + " --max-thrust 0.15 --cf-thrust-map duty -o " + out, "--cf-thrust-map: ", "is the Crazyflie's; this log is ulog"},
       {"import " + ulog + " --max-thrust 0.15 --mass 0.03 -o " + out, "--mass: ", "unused with --max-thrust unless --hover-calibrate"},
+      {"detect --input " + ulog + " --max-thrust 0.15 --csv-time-unit ns --output " + out, "--csv-time-unit: ", "a ulog log names its own fields"},
   };
   for (const auto& c : cases) {
     const CommandResult r = run(c.command);

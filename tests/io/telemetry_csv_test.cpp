@@ -251,7 +251,7 @@ TEST(TelemetryCsv, AnAbsoluteClockIsReadAndANanosecondOneRefused) {
   EXPECT_EQ(readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000.002,0,0,0,0,0,0,1,1,1,1\n").t, 1764370000.002);
   EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000002000000,0,0,0,0,0,0,1,1,1,1\n", "ns.csv"),
             "ns.csv:2: t = 1764370000002000000 is no time in seconds (over 1e13 s): microseconds or nanoseconds since 1970? "
-            "detect reads seconds (divide by 1e6 or 1e9)");
+            "detect reads seconds (--csv-time-unit us or ns)");
   TelemetrySample s;
   std::string problem;
   std::istringstream big("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,2e9,0,0,0,0,0,1,1,1,1\n");
@@ -260,18 +260,56 @@ TEST(TelemetryCsv, AnAbsoluteClockIsReadAndANanosecondOneRefused) {
   EXPECT_EQ(problem, "big.csv:2: column 'x' = 2e9 is out of range; row skipped");
 }
 
+// An export names its columns its own way (PlotJuggler: the topic path) and stamps rows in
+// nanoseconds (ROS): the header names and the time unit are options; messages use the file's names.
+TEST(TelemetryCsv, ColumnsNamedOtherwiseAndATimeUnitAreRead) {
+  TelemetryReaderOptions o;
+  o.header_names = {{"t", "__time"}, {"x", "/pose/position/x"}, {"u2", "/motors/1"}};
+  o.time_unit = 1e-9;
+  std::istringstream in("__time,/pose/position/x,y,z,roll,pitch,yaw,u1,/motors/1,u3,u4,x,u2\n"
+                        "1764370000002000000,0.5,0,1,0,0,0,1,2,3,4,9,9\n"
+                        "1764370000004000000,,0,1,0,0,0,1,2,3,4,9,9\n");
+  TelemetryReader reader(in, "export.csv", o);
+  TelemetrySample s;
+  std::string problem;
+  ASSERT_EQ(reader.next(s, problem), SampleSource::Next::kSample) << problem;
+  EXPECT_NEAR(s.t, 1764370000.002, 1e-6);  // ns since 1970 in a double: 256 ns apart
+  EXPECT_EQ(s.y[0], 0.5);  // not the file's own column 'x' (9)
+  EXPECT_EQ(s.u[1], 2.0);
+  ASSERT_EQ(reader.next(s, problem), SampleSource::Next::kSkipped);
+  EXPECT_EQ(problem, "export.csv:3: column '/pose/position/x' is empty; row skipped");
+  // A name the header lacks is named with the column it was given for.
+  std::istringstream lacking("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
+  TelemetryReaderOptions absent;
+  absent.header_names = {{"x", "/pose/x"}};
+  try {
+    TelemetryReader r(lacking, "lacking.csv", absent);
+    ADD_FAILURE() << "accepted";
+  } catch (const TelemetryError& e) {
+    EXPECT_STREQ(e.what(), "lacking.csv:1: the header lacks column '/pose/x' (read as x, --csv-columns)");
+  }
+  // A name for no column, or one column named twice, is a programming error (the CLI checks first).
+  for (const auto& bad : std::vector<std::vector<std::pair<std::string, std::string>>>{{{"vx", "a"}}, {{"x", "a"}, {"x", "b"}}}) {
+    std::istringstream header("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
+    TelemetryReaderOptions wrong;
+    wrong.header_names = bad;
+    EXPECT_THROW(TelemetryReader(header, "x.csv", wrong), std::invalid_argument);
+  }
+}
+
 TEST(TelemetryCsv, QuaternionColumnsAreCheckedAndNamed) {
   auto refusal = [](const std::string& csv) { return firstRefusal(csv, "q.csv"); };
   // A quaternion missing a column, and no attitude at all.
   EXPECT_EQ(refusal("t,x,y,z,qw,qx,qy,u1,u2,u3,u4\n"),
-            "q.csv:1: the header lacks column 'qz' (needs t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4; others are ignored)");
+            "q.csv:1: the header lacks column 'qz' (needs t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4; others are ignored; --csv-columns "
+            "reads a column named otherwise)");
   EXPECT_EQ(refusal("t,x,y,z,u1,u2,u3,u4\n"),
             "q.csv:1: the header lacks column 'roll' (needs t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4, or qw,qx,qy,qz for the attitude; "
-            "others are ignored)");
+            "others are ignored; --csv-columns reads a column named otherwise)");
   // Euler angles named in part are Euler angles, whatever quaternion is there.
   EXPECT_EQ(refusal("t,x,y,z,roll,pitch,qw,qx,qy,qz,u1,u2,u3,u4\n"),
             "q.csv:1: the header lacks column 'yaw' (needs t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4, or qw,qx,qy,qz for the attitude; "
-            "others are ignored)");
+            "others are ignored; --csv-columns reads a column named otherwise)");
   EXPECT_EQ(refusal("t,x,y,z,qw,qx,qy,qz,qw,u1,u2,u3,u4\n"), "q.csv:1: column 'qw' appears twice in the header");
   // Rounded to four digits is a unit quaternion; 2 % off is not one.
   EXPECT_EQ(refusal("t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4\n0,0,0,0,0.7071,0,0,0.7071,1,1,1,1\n"), "accepted");
