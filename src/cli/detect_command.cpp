@@ -386,7 +386,8 @@ int runDetect(const DetectOptions& o) {
     // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
     if (reader->numbering() && !renumber) numbering = *reader->numbering();
   } else {
-    log = openFlightLog(o.input, format, o.log, m.dt, o.max_gap);  // throws one line naming file, byte, topic
+    // throws one line naming file, byte, topic
+    log = openFlightLog(o.input, format, o.log, m.dt, o.max_gap, m.features == FeatureSet::kScaleFree);
     source = log.source.get();
     // A merged CSV names its numbering only in a comment (else the description's stands); a log always.
     const MotorNumbering& logged = log.source->report().numbering;

@@ -234,7 +234,7 @@ OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, doubl
 }  // namespace
 
 OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o, double dt,
-                        double max_gap) {
+                        double max_gap, bool scale_free_model) {
   if (format == "csv-merged") return openMergedCsv(path, o, dt, max_gap);
   if (path == "-") throw std::runtime_error("flight logs (--format " + format + ") are read from a file, not standard input");
   const std::vector<std::uint8_t> bytes = readAll(path);
@@ -251,7 +251,8 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
   for (const std::string& w : log.warnings) opened.warnings.push_back(path + ": " + w);
 
   double thrust_model_factor = -1.0;  // [-] the vehicle description's, < 0 without one
-  const ImportOptions io = importOptions(o, dt, max_gap, &thrust_model_factor);
+  ImportOptions io = importOptions(o, dt, max_gap, &thrust_model_factor);
+  io.scale_free_model = scale_free_model;
 
   FlightSignals signals;
   if (format == "ulog") {

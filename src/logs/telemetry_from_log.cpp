@@ -421,11 +421,17 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
     const bool calibrate = o.mass > 0.0 && (o.hover_calibrate || !(o.max_thrust > 0.0));
     if (o.hover_calibrate && !(o.mass > 0.0))
       return {ctopic, "hover calibration needs the vehicle's mass (--mass KG)"};
-    if (!calibrate && !(o.max_thrust > 0.0))
+    const bool unscaled = !calibrate && !(o.max_thrust > 0.0);
+    if (unscaled && !o.scale_free_model)
       return {ctopic, "the commands (" + ctopic + ") are thrust fractions and nothing scales them to newtons: give the "
                       "motor's maximum thrust (--max-thrust N per motor) or the vehicle's mass (--mass KG, to calibrate "
-                      "from a steady hover in the log)"};
-    if (calibrate) {
+                      "from a steady hover in the log); a scale-free model (every shipped randomised one) needs neither"};
+    if (unscaled) {
+      scale = 1.0;
+      rep.thrust = "thrust fractions (" + ctopic + ") used as they are (× 1 N): the model's scale-free features read each "
+                   "command as a share of their mean, which no constant scale changes (--max-thrust or --mass would not "
+                   "change its output)";
+    } else if (calibrate) {
       // Steady hover: level, neither climbing nor sinking, sampled every 20 ms in the evaluated stretches.
       const double step = 0.02, half = 0.25;
       double best_sum = 0.0, best_len = 0.0, best_a = 0.0, run_sum = 0.0, run_a = 0.0;

@@ -14,7 +14,8 @@
 //    stretch: nothing is interpolated across it.
 //  * Thrust. kThrustNewton as is. kThrustFraction × the motor's maximum thrust [N]: given
 //    (max_thrust), or calibrated from the log's own steady hover (mass given: the mean command
-//    over a steady airborne stretch ↔ m·g/4 per motor). Neither → refusal naming what to give.
+//    over a steady airborne stretch ↔ m·g/4 per motor). Neither → × 1 for a scale-free model,
+//    else a refusal naming what to give.
 //  * Phases. Airborne = armed and not landed from the autopilot's own events where the log has
 //    them; otherwise a rule on height and thrust (ImportOptions). A margin is skipped after each
 //    take-off and before each controlled landing. Only airborne stretches become samples;
@@ -51,6 +52,10 @@ struct ImportOptions {
   double max_thrust = 0.0;       // [N] per motor at command 1; 0 = not given
   double mass = 0.0;             // [kg]; 0 = not given
   bool hover_calibrate = false;  // calibrate from the log's hover even when max_thrust is given (needs mass)
+  // The model reads commands only as shares of their mean and its relative change (scale-free
+  // features, data/features.h): a constant thrust scale cannot change its output, so fractions
+  // with neither max_thrust nor mass are used as they are (× 1 N) instead of refused.
+  bool scale_free_model = false;
   double gravity = 9.81;         // [m/s²]
   double hover_min_duration = 1.0;    // [s] steady stretch needed for the calibration
   double hover_max_tilt = 0.1;        // [rad] |roll|, |pitch| below this while steady

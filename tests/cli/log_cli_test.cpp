@@ -161,12 +161,28 @@ TEST(LogCli, PlotWithoutGnuplotFailsClearlyBeforeAnyWork) {
   EXPECT_FALSE(exists(out));  // checked before any work: no detections written
 }
 
-TEST(LogCli, ThrustFractionsWithoutAScaleAreRefusedNamingWhatToGive) {
-  const CommandResult r = run("detect --input " + faultyUlog() + " --output " + temp("noscale.jsonl"));
+// Thrust fractions need a scale only for a model that reads newtons: the default (scale-free)
+// model's output is the same with or without --max-thrust, and another model is refused naming
+// what to give.
+TEST(LogCli, ThrustFractionsNeedAScaleOnlyForAModelThatReadsNewtons) {
+  const CommandResult unscaled = run("detect --input " + faultyUlog() + " --output " + temp("noscale.jsonl"));
+  ASSERT_EQ(unscaled.exit_code, 0) << unscaled.out;
+  EXPECT_TRUE(contains(unscaled.out, "detect: thrust: thrust fractions (actuator_motors) used as they are (× 1 N)")) << unscaled.out;
+  EXPECT_TRUE(contains(unscaled.out, "FAULT in motor 3 at t = 4.0")) << unscaled.out;
+  const CommandResult scaled = run("detect --input " + faultyUlog() + " --max-thrust 0.15 --output " + temp("scaled.jsonl"));
+  ASSERT_EQ(scaled.exit_code, 0) << scaled.out;
+  EXPECT_EQ(readFile(temp("noscale.jsonl")), readFile(temp("scaled.jsonl")));
+  const std::string newtons = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw";
+  const CommandResult r = run("detect --model " + newtons + " --input " + faultyUlog() + " --output " + temp("refused.jsonl"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_TRUE(contains(r.out, faultyUlog() + ": topic actuator_motors: ")) << r.out;
   EXPECT_TRUE(contains(r.out, "--max-thrust")) << r.out;
+  EXPECT_TRUE(contains(r.out, "a scale-free model (every shipped randomised one) needs neither")) << r.out;
   EXPECT_EQ(countLines(r.out), 1) << r.out;
+  // import writes newtons: it still needs the scale.
+  const CommandResult i = run("import " + faultyUlog() + " -o " + temp("noscale.csv"));
+  EXPECT_EQ(i.exit_code, 1);
+  EXPECT_TRUE(contains(i.out, "--max-thrust")) << i.out;
 }
 
 TEST(LogCli, RealPx4LogsAreRefusedForTheirHeldPositionAndActuatorOutputsRate) {
