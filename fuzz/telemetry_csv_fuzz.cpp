@@ -118,9 +118,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   reading.commands = kQuantities[(size / 2) % 4];
   reading.curve.max_thrust = 7.0664;  // [N] configs/vehicles/quad450.toml
   reading.curve.model_factor = 0.806;
-  // t in seconds or a ROS stamp in nanoseconds (--csv-time-unit), and u1 as a topic path (--csv-columns).
+  // t in seconds or a ROS stamp in nanoseconds (--csv-time-unit), u1 as a topic path (--csv-columns),
+  // angles in radians or degrees.
   if ((size / 8) % 2 != 0) reading.time_unit = 1e-9;
   if ((size / 16) % 2 != 0) reading.header_names = {{"u1", "/motors/0"}};
+  reading.angles_in_degrees = (size / 32) % 2 != 0;  // --csv-angle-unit deg
   try {
     TelemetryReader reader(in, "fuzz.csv", reading);
     TelemetrySample sample;

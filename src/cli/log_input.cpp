@@ -60,6 +60,10 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
   t.add("--csv-time-unit", o.csv_time_unit,
         "Telemetry CSV: the unit of t: s, ms, us or ns (a ROS time stamp); seconds since 1970 are fine as s")
       .choices({"s", "ms", "us", "ns"});
+  t.add("--csv-angle-unit", o.csv_angle_unit,
+        "Telemetry CSV: the unit of roll, pitch, yaw: rad or deg (a quaternion has none). Small angles in degrees read "
+        "as radians pass the range check and tilt the vehicle 57 times too far: say so")
+      .choices({"rad", "deg"});
   t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
       .atLeast(0.0)
       .defaultText("");
@@ -89,7 +93,8 @@ void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o) 
     refuseGiven(o.given, {"csv_frame"}, "reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows");
     refuseGiven(o.given, {"csv_commands", "csv_pwm_min", "csv_pwm_max"},
                 "reads a telemetry CSV; a " + format + " log's commands are converted by its reader");
-    refuseGiven(o.given, {"csv_columns", "csv_time_unit"}, "reads a telemetry CSV; a " + format + " log names its own fields");
+    refuseGiven(o.given, {"csv_columns", "csv_time_unit", "csv_angle_unit"},
+                "reads a telemetry CSV; a " + format + " log names its own fields and units");
   }
   if (format == "csv") {
     refuseGiven(o.given,
@@ -141,6 +146,7 @@ TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o) {
     r.header_names.emplace_back(pair.substr(0, eq), pair.substr(eq + 1));
   }
   r.time_unit = o.csv_time_unit == "ms" ? 1e-3 : o.csv_time_unit == "us" ? 1e-6 : o.csv_time_unit == "ns" ? 1e-9 : 1.0;
+  r.angles_in_degrees = o.csv_angle_unit == "deg";
   return r;
 }
 

@@ -32,6 +32,7 @@ struct LogInputOptions {
   double csv_pwm_max = 2000.0;            // [µs] --csv-commands pwm: the pulse at full throttle
   std::vector<std::string> csv_columns;   // COLUMN=HEADER: read quadfdi's column from the header's cell named so
   std::string csv_time_unit = "s";        // s | ms | us | ns: the unit of the t column
+  std::string csv_angle_unit = "rad";     // rad | deg: the unit of the roll, pitch, yaw columns
   std::set<std::string> given;       // keys the command was given (its whole table): options a format does not read
 };
 

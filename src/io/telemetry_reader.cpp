@@ -220,11 +220,16 @@ bool TelemetryReader::attitudeOf(const double (&values)[15], EulerZyx& attitude,
   // a value outside is another unit or convention (degrees, most often), not a manoeuvre, and
   // read as radians it would be a tumbling vehicle. Refused, naming the line.
   constexpr double kSlack = 1e-6;  // [rad] round-off of converters (asin, atan2 of a unit quaternion)
-  const bool pitch_out = std::abs(values[kRoll + 1]) > M_PI / 2 + kSlack;
-  if (pitch_out || std::abs(values[kRoll]) > M_PI + kSlack)
+  const double unit = options_.angles_in_degrees ? M_PI / 180.0 : 1.0;  // [rad] per unit of the columns
+  const double roll = values[kRoll] * unit, pitch = values[kRoll + 1] * unit;
+  const bool pitch_out = std::abs(pitch) > M_PI / 2 + kSlack;
+  if (options_.angles_in_degrees && (pitch_out || std::abs(roll) > M_PI + kSlack))
+    throw TelemetryError(where() + ": " + (pitch_out ? "pitch = " + cellText(kRoll + 1) + " is outside ±90°" : "roll = " + cellText(kRoll) + " is outside ±180°") +
+                         ": roll, pitch, yaw are ZYX Euler angles (read in degrees: --csv-angle-unit deg; docs/conventions.md)");
+  if (pitch_out || std::abs(roll) > M_PI + kSlack)
     throw TelemetryError(where() + ": " + (pitch_out ? "pitch = " + cellText(kRoll + 1) + " is outside ±π/2" : "roll = " + cellText(kRoll) + " is outside ±π") +
-                         ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? multiply by π/180; docs/conventions.md)");
-  attitude = {values[kRoll], values[kRoll + 1], values[kRoll + 2]};
+                         ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? --csv-angle-unit deg; docs/conventions.md)");
+  attitude = {roll, pitch, values[kRoll + 2] * unit};
   return true;
 }
 

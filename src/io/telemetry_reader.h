@@ -55,6 +55,7 @@ struct TelemetryReaderOptions {
   // header cell with quadfdi's own name is then not read for that column.
   std::vector<std::pair<std::string, std::string>> header_names;
   double time_unit = 1.0;  // [s] per unit of the t column: 1e-3 (ms), 1e-6 (µs), 1e-9 (ns, a ROS stamp)
+  bool angles_in_degrees = false;  // roll, pitch, yaw in degrees (a quaternion has no unit)
 };
 
 // One row of an export that merges signals sampled at different times (PlotJuggler, a ROS bag):

@@ -446,6 +446,29 @@ TEST(DetectCli, ANedCsvIsReadInItsFrame) {
   EXPECT_NE(misread.out, reference.out);
 }
 
+// Angles written in degrees: refused as radians with the flag to use; read with it, the same fault.
+TEST(DetectCli, AnglesInDegreesAreReadWithTheirUnit) {
+  const std::string deg = temp("faulty-deg.csv");
+  rewriteRows(faultyCsv(), deg, [](std::vector<std::string>& cells) {
+    for (std::size_t i : {4u, 5u, 6u}) {
+      std::ostringstream v;
+      v.precision(17);
+      v << std::stod(cells[i]) * 180.0 / M_PI;
+      cells[i] = v.str();
+    }
+  });
+  const CommandResult reference = run("detect --input " + faultyCsv() + " --output " + temp("rad.jsonl"));
+  const CommandResult read = run("detect --csv-angle-unit deg --input " + deg + " --output " + temp("deg.jsonl"));
+  ASSERT_EQ(reference.exit_code, 0) << reference.out;
+  ASSERT_EQ(read.exit_code, 0) << read.out;
+  const auto fault = [](const std::string& s) { return s.substr(s.find("FAULT in motor"), 26); };
+  ASSERT_TRUE(reference.out.find("FAULT in motor 3") != std::string::npos) << reference.out;
+  EXPECT_EQ(fault(read.out), fault(reference.out));
+  const CommandResult misread = run("detect --input " + deg + " --output " + temp("deg.jsonl"));
+  EXPECT_EQ(misread.exit_code, 1);
+  EXPECT_TRUE(misread.out.find("(degrees? --csv-angle-unit deg") != std::string::npos) << misread.out;
+}
+
 // A merged export (PlotJuggler, a ROS bag): each row holds one signal — position at 50 Hz,
 // attitude at 250 Hz, commands at 500 Hz — and another topic's column has rows of its own.
 // Refused as plain CSV with what to do; read with --format csv-merged, each signal from its own

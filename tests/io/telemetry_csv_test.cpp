@@ -297,6 +297,27 @@ TEST(TelemetryCsv, ColumnsNamedOtherwiseAndATimeUnitAreRead) {
   }
 }
 
+// Angles in degrees, when the options say so: the same sample as in radians, and bounds in degrees.
+TEST(TelemetryCsv, AnglesInDegreesAreReadWhenSaid) {
+  TelemetryReaderOptions deg;
+  deg.angles_in_degrees = true;
+  std::istringstream in("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,30,-45,170,1,1,1,1\n0.002,0,0,1,30,-95,0,1,1,1,1\n");
+  TelemetryReader reader(in, "deg.csv", deg);
+  TelemetrySample s;
+  std::string problem;
+  ASSERT_EQ(reader.next(s, problem), SampleSource::Next::kSample) << problem;
+  EXPECT_NEAR(s.y[3], M_PI / 6, 1e-15);
+  EXPECT_NEAR(s.y[4], -M_PI / 4, 1e-15);
+  EXPECT_NEAR(s.y[5], 170 * M_PI / 180, 1e-15);
+  try {
+    reader.next(s, problem);
+    ADD_FAILURE() << "accepted";
+  } catch (const TelemetryError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("deg.csv:3: pitch = -95 is outside ±90°: roll, pitch, yaw are ZYX Euler angles (read in degrees", 0), 0u)
+        << e.what();
+  }
+}
+
 TEST(TelemetryCsv, QuaternionColumnsAreCheckedAndNamed) {
   auto refusal = [](const std::string& csv) { return firstRefusal(csv, "q.csv"); };
   // A quaternion missing a column, and no attitude at all.
