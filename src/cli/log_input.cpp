@@ -64,7 +64,8 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
         "Telemetry CSV: the unit of roll, pitch, yaw: rad or deg (a quaternion has none). Small angles in degrees read "
         "as radians pass the range check and tilt the vehicle 57 times too far: say so")
       .choices({"rad", "deg"});
-  t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]")
+  t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]; detect with a "
+        "scale-free model (the default) needs no scale")
       .atLeast(0.0)
       .defaultText("");
   t.add("--mass", o.import.mass,
