@@ -371,7 +371,7 @@ int runDetect(const DetectOptions& o) {
                  o.log.vehicle.c_str(), vehicleCalibrationPath(model_path, o.log.vehicle).c_str());
   std::ios::sync_with_stdio(false);  // buffered standard input: the reader asks it what is waiting
   std::ifstream file;
-  const std::string name = live ? std::string("<stdin>") : o.input;
+  const std::string name = o.input == "-" ? std::string("<stdin>") : o.input;
   std::unique_ptr<TelemetryReader> reader;
   std::unique_ptr<RenumberedSource> renumbered;
   OpenedLog log;

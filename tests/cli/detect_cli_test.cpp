@@ -554,6 +554,9 @@ TEST(DetectCli, AMergedExportIsReadSignalBySignal) {
   const CommandResult zup = run("detect -q --format csv-merged --input " + merged, false);
   ASSERT_EQ(ned.exit_code, 0);
   EXPECT_EQ(ned.out, zup.out);
+  const CommandResult piped = run("detect -q --format csv-merged --input - < " + merged, false);  // read to its end first
+  ASSERT_EQ(piped.exit_code, 0);
+  EXPECT_EQ(piped.out, zup.out);
 
   // The export's own column names and a ROS clock in nanoseconds, read by --csv-columns and --csv-time-unit.
   {
