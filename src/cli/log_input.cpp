@@ -227,9 +227,9 @@ OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, doubl
   const MergedTelemetryCounts counts = readMergedTelemetry(reader, signals);
   OpenedLog opened;
   if (counts.without_time > 0 || counts.partial > 0)
-    opened.warnings.push_back(std::to_string(counts.without_time + counts.partial) + " row" +
-                              (counts.without_time + counts.partial == 1 ? "" : "s") +
-                              " or signals left out for empty or non-finite cells (first: " + counts.first_problem + ")");
+    opened.warnings.push_back(std::to_string(counts.without_time) + " row(s) without a time skipped, " +
+                              std::to_string(counts.partial) + " signal(s) left out of a row for an empty or non-finite cell "
+                              "among its others (first: " + counts.first_problem + ")");
   opened.source = std::make_unique<LogSampleSource>();
   const ImportRefusal refusal = buildLogSampleSource(std::move(signals), LogFormat::kMergedCsv, io, *opened.source);
   if (refusal.refused())
