@@ -197,14 +197,9 @@ std::string resolveInputFormat(const std::string& path, const std::string& forma
 
 namespace {
 
-ImportOptions importOptions(const LogInputOptions& o, double dt, double max_gap, double* thrust_model_factor) {
+// The conventions layer's options for this run: the flags', the model's period, the detector's gap.
+ImportOptions importOptions(const LogInputOptions& o, double dt, double max_gap) {
   quadfdi::ImportOptions io = o.import;
-  if (!o.vehicle.empty()) {
-    const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
-    if (!(io.max_thrust > 0.0)) io.max_thrust = vehicle.params.max_thrust;
-    if (!(io.mass > 0.0)) io.mass = vehicle.params.mass;
-    if (thrust_model_factor) *thrust_model_factor = vehicle.params.thrust_model_factor;
-  }
   io.dt = dt;
   io.use_events = !o.phases_by_rule;
   io.max_hole = max_gap;
@@ -215,7 +210,7 @@ ImportOptions importOptions(const LogInputOptions& o, double dt, double max_gap,
 // A merged telemetry CSV: its signals from the rows that hold them, then the conventions layer.
 OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, double dt, double max_gap) {
   const TelemetryReaderOptions reading = csvReadingOptions(o);
-  const ImportOptions io = importOptions(o, dt, max_gap, nullptr);
+  const ImportOptions io = importOptions(o, dt, max_gap);  // its u1..u4 are newtons: no thrust scale
   std::ifstream file;
   if (path != "-") {
     file.open(path);
@@ -257,9 +252,15 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
   OpenedLog opened;
   for (const std::string& w : log.warnings) opened.warnings.push_back(path + ": " + w);
 
-  double thrust_model_factor = -1.0;  // [-] the vehicle description's, < 0 without one
-  ImportOptions io = importOptions(o, dt, max_gap, &thrust_model_factor);
+  ImportOptions io = importOptions(o, dt, max_gap);
   io.scale_free_model = scale_free_model;
+  double thrust_model_factor = -1.0;  // [-] the vehicle description's, < 0 without one
+  if (!o.vehicle.empty()) {
+    const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
+    if (!(io.max_thrust > 0.0)) io.max_thrust = vehicle.params.max_thrust;
+    if (!(io.mass > 0.0)) io.mass = vehicle.params.mass;
+    thrust_model_factor = vehicle.params.thrust_model_factor;
+  }
 
   FlightSignals signals;
   if (format == "ulog") {

@@ -29,8 +29,7 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
   out = FlightSignals{};
   TelemetryRowParts row;
   std::string problem;
-  double last_t = 0.0;
-  bool any = false;
+  double last_t = 0.0;  // of the last row holding a signal
   for (SampleSource::Next n; (n = reader.nextParts(row, problem)) != SampleSource::Next::kEnd;) {
     ++counts.rows;
     if (n == SampleSource::Next::kSkipped) {
@@ -38,7 +37,7 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
       if (counts.first_problem.empty()) counts.first_problem = problem;
       continue;
     }
-    if (any && row.t < last_t)
+    if (!out.states.empty() && row.t < last_t)
       throw TelemetryError(reader.where() + ": time goes backwards (t = " + std::to_string(row.t) + " s after " +
                            std::to_string(last_t) + " s): a merged export's rows must be in time order");
     if (!row.dropped.empty()) {
@@ -49,8 +48,7 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
       ++counts.without_signal;
       continue;
     }
-    if (!any) out.states.push_back({row.t, true, false});  // the file is the flight
-    any = true;
+    if (out.states.empty()) out.states.push_back({row.t, true, false});  // the file is the flight, from its first signal
     last_t = row.t;
     if (row.has_position) append(out.position, row.t, row.position, counts.repeated);
     if (row.has_attitude) append(out.attitude, row.t, row.attitude, counts.repeated);

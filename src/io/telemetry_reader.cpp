@@ -121,9 +121,9 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   cells_ = static_cast<int>(cells.size());
   for (int c = 0; c < cells_; ++c)
     for (int r = 0; r < 15; ++r)
-      if (cells[static_cast<std::size_t>(c)] == label_[static_cast<std::size_t>(r)]) {
+      if (cells[static_cast<std::size_t>(c)] == label(r)) {
         if (column_[static_cast<std::size_t>(r)] >= 0)
-          throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' appears twice in the header");
+          throw TelemetryError(where() + ": column '" + label(r) + "' appears twice in the header");
         column_[static_cast<std::size_t>(r)] = c;
       }
   auto has = [&](int r) { return column_[static_cast<std::size_t>(r)] >= 0; };
@@ -133,7 +133,7 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   for (int r = 0; r < 15; ++r)
     if (!has(r) && isRead(r)) {
       if (renamed[static_cast<std::size_t>(r)])
-        throw TelemetryError(where() + ": the header lacks column '" + label_[static_cast<std::size_t>(r)] + "' (read as " +
+        throw TelemetryError(where() + ": the header lacks column '" + label(r) + "' (read as " +
                              kColumns[r] + ", --csv-columns)");
       const std::string needs = quaternion_ ? "t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4" : "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4";
       throw TelemetryError(where() + ": the header lacks column '" + kColumns[r] + "' (needs " + needs +
@@ -165,16 +165,16 @@ bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::
     if (!isRead(r)) continue;
     const std::string& cell = cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])];
     if (cell.empty()) {
-      why[r] = where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' is empty";
+      why[r] = where() + ": column '" + label(r) + "' is empty";
       continue;
     }
     char* end = nullptr;
     errno = 0;
     const double v = std::strtod(cell.c_str(), &end);
     if (end == cell.c_str() || *end != '\0')
-      throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "': '" + cell.substr(0, 40) + "' is not a number");
+      throw TelemetryError(where() + ": column '" + label(r) + "': '" + cell.substr(0, 40) + "' is not a number");
     if (!std::isfinite(v)) {
-      why[r] = where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' is " + cell;
+      why[r] = where() + ": column '" + label(r) + "' is " + cell;
       continue;
     }
     if (r == 0 && std::abs(v * options_.time_unit) > kMaxTime)
@@ -183,7 +183,7 @@ bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::
                                                         "detect reads seconds (--csv-time-unit us or ns)"
                                                       : " is over 1e13 s in the time unit given (--csv-time-unit)"));
     if (r != 0 && std::abs(v) > kMaxMagnitude) {  // finite in a double, but no telemetry: it would overflow the network's floats
-      why[r] = where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' = " + cell.substr(0, 40) + " is out of range";
+      why[r] = where() + ": column '" + label(r) + "' = " + cell.substr(0, 40) + " is out of range";
       continue;
     }
     values[r] = r == 0 ? v * options_.time_unit : v;
@@ -196,7 +196,7 @@ std::string TelemetryReader::cellText(int column) const {
   return cells_buffer_[static_cast<std::size_t>(column_[static_cast<std::size_t>(column)])].substr(0, 40);
 }
 
-// The attitude of a row whose attitude cells are all present, in the file's frame; false (with
+// The attitude of a row whose attitude cells are all present, in quadfdi's frame; false (with
 // `problem`) for the zero quaternion an estimator writes before its first attitude.
 bool TelemetryReader::attitudeOf(const double (&values)[15], EulerZyx& attitude, std::string& problem) const {
   if (quaternion_) {
@@ -213,23 +213,24 @@ bool TelemetryReader::attitudeOf(const double (&values)[15], EulerZyx& attitude,
       throw TelemetryError(where() + ": qw,qx,qy,qz = " + cellText(kQw) + "," + cellText(kQw + 1) + "," + cellText(kQw + 2) + "," +
                            cellText(kQw + 3) + " is no unit quaternion (norm " + std::to_string(norm) +
                            "): the attitude is the Hamilton quaternion (w, x, y, z) of the body → world rotation (docs/conventions.md)");
-    attitude = eulerZyxFromUnitQuaternion(w / norm, x / norm, y / norm, z / norm);
+    attitude = inQuadfdisFrame(eulerZyxFromUnitQuaternion(w / norm, x / norm, y / norm, z / norm));
     return true;
   }
   // ZYX Euler angles in radians have roll in [−π, π] and pitch in [−π/2, π/2], whatever the flight:
   // a value outside is another unit or convention (degrees, most often), not a manoeuvre, and
   // read as radians it would be a tumbling vehicle. Refused, naming the line.
   constexpr double kSlack = 1e-6;  // [rad] round-off of converters (asin, atan2 of a unit quaternion)
-  const double unit = options_.angles_in_degrees ? M_PI / 180.0 : 1.0;  // [rad] per unit of the columns
+  const bool degrees = options_.angles_in_degrees;
+  const double unit = degrees ? M_PI / 180.0 : 1.0;  // [rad] per unit of the columns
   const double roll = values[kRoll] * unit, pitch = values[kRoll + 1] * unit;
   const bool pitch_out = std::abs(pitch) > M_PI / 2 + kSlack;
-  if (options_.angles_in_degrees && (pitch_out || std::abs(roll) > M_PI + kSlack))
-    throw TelemetryError(where() + ": " + (pitch_out ? "pitch = " + cellText(kRoll + 1) + " is outside ±90°" : "roll = " + cellText(kRoll) + " is outside ±180°") +
-                         ": roll, pitch, yaw are ZYX Euler angles (read in degrees: --csv-angle-unit deg; docs/conventions.md)");
   if (pitch_out || std::abs(roll) > M_PI + kSlack)
-    throw TelemetryError(where() + ": " + (pitch_out ? "pitch = " + cellText(kRoll + 1) + " is outside ±π/2" : "roll = " + cellText(kRoll) + " is outside ±π") +
-                         ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? --csv-angle-unit deg; docs/conventions.md)");
-  attitude = {roll, pitch, values[kRoll + 2] * unit};
+    throw TelemetryError(where() + ": " +
+                         (pitch_out ? "pitch = " + cellText(kRoll + 1) + " is outside " + (degrees ? "±90°" : "±π/2")
+                                    : "roll = " + cellText(kRoll) + " is outside " + (degrees ? "±180°" : "±π")) +
+                         (degrees ? ": roll, pitch, yaw are ZYX Euler angles (read in degrees: --csv-angle-unit deg; docs/conventions.md)"
+                                  : ": roll, pitch, yaw are ZYX Euler angles in radians (degrees? --csv-angle-unit deg; docs/conventions.md)"));
+  attitude = inQuadfdisFrame({roll, pitch, values[kRoll + 2] * unit});
   return true;
 }
 
@@ -246,15 +247,15 @@ std::array<double, kInputDim> TelemetryReader::commandsOf(const double (&values)
   for (int r = kU1; r < kU1 + 4; ++r) {
     const double v = values[r];
     if (quantity == CommandQuantity::kThrust && std::abs(v) > kMaxMotorThrust)
-      throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' = " + cellText(r) +
+      throw TelemetryError(where() + ": column '" + label(r) + "' = " + cellText(r) +
                            " is no thrust in newtons (over 500 N a motor): PWM or a throttle? read it with --csv-commands "
                            "pwm or throttle and the vehicle's thrust curve (docs/conventions.md)");
     if (quantity == CommandQuantity::kThrottle && !(v >= -kThrottleSlack && v <= 1.0 + kThrottleSlack))
-      throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' = " + cellText(r) +
+      throw TelemetryError(where() + ": column '" + label(r) + "' = " + cellText(r) +
                            " is no throttle in [0, 1] (--csv-commands throttle): a PWM pulse (--csv-commands pwm) or a "
                            "thrust in newtons (--csv-commands thrust)?");
     if (quantity == CommandQuantity::kPwm && !(v >= 0.0 && v <= 2.0 * curve.pwm_max - curve.pwm_min))
-      throw TelemetryError(where() + ": column '" + label_[static_cast<std::size_t>(r)] + "' = " + cellText(r) + " is no PWM pulse in µs between " +
+      throw TelemetryError(where() + ": column '" + label(r) + "' = " + cellText(r) + " is no PWM pulse in µs between " +
                            numberText(curve.pwm_min) + " and " + numberText(curve.pwm_max) +
                            " (--csv-commands pwm; the range: --csv-pwm-min, --csv-pwm-max)");
   }
@@ -282,6 +283,10 @@ std::array<double, 3> TelemetryReader::positionOf(const double (&values)[15]) co
   return {values[1], values[2], values[3]};
 }
 
+EulerZyx TelemetryReader::inQuadfdisFrame(const EulerZyx& attitude) const {
+  return options_.frame == TelemetryFrame::kNed ? turnedAboutX(attitude) : attitude;
+}
+
 SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& problem) {
   double values[15];
   bool present[15];
@@ -297,7 +302,6 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
     problem += "; row skipped";
     return Row::kSkipped;
   }
-  if (options_.frame == TelemetryFrame::kNed) attitude = turnedAboutX(attitude);
   const std::array<double, kInputDim> u = commandsOf(values);
   sample.t = values[0];
   const std::array<double, 3> p = positionOf(values);
@@ -336,7 +340,6 @@ SampleSource::Next TelemetryReader::nextParts(TelemetryRowParts& parts, std::str
     std::string zero;
     parts.has_attitude = attitudeOf(values, attitude, zero);
     if (!parts.has_attitude && parts.dropped.empty()) parts.dropped = zero;
-    if (options_.frame == TelemetryFrame::kNed) attitude = turnedAboutX(attitude);
     parts.attitude = {attitude.roll, attitude.pitch, attitude.yaw};
   }
   if (parts.has_commands) parts.u = commandsOf(values);

@@ -113,6 +113,8 @@ class TelemetryReader : public SampleSource {
   bool attitudeOf(const double (&values)[15], EulerZyx& attitude, std::string& problem) const;
   std::array<double, kInputDim> commandsOf(const double (&values)[15]) const;
   std::array<double, 3> positionOf(const double (&values)[15]) const;
+  EulerZyx inQuadfdisFrame(const EulerZyx& attitude) const;  // from the file's frame (options_.frame)
+  const std::string& label(int column) const { return label_[static_cast<std::size_t>(column)]; }
   std::istream& in_;
   std::string name_;
   long line_ = 0;
