@@ -35,15 +35,36 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b);
 }
 
-// Splits on commas into `cells` (reused). No quoting: telemetry is numbers.
-void split(const std::string& line, std::vector<std::string>& cells) {
+// The separator of a header line: a comma wherever there is one, else a tab, else a semicolon
+// (spreadsheets in locales with a decimal comma), else runs of blanks (kBlankRuns: plain text
+// tables, gnuplot and MATLAB data files). Whatever the header uses, every row uses.
+constexpr char kBlankRuns = ' ';
+char separatorOf(const std::string& header) {
+  for (const char c : {',', '\t', ';'})
+    if (header.find(c) != std::string::npos) return c;
+  return kBlankRuns;
+}
+
+// Splits on `separator` into `cells` (reused); kBlankRuns: on runs of spaces and tabs, the line's
+// leading and trailing blanks ignored. No quoting: telemetry is numbers.
+void split(const std::string& line, char separator, std::vector<std::string>& cells) {
   cells.clear();
+  if (separator == kBlankRuns) {
+    std::size_t b = line.find_first_not_of(" \t\r");
+    while (b != std::string::npos) {
+      const std::size_t e = line.find_first_of(" \t\r", b);
+      cells.push_back(trim(line.substr(b, e == std::string::npos ? std::string::npos : e - b)));
+      b = e == std::string::npos ? e : line.find_first_not_of(" \t\r", e);
+    }
+    if (cells.empty()) cells.emplace_back();
+    return;
+  }
   std::size_t start = 0;
   for (;;) {
-    const std::size_t comma = line.find(',', start);
-    cells.push_back(trim(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
+    const std::size_t at = line.find(separator, start);
+    cells.push_back(trim(line.substr(start, at == std::string::npos ? std::string::npos : at - start)));
+    if (at == std::string::npos) break;
+    start = at + 1;
   }
 }
 
@@ -117,7 +138,8 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   std::string header;
   if (!readLine(header)) throw TelemetryError(name_ + ": empty input (expected the header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4)");
   std::vector<std::string> cells;
-  split(header, cells);
+  separator_ = separatorOf(header);
+  split(header, separator_, cells);
   cells_ = static_cast<int>(cells.size());
   for (int c = 0; c < cells_; ++c)
     for (int r = 0; r < 15; ++r)
@@ -157,7 +179,7 @@ bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::
     return false;
   }
   std::vector<std::string>& cells = cells_buffer_;
-  split(text, cells);
+  split(text, separator_, cells);
   if (static_cast<int>(cells.size()) != cells_)
     throw TelemetryError(where() + ": " + std::to_string(cells.size()) + " cells, the header has " + std::to_string(cells_));
   for (int r = 0; r < 15; ++r) {
@@ -172,7 +194,10 @@ bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::
     errno = 0;
     const double v = std::strtod(cell.c_str(), &end);
     if (end == cell.c_str() || *end != '\0')
-      throw TelemetryError(where() + ": column '" + label(r) + "': '" + cell.substr(0, 40) + "' is not a number");
+      throw TelemetryError(where() + ": column '" + label(r) + "': '" + cell.substr(0, 40) + "' is not a number" +
+                           (separator_ != ',' && cell.find(',') != std::string::npos
+                                ? " (a decimal comma? numbers are read with a decimal point)"
+                                : ""));
     if (!std::isfinite(v)) {
       why[r] = where() + ": column '" + label(r) + "' is " + cell;
       continue;

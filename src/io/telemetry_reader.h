@@ -1,5 +1,6 @@
 // Reading flight telemetry (docs/conventions.md) for the detector: header names the columns (any order,
-// extra columns ignored), one sample per row. Rows are read one at a time so a live pipe works.
+// extra columns ignored), one sample per row; cells separated by commas, or, where the header has
+// none, by tabs, semicolons or runs of blanks (as the header is, every row is). Rows are read one at a time so a live pipe works.
 // Attitude comes as ZYX Euler angles (roll, pitch, yaw) or, where those are absent, as a unit
 // quaternion (qw, qx, qy, qz); position and attitude in quadfdi's frames or in NED/FRD, which
 // the reader turns into quadfdi's (core/frames.h).
@@ -120,6 +121,7 @@ class TelemetryReader : public SampleSource {
   long line_ = 0;
   TelemetryReaderOptions options_;
   int cells_ = 0;                 // columns in the header
+  char separator_ = ',';          // between cells, as the header has it (separatorOf)
   std::array<int, 15> column_{};  // cell index of each of kColumns; −1: absent
   std::array<std::string, 15> label_;  // how messages name each column: its name in the header
   bool quaternion_ = false;       // attitude from qw, qx, qy, qz

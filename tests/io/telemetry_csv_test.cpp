@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "io/key_value.h"
 #include "io/telemetry_csv.h"
@@ -70,6 +72,80 @@ TEST(TelemetryCsv, SampleRowsReadBackExactlyThroughTheReader) {
   EXPECT_EQ(b.y, a.y);
   EXPECT_EQ(b.u, a.u);
   EXPECT_EQ(reader.next(b, problem), SampleSource::Next::kEnd);
+}
+
+// Tab-, semicolon- and blank-separated tables (spreadsheets, pandas with sep='\t', MATLAB and
+// gnuplot data files) read as the comma-separated file they copy, cell for cell; the separator is
+// the header's, and a decimal comma is named, not misread.
+TEST(TelemetryCsv, TabSemicolonAndBlankSeparatedFilesReadAsCommaSeparated) {
+  std::ostringstream comma;
+  writeTelemetryCsvHeader(comma);
+  for (int k = 0; k < 3; ++k) {
+    TelemetrySample a;
+    a.t = 0.002 * k;
+    a.y = {0.1 * k, -1.0 / 3.0, 1.25, 0.01 * k, -0.002, 1e-9};
+    a.u = {0.07, 0.071, 1.0 / 7.0, 0.0015 * k};
+    writeTelemetryCsvRow(comma, a);
+  }
+  auto readAll = [](const std::string& text, const std::string& name) {
+    std::istringstream in(text);
+    TelemetryReader reader(in, name);
+    std::vector<TelemetrySample> samples;
+    TelemetrySample s;
+    std::string problem;
+    for (SampleSource::Next n; (n = reader.next(s, problem)) != SampleSource::Next::kEnd;) {
+      EXPECT_EQ(n, SampleSource::Next::kSample) << problem;
+      samples.push_back(s);
+    }
+    return samples;
+  };
+  const std::vector<TelemetrySample> expected = readAll(comma.str(), "comma.csv");
+  ASSERT_EQ(expected.size(), 3u);
+  auto replaced = [&](const std::string& by, bool pad) {
+    std::string out = pad ? "  " : "";
+    for (char c : comma.str()) {
+      if (c == ',') out += by;
+      else if (c == '\n' && pad) out += "  \r\n  ";
+      else out += c;
+    }
+    return out;
+  };
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"tabs.tsv", replaced("\t", false)}, {"semicolons.csv", replaced(";", false)},
+           {"blanks.txt", replaced(" \t  ", true)}}) {
+    const std::vector<TelemetrySample> got = readAll(text, name);
+    ASSERT_EQ(got.size(), expected.size()) << name;
+    for (std::size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].t, expected[k].t) << name;
+      EXPECT_EQ(got[k].y, expected[k].y) << name;
+      EXPECT_EQ(got[k].u, expected[k].u) << name;
+    }
+  }
+  // Tabs separate exactly: two tabs are an empty cell, as two commas are.
+  std::istringstream gap("t\tx\ty\tz\troll\tpitch\tyaw\tu1\tu2\tu3\tu4\n0\t\t0\t1\t0\t0\t0\t1\t1\t1\t1\n");
+  TelemetryReader tabs(gap, "gap.tsv");
+  TelemetrySample s;
+  std::string problem;
+  EXPECT_EQ(tabs.next(s, problem), SampleSource::Next::kSkipped);
+  EXPECT_EQ(problem, "gap.tsv:2: column 'x' is empty; row skipped");
+  // A row with another number of cells than the header is refused as in a comma-separated file.
+  std::istringstream short_row("t x y z roll pitch yaw u1 u2 u3 u4\n0 0 0 1 0 0 0 1 1 1\n");
+  TelemetryReader blanks(short_row, "short.txt");
+  try {
+    blanks.next(s, problem);
+    ADD_FAILURE() << "accepted";
+  } catch (const TelemetryError& e) {
+    EXPECT_STREQ(e.what(), "short.txt:2: 10 cells, the header has 11");
+  }
+  std::istringstream decimal_comma("t;x;y;z;roll;pitch;yaw;u1;u2;u3;u4\n0;0,5;0;1;0;0;0;1;1;1;1\n");
+  TelemetryReader semicolons(decimal_comma, "excel.csv");
+  try {
+    semicolons.next(s, problem);
+    ADD_FAILURE() << "accepted";
+  } catch (const TelemetryError& e) {
+    EXPECT_STREQ(e.what(), "excel.csv:2: column 'x': '0,5' is not a number (a decimal comma? numbers are read with a "
+                           "decimal point)");
+  }
 }
 
 // A converted log keeps its autopilot's motor numbers in a comment before the header, which the
