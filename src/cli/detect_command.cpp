@@ -387,7 +387,7 @@ int runDetect(const DetectOptions& o) {
     if (reader->numbering() && !renumber) numbering = *reader->numbering();
   } else {
     // throws one line naming file, byte, topic
-    log = openFlightLog(o.input, format, o.log, m.dt, o.max_gap, m.features == FeatureSet::kScaleFree);
+    log = openFlightLog(o.input, format, o.log, reading, m.dt, o.max_gap, m.features == FeatureSet::kScaleFree);
     source = log.source.get();
     // A merged CSV names its numbering only in a comment (else the description's stands); a log always.
     const MotorNumbering& logged = log.source->report().numbering;

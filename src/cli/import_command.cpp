@@ -33,7 +33,8 @@ int runImport(const ImportCommandOptions& o) {
   const std::string format = resolveInputFormat(o.input, o.log.format);
   require(format != "csv", o.input + ": already telemetry CSV (or not a flight log: --format names one)");
   refuseOptionsUnreadBy(format, o.log);
-  OpenedLog log = openFlightLog(o.input, format, o.log, o.dt, o.max_gap);  // throws one line
+  const TelemetryReaderOptions reading = format == "csv-merged" ? csvReadingOptions(o.log) : TelemetryReaderOptions{};
+  OpenedLog log = openFlightLog(o.input, format, o.log, reading, o.dt, o.max_gap);  // throws one line
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;

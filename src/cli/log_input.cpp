@@ -208,8 +208,8 @@ ImportOptions importOptions(const LogInputOptions& o, double dt, double max_gap)
 }
 
 // A merged telemetry CSV: its signals from the rows that hold them, then the conventions layer.
-OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, double dt, double max_gap) {
-  const TelemetryReaderOptions reading = csvReadingOptions(o);
+OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const TelemetryReaderOptions& reading,
+                        double dt, double max_gap) {
   const ImportOptions io = importOptions(o, dt, max_gap);  // its u1..u4 are newtons: no thrust scale
   std::ifstream file;
   if (path != "-") {
@@ -235,9 +235,9 @@ OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, doubl
 
 }  // namespace
 
-OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o, double dt,
-                        double max_gap, bool scale_free_model) {
-  if (format == "csv-merged") return openMergedCsv(path, o, dt, max_gap);
+OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o,
+                        const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model) {
+  if (format == "csv-merged") return openMergedCsv(path, o, csv_reading, dt, max_gap);
   if (path == "-") throw std::runtime_error("flight logs (--format " + format + ") are read from a file, not standard input");
   const std::vector<std::uint8_t> bytes = readAll(path);
   const ByteSpan span{bytes.data(), bytes.size()};

@@ -61,9 +61,10 @@ struct OpenedLog {
 
 // Reads, extracts and converts a log; `dt` is the model's period, `max_gap` the detector's.
 // "csv-merged": a telemetry CSV whose rows each hold some of the signals (io/merged_telemetry.h),
-// read from `path` or standard input ("-") to its end.
+// read from `path` or standard input ("-") to its end as `csv_reading` says (csvReadingOptions, which
+// the caller has already checked; unread for a flight log).
 // `scale_free_model`: the model ignores a constant thrust scale (ImportOptions::scale_free_model).
-OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o, double dt,
-                        double max_gap, bool scale_free_model = false);
+OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o,
+                        const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model = false);
 
 }  // namespace quadfdi::cli
