@@ -68,6 +68,69 @@ void split(const std::string& line, char separator, std::vector<std::string>& ce
   }
 }
 
+// Days from 1970-01-01 to the proleptic Gregorian date y-m-d (the "days from civil" count: years
+// taken from March, so the leap day ends a year; 146097 days every 400 years).
+long daysSince1970(long y, int m, int d) {
+  y -= m <= 2 ? 1 : 0;
+  const long era = (y >= 0 ? y : y - 399) / 400;
+  const long year_of_era = y - era * 400;
+  const long day_of_year = (153 * (m > 2 ? m - 3 : m + 9) + 2) / 5 + d - 1;
+  const long day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
+  return era * 146097 + day_of_era - 719468;
+}
+
+// An ISO 8601 date and time, YYYY-MM-DD[T or blank]hh:mm:ss[.fraction][Z | ±hh:mm | ±hhmm] (pandas,
+// spreadsheets, ROS tools write it), → seconds since 1970-01-01 00:00 UTC; without a zone, the time
+// is read as UTC (only differences between rows matter to the detector). False if `text` is not one.
+bool parseDateTime(const std::string& text, double& seconds) {
+  std::size_t i = 0;
+  auto digits = [&](int n, long& value) {
+    value = 0;
+    for (int k = 0; k < n; ++k, ++i) {
+      if (i >= text.size() || text[i] < '0' || text[i] > '9') return false;
+      value = value * 10 + (text[i] - '0');
+    }
+    return true;
+  };
+  auto expect = [&](const char* allowed) {
+    if (i >= text.size() || std::string(allowed).find(text[i]) == std::string::npos) return false;
+    ++i;
+    return true;
+  };
+  long year = 0, month = 0, day = 0, hour = 0, minute = 0, second = 0;
+  if (!digits(4, year) || !expect("-") || !digits(2, month) || !expect("-") || !digits(2, day) || !expect("T ") ||
+      !digits(2, hour) || !expect(":") || !digits(2, minute) || !expect(":") || !digits(2, second))
+    return false;
+  static const int kDaysIn[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+  const bool leap = (year % 4 == 0 && year % 100 != 0) || year % 400 == 0;
+  if (month < 1 || month > 12 || day < 1 || day > kDaysIn[month - 1] || (month == 2 && day == 29 && !leap) || hour > 23 ||
+      minute > 59 || second > 60)  // 60: a leap second
+    return false;
+  double fraction = 0.0;
+  if (i < text.size() && (text[i] == '.' || text[i] == ',')) {
+    const std::size_t start = ++i;
+    double scale = 0.1;
+    for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i, scale *= 0.1) fraction += (text[i] - '0') * scale;
+    if (i == start) return false;
+  }
+  long offset = 0;  // [s] the zone's offset east of UTC
+  if (i < text.size() && text[i] == 'Z') {
+    ++i;
+  } else if (i < text.size() && (text[i] == '+' || text[i] == '-')) {
+    const long sign = text[i++] == '-' ? -1 : 1;
+    long zone_hours = 0, zone_minutes = 0;
+    if (!digits(2, zone_hours)) return false;
+    if (i < text.size() && text[i] == ':') ++i;
+    if (!digits(2, zone_minutes) || zone_hours > 23 || zone_minutes > 59) return false;
+    offset = sign * (zone_hours * 3600 + zone_minutes * 60);
+  }
+  if (i != text.size()) return false;
+  const long whole = daysSince1970(year, static_cast<int>(month), static_cast<int>(day)) * 86400 + hour * 3600 +
+                     minute * 60 + second - offset;
+  seconds = static_cast<double>(whole) + fraction;
+  return true;
+}
+
 }  // namespace
 
 const char* const TelemetryReader::kColumns[15] = {"t",   "x",  "y",  "z",  "roll", "pitch", "yaw", "u1",
@@ -193,6 +256,13 @@ bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::
     char* end = nullptr;
     errno = 0;
     const double v = std::strtod(cell.c_str(), &end);
+    if (r == 0 && *end == '-' && end - cell.c_str() == 4) {  // "YYYY-": a date and time, in its own unit
+      if (!parseDateTime(cell, values[0]))
+        throw TelemetryError(where() + ": t = '" + cell.substr(0, 40) +
+                             "' is no date and time (YYYY-MM-DD hh:mm:ss[.fraction][Z or ±hh:mm]) nor a number");
+      present[0] = true;
+      continue;
+    }
     if (end == cell.c_str() || *end != '\0')
       throw TelemetryError(where() + ": column '" + label(r) + "': '" + cell.substr(0, 40) + "' is not a number" +
                            (separator_ != ',' && cell.find(',') != std::string::npos

@@ -323,6 +323,27 @@ TEST(TelemetryCsv, ThrottleAndPwmCommandsGoThroughTheVehiclesThrustCurve) {
 
 // t may be an absolute clock: seconds since 1970 read exactly (the network never sees t). Micro-
 // or nanoseconds since 1970 are refused with their unit named; other columns keep their bound.
+// A date and time in t (ISO 8601, as pandas, spreadsheets and ROS tools write it) is seconds since
+// 1970 UTC: the zone's offset taken out, a leap day and the fraction kept; a malformed one is named.
+TEST(TelemetryCsv, DateAndTimeStampsAreSecondsSince1970) {
+  const std::string header = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n";
+  auto at = [&](const std::string& stamp) { return readOne(header + stamp + ",0,0,0,0,0,0,1,1,1,1\n").t; };
+  // 2026-12-01 00:00 UTC is day 20 788 since 1970-01-01 (56 years of 365 days + 14 leap days + 334).
+  EXPECT_EQ(at("2026-12-01T00:00:00Z"), 20788.0 * 86400.0);
+  EXPECT_EQ(at("2026-12-01 21:00:00.25"), 20788.0 * 86400.0 + 21 * 3600 + 0.25);
+  EXPECT_EQ(at("2026-12-01T22:30:00.25+01:30"), 20788.0 * 86400.0 + 21 * 3600 + 0.25);
+  EXPECT_EQ(at("2026-12-01T19:00:00.25-0200"), 20788.0 * 86400.0 + 21 * 3600 + 0.25);
+  EXPECT_EQ(at("1970-01-01T00:00:00Z"), 0.0);
+  EXPECT_EQ(at("2000-03-01T00:00:00Z") - at("2000-02-28T00:00:00Z"), 2 * 86400.0);  // 2000 is a leap year
+  EXPECT_EQ(at("2100-03-01T00:00:00Z") - at("2100-02-28T00:00:00Z"), 86400.0);      // 2100 is not
+  EXPECT_NEAR(at("2026-12-01T21:00:00.002Z") - at("2026-12-01T21:00:00Z"), 0.002, 1e-6);
+  for (const std::string bad : {"2026-13-01T00:00:00", "2026-02-29 00:00:00", "2026-12-01T24:00:00", "2026-12-01",
+                                "2026-12-01T00:00:00.", "2026-12-01T00:00:00+1", "2026-12-01T00:00:00 UTC"})
+    EXPECT_EQ(firstRefusal(header + bad + ",0,0,0,0,0,0,1,1,1,1\n", "dates.csv"),
+              "dates.csv:2: t = '" + bad + "' is no date and time (YYYY-MM-DD hh:mm:ss[.fraction][Z or ±hh:mm]) nor a number")
+        << bad;
+}
+
 TEST(TelemetryCsv, AnAbsoluteClockIsReadAndANanosecondOneRefused) {
   EXPECT_EQ(readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000.002,0,0,0,0,0,0,1,1,1,1\n").t, 1764370000.002);
   EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000002000000,0,0,0,0,0,0,1,1,1,1\n", "ns.csv"),
