@@ -68,6 +68,16 @@ void split(const std::string& line, char separator, std::vector<std::string>& ce
   }
 }
 
+// "NAME [UNIT]" or "NAME (UNIT)" → NAME and UNIT (trimmed); false for a cell without that suffix.
+bool splitUnit(const std::string& cell, std::string& name, std::string& unit) {
+  if (cell.size() < 3 || (cell.back() != ']' && cell.back() != ')')) return false;
+  const std::size_t open = cell.rfind(cell.back() == ']' ? '[' : '(');
+  if (open == std::string::npos || open == 0) return false;
+  name = trim(cell.substr(0, open));
+  unit = trim(cell.substr(open + 1, cell.size() - open - 2));
+  return !name.empty();
+}
+
 // Days from 1970-01-01 to the proleptic Gregorian date y-m-d (the "days from civil" count: years
 // taken from March, so the leap day ends a year; 146097 days every 400 years).
 long daysSince1970(long y, int m, int d) {
@@ -204,13 +214,21 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   separator_ = separatorOf(header);
   split(header, separator_, cells);
   cells_ = static_cast<int>(cells.size());
+  bool angle_unit_read = false;
   for (int c = 0; c < cells_; ++c)
-    for (int r = 0; r < 15; ++r)
-      if (cells[static_cast<std::size_t>(c)] == label(r)) {
-        if (column_[static_cast<std::size_t>(r)] >= 0)
-          throw TelemetryError(where() + ": column '" + label(r) + "' appears twice in the header");
-        column_[static_cast<std::size_t>(r)] = c;
+    for (int r = 0; r < 15; ++r) {
+      const std::string& cell = cells[static_cast<std::size_t>(c)];
+      std::string base, unit;
+      const bool with_unit = cell != label(r) && splitUnit(cell, base, unit) && base == label(r);
+      if (cell != label(r) && !with_unit) continue;
+      if (column_[static_cast<std::size_t>(r)] >= 0)
+        throw TelemetryError(where() + ": column '" + label(r) + "' appears twice in the header");
+      column_[static_cast<std::size_t>(r)] = c;
+      if (with_unit) {
+        label_[static_cast<std::size_t>(r)] = cell;
+        readHeaderUnit(r, unit, angle_unit_read);
       }
+    }
   auto has = [&](int r) { return column_[static_cast<std::size_t>(r)] >= 0; };
   // The attitude: Euler angles when the header names any of them (all three then needed), else
   // the quaternion, whole (an absent attitude is reported as Euler's first column).
@@ -225,6 +243,43 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
                            (quaternion_ ? "" : ", or qw,qx,qy,qz for the attitude") +
                            "; others are ignored; --csv-columns reads a column named otherwise)");
     }
+}
+
+// A unit in the header ("t [ms]", "roll (deg)") sets what the options leave at their default and
+// must agree with what they set; a unit quadfdi does not read is refused, naming the column.
+void TelemetryReader::readHeaderUnit(int column, const std::string& unit, bool& angle_unit_read) {
+  const std::string cell = "'" + label(column) + "'";
+  auto refuse = [&](const std::string& why) { throw TelemetryError(where() + ": column " + cell + ": " + why); };
+  if (column == 0) {
+    const double seconds = unit == "s" ? 1.0 : unit == "ms" ? 1e-3 : unit == "us" || unit == "\u00b5s" ? 1e-6 : unit == "ns" ? 1e-9 : 0.0;
+    if (seconds == 0.0) refuse("the unit '" + unit + "' is no time unit read here (s, ms, us or ns)");
+    if (options_.time_unit != 1.0 && options_.time_unit != seconds)
+      refuse("the header says " + unit + ", --csv-time-unit another unit");
+    options_.time_unit = seconds;
+  } else if (column < kRoll) {
+    if (unit != "m") refuse("the unit '" + unit + "' is not read here: positions are in metres (m)");
+  } else if (column < kU1) {
+    const bool degrees = unit == "deg" || unit == "\u00b0" || unit == "degrees";
+    if (!degrees && unit != "rad" && unit != "radians") refuse("the unit '" + unit + "' is no angle unit read here (rad or deg)");
+    if (degrees != options_.angles_in_degrees && (angle_unit_read || options_.angles_in_degrees))
+      refuse("the header says " + unit + (angle_unit_read ? " here and another unit for another angle" : ", --csv-angle-unit deg"));
+    options_.angles_in_degrees = degrees;
+    angle_unit_read = true;
+  } else if (column < kQw) {
+    const bool unitless = unit.empty() || unit == "-" || unit == "1";
+    const bool fits = options_.commands == CommandQuantity::kThrust     ? unit == "N"
+                      : options_.commands == CommandQuantity::kPwm      ? unit == "us" || unit == "\u00b5s"
+                      : options_.commands == CommandQuantity::kThrottle ? unitless
+                                                                        : true;  // rotor speed: any unit, read squared
+    if (!fits)
+      refuse("the unit '" + unit + "' does not fit the commands read (" +
+             (options_.commands == CommandQuantity::kThrust     ? "thrust in N; rotor speeds, throttle or PWM pulses: --csv-commands rotor-speed, throttle or pwm"
+              : options_.commands == CommandQuantity::kPwm      ? "--csv-commands pwm: pulses in us"
+                                                                : "--csv-commands throttle: a fraction without unit") +
+             ")");
+  } else if (!(unit.empty() || unit == "-" || unit == "1")) {
+    refuse("a quaternion has no unit, the header says '" + unit + "'");
+  }
 }
 
 bool TelemetryReader::isRead(int column) const {

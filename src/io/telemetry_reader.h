@@ -1,6 +1,7 @@
 // Reading flight telemetry (docs/conventions.md) for the detector: header names the columns (any order,
 // extra columns ignored), one sample per row; cells separated by commas, or, where the header has
-// none, by tabs, semicolons or runs of blanks (as the header is, every row is). Rows are read one at a time so a live pipe works.
+// none, by tabs, semicolons or runs of blanks (as the header is, every row is). A header name may
+// carry its unit ("t [ms]", "roll (deg)"): read where it sets an option, checked everywhere else. Rows are read one at a time so a live pipe works.
 // Attitude comes as ZYX Euler angles (roll, pitch, yaw) or, where those are absent, as a unit
 // quaternion (qw, qx, qy, qz); position and attitude in quadfdi's frames or in NED/FRD, which
 // the reader turns into quadfdi's (core/frames.h).
@@ -109,6 +110,7 @@ class TelemetryReader : public SampleSource {
   bool readLine(std::string& text);
   void readNumberingComment(const std::string& comment);
   bool isRead(int column) const;  // index into kColumns: read with the header's attitude
+  void readHeaderUnit(int column, const std::string& unit, bool& angle_unit_read);
   bool readCells(double (&values)[15], bool (&present)[15], std::string (&why)[15]);
   std::string cellText(int column) const;  // of the row just read, cut at 40 characters
   bool attitudeOf(const double (&values)[15], EulerZyx& attitude, std::string& problem) const;

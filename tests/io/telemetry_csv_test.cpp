@@ -344,6 +344,55 @@ TEST(TelemetryCsv, DateAndTimeStampsAreSecondsSince1970) {
         << bad;
 }
 
+// Units in the header ("t [ms]", "roll (deg)", as spreadsheets and MATLAB tables name columns) are
+// read as the matching options; units quadfdi does not read, or that contradict each other or the
+// options, are refused naming the column.
+TEST(TelemetryCsv, UnitsInTheHeaderAreReadOrRefused) {
+  const std::string row = "2,0.5,0,1,10,-5,180,0.1,0.1,0.1,0.1\n";
+  TelemetryReaderOptions told;
+  told.time_unit = 1e-3;
+  told.angles_in_degrees = true;
+  const TelemetrySample expected = readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n" + row, told);
+  const TelemetrySample got =
+      readOne("t [ms],x [m],y [m],z [m],roll (deg),pitch (deg),yaw (\u00b0),u1 [N],u2 [N],u3 [N],u4 [N]\n" + row);
+  EXPECT_EQ(got.t, expected.t);
+  EXPECT_EQ(got.t, 0.002);
+  EXPECT_EQ(got.y, expected.y);
+  EXPECT_EQ(got.u, expected.u);
+  // The same unit given twice, header and option, is no contradiction; and a column named with a
+  // unit is named so in messages.
+  std::istringstream empty_cell("t [ms],x [m],y,z,roll,pitch,yaw,u1,u2,u3,u4\n2,,0,1,0,0,0,1,1,1,1\n");
+  TelemetryReaderOptions ms;
+  ms.time_unit = 1e-3;
+  TelemetryReader reader(empty_cell, "named.csv", ms);
+  TelemetrySample s;
+  std::string problem;
+  EXPECT_EQ(reader.next(s, problem), SampleSource::Next::kSkipped);
+  EXPECT_EQ(problem, "named.csv:2: column 'x [m]' is empty; row skipped");
+  const std::string rest = ",x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n";
+  EXPECT_EQ(firstRefusal("t [min]" + rest, "u.csv"), "u.csv:1: column 't [min]': the unit 'min' is no time unit read here (s, ms, us or ns)");
+  EXPECT_EQ(firstRefusal("t [s]" + rest, "u.csv", ms), "u.csv:1: column 't [s]': the header says s, --csv-time-unit another unit");
+  EXPECT_EQ(firstRefusal("t,x [mm],y,z,roll,pitch,yaw,u1,u2,u3,u4\n", "u.csv"),
+            "u.csv:1: column 'x [mm]': the unit 'mm' is not read here: positions are in metres (m)");
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll [deg],pitch [rad],yaw,u1,u2,u3,u4\n", "u.csv"),
+            "u.csv:1: column 'pitch [rad]': the header says rad here and another unit for another angle");
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll [rad],pitch,yaw,u1,u2,u3,u4\n", "u.csv", told),
+            "u.csv:1: column 'roll [rad]': the header says rad, --csv-angle-unit deg");
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1 [rpm],u2,u3,u4\n", "u.csv"),
+            "u.csv:1: column 'u1 [rpm]': the unit 'rpm' does not fit the commands read (thrust in N; rotor speeds, "
+            "throttle or PWM pulses: --csv-commands rotor-speed, throttle or pwm)");
+  TelemetryReaderOptions rotor;
+  rotor.commands = CommandQuantity::kRotorSpeed;
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1 [rpm],u2 [rpm],u3 [rpm],u4 [rpm]\n", "u.csv", rotor), "accepted");
+  EXPECT_EQ(firstRefusal("t,x,y,z,qw [rad],qx,qy,qz,u1,u2,u3,u4\n", "u.csv"),
+            "u.csv:1: column 'qw [rad]': a quaternion has no unit, the header says 'rad'");
+  // A unit on a column quadfdi does not read is none of its business; one on a name it does not
+  // know leaves the column unnamed.
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,battery [V]\n", "u.csv"), "accepted");
+  EXPECT_EQ(firstRefusal("time [s],x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n", "u.csv").substr(0, 40),
+            "u.csv:1: the header lacks column 't' (ne");
+}
+
 TEST(TelemetryCsv, AnAbsoluteClockIsReadAndANanosecondOneRefused) {
   EXPECT_EQ(readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000.002,0,0,0,0,0,0,1,1,1,1\n").t, 1764370000.002);
   EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000002000000,0,0,0,0,0,0,1,1,1,1\n", "ns.csv"),
