@@ -410,7 +410,7 @@ int runDetect(const DetectOptions& o) {
   session.live = live;
   const SessionResult r = runDetection(*detector, *source, sink, session);
   if (r.status == SessionStatus::kNotIncreasing)
-    throw TelemetryError(r.where + ": time goes backwards or repeats (t = " + std::to_string(r.t) + " s)");
+    throw TelemetryError(r.where + ": time goes backwards (t = " + std::to_string(r.t) + " s)");
   if (r.status == SessionStatus::kTooCoarse) {
     // Intervals of a second or more are no autopilot's rate: most likely t is not in seconds.
     const double mean_interval = r.samples > 1 ? (r.t - r.first_t) / static_cast<double>(r.samples - 1) : 0.0;

@@ -10,6 +10,7 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
   TelemetrySample sample;
   std::string problem;
   DetectorOutput d;
+  double last_t = 0.0;  // [s] of the last sample read
   for (;;) {
     const SampleSource::Next next = source.next(sample, problem);
     if (next == SampleSource::Next::kEnd) break;
@@ -17,6 +18,14 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
       if (result.skipped++ < config.max_warnings) sink.warning(problem);
       continue;
     }
+    // A time written twice (a variable-step solver's event, a logger repeating a row) is no step
+    // back in time: the first row stands and the repeat is skipped.
+    if (result.samples > 0 && sample.t == last_t) {
+      if (result.repeated++ < config.max_warnings)
+        sink.warning(source.where() + ": t repeats the previous row's time; row skipped (the first one is kept)");
+      continue;
+    }
+    last_t = sample.t;
     if (result.samples++ == 0) result.first_t = sample.t;
     if (sample.u[0] <= 0.0 && sample.u[1] <= 0.0 && sample.u[2] <= 0.0 && sample.u[3] <= 0.0) ++result.no_thrust;
     const bool look_ahead = !config.live || source.moreReady();
@@ -42,6 +51,8 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
   while (detector.pop(d)) sink.output(d);
   if (result.skipped > config.max_warnings)
     sink.warning(std::to_string(result.skipped) + " rows skipped in all (non-finite or empty cells)");
+  if (result.repeated > config.max_warnings)
+    sink.warning(std::to_string(result.repeated) + " rows skipped in all for repeating the previous row's time");
   // A vehicle in the air commands thrust; one that commands none most of the time is on the ground,
   // or its commands were read in another unit or range, and no fault can show in them.
   if (2 * result.no_thrust > result.samples)

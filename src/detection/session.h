@@ -19,7 +19,7 @@ class DetectionSink {
 
 enum class SessionStatus {
   kDone,           // the source ended
-  kNotIncreasing,  // a sample's time did not increase (where, t say which)
+  kNotIncreasing,  // a sample's time went back (where, t say which); a repeated time is skipped
   kTooCoarse,      // the source is sampled more coarsely than the detector accepts
 };
 
@@ -28,6 +28,7 @@ struct SessionResult {
   std::string where;   // the source's position of the offending sample
   double t = 0.0;      // [s] its time
   long skipped = 0;    // samples the source dropped
+  long repeated = 0;   // samples skipped for repeating the previous sample's time
   double first_t = 0.0;  // [s] time of the first sample read
   long samples = 0;      // samples read (not skipped), the offending one included
   long no_thrust = 0;    // of those, samples whose four commands are all ≤ 0 N
@@ -35,7 +36,7 @@ struct SessionResult {
 
 struct SessionConfig {
   bool live = false;        // read ahead only while the source says more input is ready
-  int max_warnings = 10;    // [-] skipped-row warnings passed on individually; the rest are counted
+  int max_warnings = 10;    // [-] skipped-row warnings (of each kind) passed on individually; the rest are counted
 };
 
 // Runs to the end of the source (or the first refusal), then finishes the detector. Source

@@ -853,6 +853,31 @@ TEST(DetectCli, ToleratesExtraColumnsReorderingAndNaNRows) {
   EXPECT_NE(r.out.find("FAULT in motor 1"), std::string::npos) << r.out;
 }
 
+// A time written twice (a variable-step solver's log at an event, a logger repeating a row) is
+// skipped with a warning naming its line, the first row kept: the detections are the file's
+// without the repeat, byte for byte. A time that goes back stays an error (below).
+TEST(DetectCli, ARepeatedTimeIsSkippedTheFirstRowKept) {
+  std::istringstream in(readFile(faultyCsv()));
+  std::ostringstream twice;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    twice << line << "\n";
+    if (n == 400)  // the same time, another x: an event's second value
+      twice << line.substr(0, line.find(',')) << ",9" << line.substr(line.find(',', line.find(',') + 1)) << "\n";
+  }
+  const std::string path = temp("repeated-time.csv");
+  std::ofstream(path) << twice.str();
+  const CommandResult once = run("detect --input " + faultyCsv() + " --output " + temp("once.jsonl"));
+  const CommandResult read = run("detect --input " + path + " --output " + temp("twice.jsonl"));
+  ASSERT_EQ(once.exit_code, 0) << once.out;
+  ASSERT_EQ(read.exit_code, 0) << read.out;
+  EXPECT_NE(read.out.find("repeated-time.csv:401: t repeats the previous row's time; row skipped (the first one is kept)"),
+            std::string::npos)
+      << read.out;
+  EXPECT_NE(read.out.find("FAULT in motor 3"), std::string::npos) << read.out;
+  EXPECT_EQ(readFile(temp("twice.jsonl")), readFile(temp("once.jsonl")));
+}
+
 TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
   const std::string good_header = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n";
   const std::string row0 = "0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n", row1 = "0.002,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
@@ -863,7 +888,7 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
       {"empty", "", "empty.csv: empty input"},
       {"header-only", good_header, "header-only.csv: no telemetry rows after the header"},
       {"missing-column", "t,x,y,z,roll,pitch,yaw,u1,u2,u4\n" + row0, "missing-column.csv:1: the header lacks column 'u3'"},
-      {"backwards", good_header + row0 + row1 + row0, "backwards.csv:4: time goes backwards or repeats"},
+      {"backwards", good_header + row0 + row1 + row0, "backwards.csv:4: time goes backwards"},
       {"text", good_header + row0 + "0.002,0,zero,1,0,0,0,0.07,0.07,0.07,0.07\n", "text.csv:3: column 'y': 'zero' is not a number"},
       {"short-row", good_header + row0 + "0.002,0,0,1\n", "short-row.csv:3: 4 cells, the header has 11"},
       // Angles in degrees: outside the radians' domain of ZYX Euler angles, whatever the flight.
