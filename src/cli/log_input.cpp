@@ -58,11 +58,13 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
       })
       .defaultText("");
   t.add("--csv-time-unit", o.csv_time_unit,
-        "Telemetry CSV: the unit of t: s, ms, us or ns (a ROS time stamp); seconds since 1970 are fine as s")
+        "Telemetry CSV: the unit of t: s, ms, us or ns (a ROS time stamp); seconds since 1970 are fine as s, an ISO 8601 "
+        "date and time has its own; a unit in the header ('t [ms]') says the same")
       .choices({"s", "ms", "us", "ns"});
   t.add("--csv-angle-unit", o.csv_angle_unit,
-        "Telemetry CSV: the unit of roll, pitch, yaw: rad or deg (a quaternion has none). Small angles in degrees read "
-        "as radians pass the range check and tilt the vehicle 57 times too far: say so")
+        "Telemetry CSV: the unit of roll, pitch, yaw: rad or deg (a quaternion has none); a unit in the header "
+        "('roll [deg]') says the same. Small angles in degrees read as radians pass the range check and tilt the vehicle "
+        "57 times too far: say so")
       .choices({"rad", "deg"});
   t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]; detect with a "
         "scale-free model (the default) needs no scale")
