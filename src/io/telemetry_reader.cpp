@@ -215,14 +215,16 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   split(header, separator_, cells);
   cells_ = static_cast<int>(cells.size());
   bool angle_unit_read = false;
+  const std::array<std::string, 15> header_names = label_;  // a column named with a unit is then labelled so
   for (int c = 0; c < cells_; ++c)
     for (int r = 0; r < 15; ++r) {
       const std::string& cell = cells[static_cast<std::size_t>(c)];
+      const std::string& wanted = header_names[static_cast<std::size_t>(r)];
       std::string base, unit;
-      const bool with_unit = cell != label(r) && splitUnit(cell, base, unit) && base == label(r);
-      if (cell != label(r) && !with_unit) continue;
+      const bool with_unit = cell != wanted && splitUnit(cell, base, unit) && base == wanted;
+      if (cell != wanted && !with_unit) continue;
       if (column_[static_cast<std::size_t>(r)] >= 0)
-        throw TelemetryError(where() + ": column '" + label(r) + "' appears twice in the header");
+        throw TelemetryError(where() + ": column '" + wanted + "' appears twice in the header");
       column_[static_cast<std::size_t>(r)] = c;
       if (with_unit) {
         label_[static_cast<std::size_t>(r)] = cell;

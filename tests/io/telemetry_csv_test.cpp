@@ -388,6 +388,7 @@ TEST(TelemetryCsv, UnitsInTheHeaderAreReadOrRefused) {
             "u.csv:1: column 'qw [rad]': a quaternion has no unit, the header says 'rad'");
   // A unit on a column quadfdi does not read is none of its business; one on a name it does not
   // know leaves the column unnamed.
+  EXPECT_EQ(firstRefusal("t,x [m],y,z,roll,pitch,yaw,u1,u2,u3,u4,x\n", "u.csv"), "u.csv:1: column 'x' appears twice in the header");
   EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,battery [V]\n", "u.csv"), "accepted");
   EXPECT_EQ(firstRefusal("time [s],x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n", "u.csv").substr(0, 40),
             "u.csv:1: the header lacks column 't' (ne");
