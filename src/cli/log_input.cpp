@@ -148,7 +148,7 @@ TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o) {
       throw quadfdi::ConfigError("--csv-columns: column '" + pair.substr(0, eq) + "' is named twice");
     r.header_names.emplace_back(pair.substr(0, eq), pair.substr(eq + 1));
   }
-  r.time_unit = o.csv_time_unit == "ms" ? 1e-3 : o.csv_time_unit == "us" ? 1e-6 : o.csv_time_unit == "ns" ? 1e-9 : 1.0;
+  r.time_unit = secondsPerTimeUnit(o.csv_time_unit);  // one of s, ms, us, ns (the option's choices)
   r.angles_in_degrees = o.csv_angle_unit == "deg";
   return r;
 }

@@ -143,6 +143,10 @@ bool parseDateTime(const std::string& text, double& seconds) {
 
 }  // namespace
 
+double secondsPerTimeUnit(const std::string& unit) {
+  return unit == "s" ? 1.0 : unit == "ms" ? 1e-3 : unit == "us" || unit == "\u00b5s" ? 1e-6 : unit == "ns" ? 1e-9 : 0.0;
+}
+
 const char* const TelemetryReader::kColumns[15] = {"t",   "x",  "y",  "z",  "roll", "pitch", "yaw", "u1",
                                                   "u2",  "u3", "u4", "qw", "qx",   "qy",    "qz"};
 
@@ -251,9 +255,10 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
 // must agree with what they set; a unit quadfdi does not read is refused, naming the column.
 void TelemetryReader::readHeaderUnit(int column, const std::string& unit, bool& angle_unit_read) {
   const std::string cell = "'" + label(column) + "'";
+  const bool unitless = unit.empty() || unit == "-" || unit == "1";
   auto refuse = [&](const std::string& why) { throw TelemetryError(where() + ": column " + cell + ": " + why); };
   if (column == 0) {
-    const double seconds = unit == "s" ? 1.0 : unit == "ms" ? 1e-3 : unit == "us" || unit == "\u00b5s" ? 1e-6 : unit == "ns" ? 1e-9 : 0.0;
+    const double seconds = secondsPerTimeUnit(unit);
     if (seconds == 0.0) refuse("the unit '" + unit + "' is no time unit read here (s, ms, us or ns)");
     if (options_.time_unit != 1.0 && options_.time_unit != seconds)
       refuse("the header says " + unit + ", --csv-time-unit another unit");
@@ -268,7 +273,6 @@ void TelemetryReader::readHeaderUnit(int column, const std::string& unit, bool& 
     options_.angles_in_degrees = degrees;
     angle_unit_read = true;
   } else if (column < kQw) {
-    const bool unitless = unit.empty() || unit == "-" || unit == "1";
     const bool fits = options_.commands == CommandQuantity::kThrust     ? unit == "N"
                       : options_.commands == CommandQuantity::kPwm      ? unit == "us" || unit == "\u00b5s"
                       : options_.commands == CommandQuantity::kThrottle ? unitless
@@ -279,7 +283,7 @@ void TelemetryReader::readHeaderUnit(int column, const std::string& unit, bool& 
               : options_.commands == CommandQuantity::kPwm      ? "--csv-commands pwm: pulses in us"
                                                                 : "--csv-commands throttle: a fraction without unit") +
              ")");
-  } else if (!(unit.empty() || unit == "-" || unit == "1")) {
+  } else if (!unitless) {
     refuse("a quaternion has no unit, the header says '" + unit + "'");
   }
 }

@@ -48,6 +48,9 @@ struct CommandCurve {
   double pwm_max = 2000.0;  // [µs] the pulse at c = 1
 };
 
+// Seconds per unit of a time unit's name: s, ms, us (or µs), ns; 0 for any other name.
+double secondsPerTimeUnit(const std::string& unit);
+
 struct TelemetryReaderOptions {
   TelemetryFrame frame = TelemetryFrame::kZUp;            // of the position and attitude columns
   CommandQuantity commands = CommandQuantity::kThrust;  // of u1..u4

@@ -74,80 +74,6 @@ TEST(TelemetryCsv, SampleRowsReadBackExactlyThroughTheReader) {
   EXPECT_EQ(reader.next(b, problem), SampleSource::Next::kEnd);
 }
 
-// Tab-, semicolon- and blank-separated tables (spreadsheets, pandas with sep='\t', MATLAB and
-// gnuplot data files) read as the comma-separated file they copy, cell for cell; the separator is
-// the header's, and a decimal comma is named, not misread.
-TEST(TelemetryCsv, TabSemicolonAndBlankSeparatedFilesReadAsCommaSeparated) {
-  std::ostringstream comma;
-  writeTelemetryCsvHeader(comma);
-  for (int k = 0; k < 3; ++k) {
-    TelemetrySample a;
-    a.t = 0.002 * k;
-    a.y = {0.1 * k, -1.0 / 3.0, 1.25, 0.01 * k, -0.002, 1e-9};
-    a.u = {0.07, 0.071, 1.0 / 7.0, 0.0015 * k};
-    writeTelemetryCsvRow(comma, a);
-  }
-  auto readAll = [](const std::string& text, const std::string& name) {
-    std::istringstream in(text);
-    TelemetryReader reader(in, name);
-    std::vector<TelemetrySample> samples;
-    TelemetrySample s;
-    std::string problem;
-    for (SampleSource::Next n; (n = reader.next(s, problem)) != SampleSource::Next::kEnd;) {
-      EXPECT_EQ(n, SampleSource::Next::kSample) << problem;
-      samples.push_back(s);
-    }
-    return samples;
-  };
-  const std::vector<TelemetrySample> expected = readAll(comma.str(), "comma.csv");
-  ASSERT_EQ(expected.size(), 3u);
-  auto replaced = [&](const std::string& by, bool pad) {
-    std::string out = pad ? "  " : "";
-    for (char c : comma.str()) {
-      if (c == ',') out += by;
-      else if (c == '\n' && pad) out += "  \r\n  ";
-      else out += c;
-    }
-    return out;
-  };
-  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
-           {"tabs.tsv", replaced("\t", false)}, {"semicolons.csv", replaced(";", false)},
-           {"blanks.txt", replaced(" \t  ", true)}}) {
-    const std::vector<TelemetrySample> got = readAll(text, name);
-    ASSERT_EQ(got.size(), expected.size()) << name;
-    for (std::size_t k = 0; k < got.size(); ++k) {
-      EXPECT_EQ(got[k].t, expected[k].t) << name;
-      EXPECT_EQ(got[k].y, expected[k].y) << name;
-      EXPECT_EQ(got[k].u, expected[k].u) << name;
-    }
-  }
-  // Tabs separate exactly: two tabs are an empty cell, as two commas are.
-  std::istringstream gap("t\tx\ty\tz\troll\tpitch\tyaw\tu1\tu2\tu3\tu4\n0\t\t0\t1\t0\t0\t0\t1\t1\t1\t1\n");
-  TelemetryReader tabs(gap, "gap.tsv");
-  TelemetrySample s;
-  std::string problem;
-  EXPECT_EQ(tabs.next(s, problem), SampleSource::Next::kSkipped);
-  EXPECT_EQ(problem, "gap.tsv:2: column 'x' is empty; row skipped");
-  // A row with another number of cells than the header is refused as in a comma-separated file.
-  std::istringstream short_row("t x y z roll pitch yaw u1 u2 u3 u4\n0 0 0 1 0 0 0 1 1 1\n");
-  TelemetryReader blanks(short_row, "short.txt");
-  try {
-    blanks.next(s, problem);
-    ADD_FAILURE() << "accepted";
-  } catch (const TelemetryError& e) {
-    EXPECT_STREQ(e.what(), "short.txt:2: 10 cells, the header has 11");
-  }
-  std::istringstream decimal_comma("t;x;y;z;roll;pitch;yaw;u1;u2;u3;u4\n0;0,5;0;1;0;0;0;1;1;1;1\n");
-  TelemetryReader semicolons(decimal_comma, "excel.csv");
-  try {
-    semicolons.next(s, problem);
-    ADD_FAILURE() << "accepted";
-  } catch (const TelemetryError& e) {
-    EXPECT_STREQ(e.what(), "excel.csv:2: column 'x': '0,5' is not a number (a decimal comma? numbers are read with a "
-                           "decimal point)");
-  }
-}
-
 // A converted log keeps its autopilot's motor numbers in a comment before the header, which the
 // reader gives back; quadfdi's own numbering writes none.
 TEST(TelemetryCsv, TheMotorNumberingCommentRoundTrips) {
@@ -321,8 +247,6 @@ TEST(TelemetryCsv, ThrottleAndPwmCommandsGoThroughTheVehiclesThrustCurve) {
   EXPECT_THROW(TelemetryReader(header, "x.csv", no_curve), std::invalid_argument);
 }
 
-// t may be an absolute clock: seconds since 1970 read exactly (the network never sees t). Micro-
-// or nanoseconds since 1970 are refused with their unit named; other columns keep their bound.
 // A date and time in t (ISO 8601, as pandas, spreadsheets and ROS tools write it) is seconds since
 // 1970 UTC: the zone's offset taken out, a leap day and the fraction kept; a malformed one is named.
 TEST(TelemetryCsv, DateAndTimeStampsAreSecondsSince1970) {
@@ -386,14 +310,78 @@ TEST(TelemetryCsv, UnitsInTheHeaderAreReadOrRefused) {
   EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1 [rpm],u2 [rpm],u3 [rpm],u4 [rpm]\n", "u.csv", rotor), "accepted");
   EXPECT_EQ(firstRefusal("t,x,y,z,qw [rad],qx,qy,qz,u1,u2,u3,u4\n", "u.csv"),
             "u.csv:1: column 'qw [rad]': a quaternion has no unit, the header says 'rad'");
+  // A column named with its unit and again without is named twice, as two plain ones are.
+  EXPECT_EQ(firstRefusal("t,x [m],y,z,roll,pitch,yaw,u1,u2,u3,u4,x\n", "u.csv"), "u.csv:1: column 'x' appears twice in the header");
   // A unit on a column quadfdi does not read is none of its business; one on a name it does not
   // know leaves the column unnamed.
-  EXPECT_EQ(firstRefusal("t,x [m],y,z,roll,pitch,yaw,u1,u2,u3,u4,x\n", "u.csv"), "u.csv:1: column 'x' appears twice in the header");
   EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,battery [V]\n", "u.csv"), "accepted");
   EXPECT_EQ(firstRefusal("time [s],x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n", "u.csv").substr(0, 40),
             "u.csv:1: the header lacks column 't' (ne");
 }
 
+// Tab-, semicolon- and blank-separated tables (spreadsheets, pandas with sep='\t', MATLAB and
+// gnuplot data files) read as the comma-separated file they copy, cell for cell; the separator is
+// the header's, and a decimal comma is named, not misread.
+TEST(TelemetryCsv, TabSemicolonAndBlankSeparatedFilesReadAsCommaSeparated) {
+  std::ostringstream comma;
+  writeTelemetryCsvHeader(comma);
+  for (int k = 0; k < 3; ++k) {
+    TelemetrySample a;
+    a.t = 0.002 * k;
+    a.y = {0.1 * k, -1.0 / 3.0, 1.25, 0.01 * k, -0.002, 1e-9};
+    a.u = {0.07, 0.071, 1.0 / 7.0, 0.0015 * k};
+    writeTelemetryCsvRow(comma, a);
+  }
+  auto readAll = [](const std::string& text, const std::string& name) {
+    std::istringstream in(text);
+    TelemetryReader reader(in, name);
+    std::vector<TelemetrySample> samples;
+    TelemetrySample s;
+    std::string problem;
+    for (SampleSource::Next n; (n = reader.next(s, problem)) != SampleSource::Next::kEnd;) {
+      EXPECT_EQ(n, SampleSource::Next::kSample) << problem;
+      samples.push_back(s);
+    }
+    return samples;
+  };
+  const std::vector<TelemetrySample> expected = readAll(comma.str(), "comma.csv");
+  ASSERT_EQ(expected.size(), 3u);
+  auto replaced = [&](const std::string& by, bool pad) {
+    std::string out = pad ? "  " : "";
+    for (char c : comma.str()) {
+      if (c == ',') out += by;
+      else if (c == '\n' && pad) out += "  \r\n  ";
+      else out += c;
+    }
+    return out;
+  };
+  for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+           {"tabs.tsv", replaced("\t", false)}, {"semicolons.csv", replaced(";", false)},
+           {"blanks.txt", replaced(" \t  ", true)}}) {
+    const std::vector<TelemetrySample> got = readAll(text, name);
+    ASSERT_EQ(got.size(), expected.size()) << name;
+    for (std::size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].t, expected[k].t) << name;
+      EXPECT_EQ(got[k].y, expected[k].y) << name;
+      EXPECT_EQ(got[k].u, expected[k].u) << name;
+    }
+  }
+  // Tabs separate exactly: two tabs are an empty cell, as two commas are.
+  std::istringstream gap("t\tx\ty\tz\troll\tpitch\tyaw\tu1\tu2\tu3\tu4\n0\t\t0\t1\t0\t0\t0\t1\t1\t1\t1\n");
+  TelemetryReader tabs(gap, "gap.tsv");
+  TelemetrySample s;
+  std::string problem;
+  EXPECT_EQ(tabs.next(s, problem), SampleSource::Next::kSkipped);
+  EXPECT_EQ(problem, "gap.tsv:2: column 'x' is empty; row skipped");
+  // A row with another number of cells than the header is refused as in a comma-separated file.
+  EXPECT_EQ(firstRefusal("t x y z roll pitch yaw u1 u2 u3 u4\n0 0 0 1 0 0 0 1 1 1\n", "short.txt"),
+            "short.txt:2: 10 cells, the header has 11");
+  EXPECT_EQ(firstRefusal("t;x;y;z;roll;pitch;yaw;u1;u2;u3;u4\n0;0,5;0;1;0;0;0;1;1;1;1\n", "excel.csv"),
+            "excel.csv:2: column 'x': '0,5' is not a number (a decimal comma? numbers are read with a decimal point)");
+}
+
+// t may be an absolute clock: seconds since 1970 read exactly (the network never sees t). Micro-
+// or nanoseconds since 1970 are refused with their unit named; other columns keep their bound.
 TEST(TelemetryCsv, AnAbsoluteClockIsReadAndANanosecondOneRefused) {
   EXPECT_EQ(readOne("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000.002,0,0,0,0,0,0,1,1,1,1\n").t, 1764370000.002);
   EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n1764370000002000000,0,0,0,0,0,0,1,1,1,1\n", "ns.csv"),
