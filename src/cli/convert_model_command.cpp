@@ -2,16 +2,14 @@
 
 #include <cstdio>
 
+#include "cli/command_line.h"
 #include "io/model_file.h"
 #include "networks/model.h"
 
 namespace quadfdi::cli {
 
 CLI::App* addConvertModelCommand(CLI::App& app, ConvertModelOptions& o) {
-  CLI::App* cmd = app.add_subcommand(
-      "convert-model",
-      "Convert a LibTorch model archive (.qfdi, format 1, quadfdi ≤ 0.1) into the weights file (.qfdw,\n"
-      "docs/weights-format.md) that evaluate and detect read. The weights are copied exactly.");
+  CLI::App* cmd = app.add_subcommand("convert-model", trainingCommand("convert-model")->description);
   cmd->add_option("input", o.input, "The .qfdi archive")->required();
   cmd->add_option("output", o.output, "The .qfdw file to write")->required();
   return cmd;

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "cli/cli_util.h"
+#include "cli/command_line.h"
 #include "cli/evaluate_command.h"
 #include "cli/options.h"
 #include "cli/train_command.h"
@@ -15,13 +16,7 @@
 namespace quadfdi::cli {
 
 CLI::App* addReproduceCommand(CLI::App& app, ReproduceOptions& o) {
-  CLI::App* cmd = app.add_subcommand(
-      "reproduce",
-      "The whole chain in one folder: train every network the experiments need (model-free LSTM,\n"
-      "model-based LSTM, residual-only LSTM, model-free MLP; data generated inside Algorithm 1),\n"
-      "then run E1–E6 and write REPORT.md with tables and figures.\n"
-      "Scales: tiny (tests), quick (~8 min on 2 cores, small networks' training), default (the CPU\n"
-      "reproduction), paper (the paper's training and test scale; meant for a GPU: --device cuda).");
+  CLI::App* cmd = app.add_subcommand("reproduce", trainingCommand("reproduce")->description);
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->add("--scale", o.scale, "Named scale of training and test sets").choices(scaleNames());

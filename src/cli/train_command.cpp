@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "cli/cli_util.h"
+#include "cli/command_line.h"
 #include "cli/interrupt.h"
 #include "cli/options.h"
 #include "cli/progress.h"
@@ -20,13 +21,7 @@ namespace quadfdi::cli {
 
 
 CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
-  CLI::App* cmd = app.add_subcommand(
-      "train",
-      "Train a fault identifier by Algorithm 1 (docs/networks.md): fresh closed-loop data every outer iteration\n"
-      "(faults of motor 2 only; other motors are reached through the symmetry maps), a FIFO window\n"
-      "buffer, minibatch passes with the hinge loss, Adam (lr 5e-4, wd 1e-5), and the stopping rule\n"
-      "(loss < 1e-3 after N_m iterations, or N_M). Checkpointed every outer iteration: --resume\n"
-      "continues a killed run, losing at most one iteration.");
+  CLI::App* cmd = app.add_subcommand("train", trainingCommand("train")->description);
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->recordGivenIn(o.given);

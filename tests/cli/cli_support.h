@@ -16,15 +16,19 @@ struct CommandResult {
   std::string out;  // standard output, and standard error when merged
 };
 
-inline CommandResult runQuadfdi(const std::string& args, bool merge_stderr = true) {
-  const std::string cmd = std::string(QUADFDI_EXE) + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null");
-  FILE* pipe = popen(cmd.c_str(), "r");
+// Runs a shell command line; its exit code (-1 if it did not exit) and its standard output.
+inline CommandResult runCommand(const std::string& command_line) {
+  FILE* pipe = popen(command_line.c_str(), "r");
   std::string out;
   std::array<char, 4096> buf;
   std::size_t n;
   while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), n);
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+inline CommandResult runQuadfdi(const std::string& args, bool merge_stderr = true) {
+  return runCommand(std::string(QUADFDI_EXE) + " " + args + (merge_stderr ? " 2>&1" : " 2>/dev/null"));
 }
 
 }  // namespace quadfdi::test
