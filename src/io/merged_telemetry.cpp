@@ -1,7 +1,9 @@
 #include "io/merged_telemetry.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
+#include <limits>
 
 namespace quadfdi {
 namespace {
@@ -18,6 +20,30 @@ void append(Series& s, double t, const Value& v, std::size_t& repeated) {
   s.v.push_back(v);
 }
 
+// The four motors' commands, each given at times of its own, as one series: every time one of
+// them was given, from the first time all four have been, each motor's held from its own last sample.
+SignalSeries<kMotors> heldTogether(const std::array<SignalSeries<1>, kMotors>& motor) {
+  SignalSeries<kMotors> all;
+  double start = -std::numeric_limits<double>::infinity();
+  for (const SignalSeries<1>& m : motor) {
+    if (m.empty()) return all;
+    start = std::max(start, m.t.front());
+  }
+  for (const SignalSeries<1>& m : motor)
+    all.t.insert(all.t.end(), std::lower_bound(m.t.begin(), m.t.end(), start), m.t.end());
+  std::sort(all.t.begin(), all.t.end());
+  all.t.erase(std::unique(all.t.begin(), all.t.end()), all.t.end());
+  all.v.resize(all.t.size());
+  std::array<std::size_t, kMotors> next{};
+  for (std::size_t k = 0; k < all.t.size(); ++k)
+    for (std::size_t i = 0; i < kMotors; ++i) {
+      const SignalSeries<1>& m = motor[i];
+      while (next[i] < m.t.size() && m.t[next[i]] <= all.t[k]) ++next[i];
+      all.v[k][i] = m.v[next[i] - 1][0];  // next[i] ≥ 1: all.t[k] ≥ start ≥ m.t.front()
+    }
+  return all;
+}
+
 std::string plural(std::size_t n, const char* what) {
   return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
 }
@@ -30,6 +56,7 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
   TelemetryRowParts row;
   std::string problem;
   double last_t = 0.0;  // of the last row holding a signal
+  std::array<SignalSeries<1>, kMotors> motor;  // each motor's command from every row that gives it
   for (SampleSource::Next n; (n = reader.nextParts(row, problem)) != SampleSource::Next::kEnd;) {
     ++counts.rows;
     if (n == SampleSource::Next::kSkipped) {
@@ -44,7 +71,8 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
       ++counts.partial;
       if (counts.first_problem.empty()) counts.first_problem = row.dropped + "; that signal left out of the row";
     }
-    if (!row.has_position && !row.has_attitude && !row.has_commands) {
+    const bool some_command = std::find(row.has_u.begin(), row.has_u.end(), true) != row.has_u.end();
+    if (!row.has_position && !row.has_attitude && !some_command) {
       ++counts.without_signal;
       continue;
     }
@@ -53,12 +81,20 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
     if (row.has_position) append(out.position, row.t, row.position, counts.repeated);
     if (row.has_attitude) append(out.attitude, row.t, row.attitude, counts.repeated);
     if (row.has_commands) append(out.command, row.t, row.u, counts.repeated);
+    if (some_command && !row.has_commands) ++counts.split_commands;
+    for (std::size_t i = 0; i < kMotors; ++i)
+      if (row.has_u[i]) append(motor[i], row.t, std::array<double, 1>{row.u[i]}, counts.repeated_motor);
+  }
+  if (counts.split_commands > 0) {  // the motors at times of their own: each held to the others' times
+    out.command = heldTogether(motor);
+    for (const SignalSeries<1>& m : motor) out.command_times_per_motor.push_back(m.t);
   }
   // The "topic" of each signal is its columns: the refusals and the report name them.
   out.position.source = {"columns x,y,z", "", ""};
   out.attitude.source = {reader.quaternionAttitude() ? "columns qw,qx,qy,qz" : "columns roll,pitch,yaw", "",
                          reader.quaternionAttitude() ? "quaternion → ZYX Euler" : ""};
-  out.command.source = {"columns u1,u2,u3,u4", "", ""};
+  out.command.source = {"columns u1,u2,u3,u4", "",
+                        counts.split_commands > 0 ? "each motor held from its own rows to the others' times" : ""};
   out.command_kind = CommandKind::kThrustNewton;
   if (reader.numbering()) out.numbering = *reader.numbering();
   out.conventions.push_back("a merged telemetry CSV: " + plural(counts.rows, "row") + ", position in " +
@@ -69,8 +105,14 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
   if (counts.partial > 0)
     out.conventions.push_back(plural(counts.partial, "signal") + " left out of a row for lacking some of its cells (first: " +
                               counts.first_problem + ")");
-  if (counts.repeated > 0)
-    out.conventions.push_back(plural(counts.repeated, "signal") + " given twice at one time: the later row kept");
+  if (counts.split_commands > 0)
+    out.conventions.push_back(plural(counts.split_commands, "row") + " with some of u1..u4 and not all: each motor's command "
+                              "read from the rows that give it, held to the times the others are given, from " +
+                              (out.command.empty() ? std::string("the first time all four are (never)")
+                                                   : "the first time all four are (t = " + std::to_string(out.command.t.front()) + " s)"));
+  const std::size_t repeated = counts.repeated + (counts.split_commands > 0 ? counts.repeated_motor : 0);
+  if (repeated > 0)
+    out.conventions.push_back(plural(repeated, "signal") + " given twice at one time: the later row kept");
   return counts;
 }
 

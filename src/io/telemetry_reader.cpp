@@ -390,8 +390,9 @@ bool TelemetryReader::attitudeOf(const double (&values)[15], EulerZyx& attitude,
   return true;
 }
 
-// u1..u4 of a row whose command cells are all present → thrust per motor (or squared speed).
-std::array<double, kInputDim> TelemetryReader::commandsOf(const double (&values)[15]) const {
+// Column r (one of u1..u4) of a row whose cell is present → thrust of that motor (or squared
+// speed). Each motor's command is converted alone: a merged export may give them on rows of their own.
+double TelemetryReader::commandOf(const double (&values)[15], int r) const {
   // Commands in newtons per motor: the largest quadrotor motors make ~100 N (10 kg of thrust), so
   // hundreds are another unit (PWM µs, a raw 0–65535 command), which the thrust map must convert.
   constexpr double kMaxMotorThrust = 500.0;  // [N] five times the largest heavy-lift motor's thrust
@@ -400,36 +401,27 @@ std::array<double, kInputDim> TelemetryReader::commandsOf(const double (&values)
   constexpr double kThrottleSlack = 0.05;  // [-]
   const CommandQuantity quantity = options_.commands;
   const CommandCurve& curve = options_.curve;
-  for (int r = kU1; r < kU1 + 4; ++r) {
-    const double v = values[r];
-    if (quantity == CommandQuantity::kThrust && std::abs(v) > kMaxMotorThrust)
-      throw TelemetryError(where() + ": column '" + label(r) + "' = " + cellText(r) +
-                           " is no thrust in newtons (over 500 N a motor): PWM or a throttle? read it with --csv-commands "
-                           "pwm or throttle and the vehicle's thrust curve (docs/conventions.md)");
-    if (quantity == CommandQuantity::kThrottle && !(v >= -kThrottleSlack && v <= 1.0 + kThrottleSlack))
-      throw TelemetryError(where() + ": column '" + label(r) + "' = " + cellText(r) +
-                           " is no throttle in [0, 1] (--csv-commands throttle): a PWM pulse (--csv-commands pwm) or a "
-                           "thrust in newtons (--csv-commands thrust)?");
-    if (quantity == CommandQuantity::kPwm && !(v >= 0.0 && v <= 2.0 * curve.pwm_max - curve.pwm_min))
-      throw TelemetryError(where() + ": column '" + label(r) + "' = " + cellText(r) + " is no PWM pulse in µs between " +
-                           numberText(curve.pwm_min) + " and " + numberText(curve.pwm_max) +
-                           " (--csv-commands pwm; the range: --csv-pwm-min, --csv-pwm-max)");
+  const double v = values[r];
+  if (quantity == CommandQuantity::kThrust && std::abs(v) > kMaxMotorThrust)
+    throw TelemetryError(where() + ": column '" + label(r) + "' = " + cellText(r) +
+                         " is no thrust in newtons (over 500 N a motor): PWM or a throttle? read it with --csv-commands "
+                         "pwm or throttle and the vehicle's thrust curve (docs/conventions.md)");
+  if (quantity == CommandQuantity::kThrottle && !(v >= -kThrottleSlack && v <= 1.0 + kThrottleSlack))
+    throw TelemetryError(where() + ": column '" + label(r) + "' = " + cellText(r) +
+                         " is no throttle in [0, 1] (--csv-commands throttle): a PWM pulse (--csv-commands pwm) or a "
+                         "thrust in newtons (--csv-commands thrust)?");
+  if (quantity == CommandQuantity::kPwm && !(v >= 0.0 && v <= 2.0 * curve.pwm_max - curve.pwm_min))
+    throw TelemetryError(where() + ": column '" + label(r) + "' = " + cellText(r) + " is no PWM pulse in µs between " +
+                         numberText(curve.pwm_min) + " and " + numberText(curve.pwm_max) +
+                         " (--csv-commands pwm; the range: --csv-pwm-min, --csv-pwm-max)");
+  switch (quantity) {
+    case CommandQuantity::kThrust: return v;
+    case CommandQuantity::kRotorSpeed: return v * v;
+    case CommandQuantity::kThrottle: return thrustAtCommand(curve.max_thrust, curve.model_factor, v);  // c clamped to [0, 1]
+    case CommandQuantity::kPwm:
+      return thrustAtCommand(curve.max_thrust, curve.model_factor, (v - curve.pwm_min) / (curve.pwm_max - curve.pwm_min));
   }
-  std::array<double, kInputDim> u{};
-  for (std::size_t i = 0; i < 4; ++i) {
-    const double v = values[kU1 + i];
-    switch (quantity) {
-      case CommandQuantity::kThrust: u[i] = v; break;
-      case CommandQuantity::kRotorSpeed: u[i] = v * v; break;
-      case CommandQuantity::kThrottle:  // c clamped to [0, 1]
-        u[i] = thrustAtCommand(curve.max_thrust, curve.model_factor, v);
-        break;
-      case CommandQuantity::kPwm:
-        u[i] = thrustAtCommand(curve.max_thrust, curve.model_factor, (v - curve.pwm_min) / (curve.pwm_max - curve.pwm_min));
-        break;
-    }
-  }
-  return u;
+  return v;
 }
 
 // Position and attitude from the file's frame into quadfdi's (north, east, down and FRD → north,
@@ -458,7 +450,8 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
     problem += "; row skipped";
     return Row::kSkipped;
   }
-  const std::array<double, kInputDim> u = commandsOf(values);
+  std::array<double, kInputDim> u{};
+  for (int i = 0; i < 4; ++i) u[static_cast<std::size_t>(i)] = commandOf(values, kU1 + i);
   sample.t = values[0];
   const std::array<double, 3> p = positionOf(values);
   sample.y = {p[0], p[1], p[2], attitude.roll, attitude.pitch, attitude.yaw};
@@ -489,7 +482,9 @@ SampleSource::Next TelemetryReader::nextParts(TelemetryRowParts& parts, std::str
   };
   whole(1, 3, parts.has_position);
   whole(quaternion_ ? kQw : kRoll, quaternion_ ? 4 : 3, parts.has_attitude);
-  whole(kU1, 4, parts.has_commands);
+  // Each motor's command stands alone (a merged export may give them on rows of their own).
+  for (int i = 0; i < 4; ++i) parts.has_u[static_cast<std::size_t>(i)] = present[kU1 + i];
+  parts.has_commands = present[kU1] && present[kU1 + 1] && present[kU1 + 2] && present[kU1 + 3];
   if (parts.has_position) parts.position = positionOf(values);
   if (parts.has_attitude) {
     EulerZyx attitude;
@@ -498,7 +493,8 @@ SampleSource::Next TelemetryReader::nextParts(TelemetryRowParts& parts, std::str
     if (!parts.has_attitude && parts.dropped.empty()) parts.dropped = zero;
     parts.attitude = {attitude.roll, attitude.pitch, attitude.yaw};
   }
-  if (parts.has_commands) parts.u = commandsOf(values);
+  for (int i = 0; i < 4; ++i)
+    if (parts.has_u[static_cast<std::size_t>(i)]) parts.u[static_cast<std::size_t>(i)] = commandOf(values, kU1 + i);
   return Row::kSample;
 }
 

@@ -71,10 +71,11 @@ struct TelemetryRowParts {
   bool has_position = false;          // x, y, z all present
   bool has_attitude = false;          // roll, pitch, yaw (or qw..qz, non-zero) all present
   bool has_commands = false;          // u1..u4 all present
+  std::array<bool, kInputDim> has_u{};  // each of u1..u4 present: a motor's command stands alone
   std::array<double, 3> position{};   // x, y, z [m], world, z up
   std::array<double, 3> attitude{};   // roll, pitch, yaw [rad], ZYX, body FLU
-  std::array<double, kInputDim> u{};  // per motor, as TelemetrySample::u
-  std::string dropped;  // "FILE:LINE: column 'y' is empty": a signal with some of its cells and not all, left out
+  std::array<double, kInputDim> u{};  // per motor, as TelemetrySample::u (those of has_u)
+  std::string dropped;  // "FILE:LINE: column 'y' is empty": position or attitude with some of its cells and not all, left out
 };
 
 class TelemetryReader : public SampleSource {
@@ -117,7 +118,7 @@ class TelemetryReader : public SampleSource {
   bool readCells(double (&values)[15], bool (&present)[15], std::string (&why)[15]);
   std::string cellText(int column) const;  // of the row just read, cut at 40 characters
   bool attitudeOf(const double (&values)[15], EulerZyx& attitude, std::string& problem) const;
-  std::array<double, kInputDim> commandsOf(const double (&values)[15]) const;
+  double commandOf(const double (&values)[15], int column) const;  // column: kU1..kU1 + 3
   std::array<double, 3> positionOf(const double (&values)[15]) const;
   EulerZyx inQuadfdisFrame(const EulerZyx& attitude) const;  // from the file's frame (options_.frame)
   const std::string& label(int column) const { return label_[static_cast<std::size_t>(column)]; }

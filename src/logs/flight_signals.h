@@ -57,6 +57,11 @@ struct FlightSignals {
   SignalSeries<3> position;        // x, y, z [m], world frame, z up
   SignalSeries<3> attitude;        // roll, pitch, yaw [rad], ZYX, body x forward, y left, z up
   SignalSeries<kMotors> command;   // per motor, quadfdi numbering (1 FR, 2 BR, 3 BL, 4 FL)
+  // Only when the log gives the motors' commands at times of their own (a merged export with a
+  // row per motor): each motor's sample times, whose rates and holes the conventions layer checks
+  // one by one, as `command`'s times no longer show them; `command` then holds all four at every
+  // time one of them was given, each held from its own last sample. Empty otherwise.
+  std::vector<std::vector<double>> command_times_per_motor;
   CommandKind command_kind = CommandKind::kThrustFraction;
   MotorNumbering numbering;        // the autopilot's own motor numbers, for reporting a motor to its pilot
   std::vector<FlightStateEvent> states;  // in time order

@@ -234,11 +234,25 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
     double min_rate;
     const char* method;
   };
+  // Motors given at times of their own: the commands are as fast as the slowest motor (the four
+  // together change more often than any one does), which the checks name.
+  const std::vector<std::vector<double>>& motor_times = signals.command_times_per_motor;
+  const std::vector<double>* command_times = &signals.command.t;
+  SignalSource command_source = signals.command.source;
+  double slowest = -1.0;
+  for (std::size_t i = 0; i < motor_times.size(); ++i) {
+    const double d = motor_times[i].size() < 2 ? std::numeric_limits<double>::infinity() : medianInterval(motor_times[i]);
+    if (d <= slowest) continue;
+    slowest = d;
+    command_times = &motor_times[i];
+    command_source.topic = "column u" + std::to_string(i + 1);
+    command_source.fields = "(the slowest of u1..u4, each on rows of its own)";
+  }
   const Check checks[] = {
       {"attitude", &signals.attitude.t, &signals.attitude.source, o.min_rate_attitude,
        "interpolated linearly per Euler angle, each the short way round"},
       {"position", &signals.position.t, &signals.position.source, o.min_rate_position, "interpolated linearly"},
-      {"commands", &signals.command.t, &signals.command.source, o.min_rate_command,
+      {"commands", command_times, &command_source, o.min_rate_command,
        "held from one logged command to the next (zero-order hold)"},
   };
   std::vector<double> hole_limit;
@@ -379,7 +393,9 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
     int holes = 0;
     cutHoles(mine, signals.attitude.t, hole_limit[0], holes);
     cutHoles(mine, signals.position.t, hole_limit[1], holes);
-    cutHoles(mine, signals.command.t, hole_limit[2], holes);
+    if (motor_times.empty()) cutHoles(mine, signals.command.t, hole_limit[2], holes);
+    for (const std::vector<double>& motor_t : motor_times)
+      cutHoles(mine, motor_t, std::max(o.max_hole, o.hole_intervals * medianInterval(motor_t)), holes);
     if (holes) notes.push_back(std::to_string(holes) + " hole" + (holes == 1 ? "" : "s") + " in the signals: not bridged");
     int cuts = 0;
     const SignalBreak* first_cut = nullptr;

@@ -607,6 +607,64 @@ TEST(DetectCli, AMergedExportIsReadSignalBySignal) {
       << coarse.out;
 }
 
+// One topic per motor (a simulator publishing each rotor's command on its own): each motor on rows
+// of its own at the times of the whole file's rows gives its output byte for byte; a quarter
+// period apart, the same motor at the same time; each motor at 100 Hz is refused as the slowest
+// motor's rate, though the four together change every 2.5 ms.
+TEST(DetectCli, MotorsOnRowsOfTheirOwnAreReadEachAlone) {
+  // `motor_shift`: motor m's rows `motor_shift`·(m − 1) after the row's t; every `every`-th row's commands.
+  auto writeExport = [&](const std::string& path, bool apart, double motor_shift, int every) {
+    std::istringstream in(readFile(faultyCsv()));
+    std::vector<std::pair<double, std::string>> rows;  // put in time order at the end
+    std::string line;
+    std::getline(in, line);
+    for (int k = 0; std::getline(in, line); ++k) {
+      std::vector<std::string> c;
+      std::istringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) c.push_back(cell);
+      const double t = std::stod(c[0]);
+      if (k % 10 == 0) rows.emplace_back(t, c[0] + "," + c[1] + "," + c[2] + "," + c[3] + ",,,,,,,");
+      rows.emplace_back(t, c[0] + ",,,," + c[4] + "," + c[5] + "," + c[6] + ",,,,");
+      if (k % every != 0) continue;
+      if (!apart) {
+        rows.emplace_back(t, c[0] + ",,,,,,," + c[7] + "," + c[8] + "," + c[9] + "," + c[10]);
+        continue;
+      }
+      for (int m = 0; m < 4; ++m) {
+        char shifted[40];
+        std::snprintf(shifted, sizeof shifted, "%.17g", t + motor_shift * m);
+        rows.emplace_back(t + motor_shift * m, (m == 0 ? c[0] : std::string(shifted)) + ",,,,,,," +
+                                                   std::string(static_cast<std::size_t>(m), ',') + c[7 + m] +
+                                                   std::string(static_cast<std::size_t>(3 - m), ','));
+      }
+    }
+    std::stable_sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::ofstream out(path);
+    out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n";
+    for (const auto& r : rows) out << r.second << "\n";
+  };
+  writeExport(temp("motors-together.csv"), false, 0.0, 1);
+  writeExport(temp("motors-apart.csv"), true, 0.0, 1);
+  writeExport(temp("motors-staggered.csv"), true, 0.0005, 1);
+  writeExport(temp("motors-coarse.csv"), true, 0.0025, 5);
+  const CommandResult together = run("detect -q --format csv-merged --input " + temp("motors-together.csv"), false);
+  const CommandResult apart = run("detect -q --format csv-merged --input " + temp("motors-apart.csv"), false);
+  ASSERT_EQ(together.exit_code, 0) << together.out;
+  ASSERT_EQ(apart.exit_code, 0) << apart.out;
+  EXPECT_EQ(apart.out, together.out);
+  const CommandResult told = run("detect --format csv-merged --input " + temp("motors-apart.csv") + " --output " + temp("apart.jsonl"));
+  ASSERT_EQ(told.exit_code, 0) << told.out;
+  const CommandResult staggered = run("detect --format csv-merged --input " + temp("motors-staggered.csv") + " --output " + temp("staggered.jsonl"));
+  ASSERT_EQ(staggered.exit_code, 0) << staggered.out;
+  const auto fault = [](const std::string& s) { return s.substr(s.find("FAULT in motor"), 26); };
+  ASSERT_NE(told.out.find("FAULT in motor 3"), std::string::npos) << told.out;
+  EXPECT_EQ(fault(staggered.out), fault(told.out));
+  const CommandResult coarse = run("detect --format csv-merged --input " + temp("motors-coarse.csv") + " --output " + temp("c.jsonl"));
+  EXPECT_EQ(coarse.exit_code, 1);
+  EXPECT_EQ(countLines(coarse.out), 1) << coarse.out;
+  EXPECT_NE(coarse.out.find("motors-coarse.csv: column u1 (commands) is logged at 100.0 Hz"), std::string::npos) << coarse.out;
+}
+
 // Simulators write rotor speeds. Read as thrust, a Θ = 0.6 fault (its rotor at √0.6 of the speed
 // commanded) is sized as 0.79; with --csv-commands rotor-speed the speeds are squared and the output
 // is the thrust file's, byte for byte, whatever the speed's unit. A model that reads newtons is

@@ -97,6 +97,46 @@ TEST(MergedTelemetry, WholeRowsReadAsThePlainReaderReadsThem) {
   EXPECT_EQ(s.numbering.autopilot_motor, (std::array<int, 4>{1, 4, 2, 3}));
 }
 
+// One topic per motor (a simulator publishing each rotor's command on its own): each motor read
+// from the rows that give it, all four held to every time one of them is given, from the first
+// time all four have been.
+TEST(MergedTelemetry, MotorsOnRowsOfTheirOwnAreEachHeldToTheOthersTimes) {
+  MergedTelemetryCounts c;
+  const FlightSignals s = readMerged(
+      "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n"
+      "0.000,,,,,,,1,,,\n"
+      "0.000,,,,,,,,2,,\n"
+      "0.001,,,,,,,,,3,\n"
+      "0.001,0,0,1,,,,,,,\n"     // position between the motors' rows
+      "0.002,,,,,,,,,,4\n"       // all four given: the commands start here
+      "0.003,,,,,,,5,,,\n"
+      "0.004,,,,,,,,6,7,\n"      // two motors on one row
+      "0.006,,,,,,,8,9,10,11\n", // and all four on one
+      &c);
+  EXPECT_EQ(c.split_commands, 6u);
+  EXPECT_EQ(c.partial, 0u);  // a motor alone is no partial signal
+  ASSERT_EQ(s.command.t, (std::vector<double>{0.002, 0.003, 0.004, 0.006}));
+  EXPECT_EQ(s.command.v[0], (std::array<double, 4>{1, 2, 3, 4}));
+  EXPECT_EQ(s.command.v[1], (std::array<double, 4>{5, 2, 3, 4}));
+  EXPECT_EQ(s.command.v[2], (std::array<double, 4>{5, 6, 7, 4}));
+  EXPECT_EQ(s.command.v[3], (std::array<double, 4>{8, 9, 10, 11}));
+  ASSERT_EQ(s.command_times_per_motor.size(), 4u);
+  EXPECT_EQ(s.command_times_per_motor[0], (std::vector<double>{0.0, 0.003, 0.006}));
+  EXPECT_EQ(s.command_times_per_motor[3], (std::vector<double>{0.002, 0.006}));
+  EXPECT_EQ(s.command.source.note, "each motor held from its own rows to the others' times");
+  bool said = false;
+  for (const std::string& line : s.conventions) said = said || line.find("6 rows with some of u1..u4 and not all") == 0;
+  EXPECT_TRUE(said);
+  // A motor never given: no commands at all (the conventions layer refuses that, naming the column).
+  const FlightSignals none = readMerged("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,,,,,,,1,2,3,\n0.002,,,,,,,1,2,3,\n");
+  EXPECT_TRUE(none.command.empty());
+  EXPECT_TRUE(none.command_times_per_motor.at(3).empty());
+  // Whole rows only: the motors are not split, and the series is the rows' own.
+  const FlightSignals whole = readMerged("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,,,,,,,1,2,3,4\n0.002,,,,,,,5,6,7,8\n");
+  EXPECT_TRUE(whole.command_times_per_motor.empty());
+  EXPECT_EQ(whole.command.t, (std::vector<double>{0.0, 0.002}));
+}
+
 TEST(MergedTelemetry, ASignalGivenTwiceAtOneTimeKeepsTheLaterRow) {
   MergedTelemetryCounts c;
   const FlightSignals s = readMerged(

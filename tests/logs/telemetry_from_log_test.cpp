@@ -196,6 +196,51 @@ TEST(TelemetryFromLog, ACrashKeepsItsLastMomentsAndAHoleIsNotBridged) {
   EXPECT_EQ(src.stretchCount(), 2u);
 }
 
+// The motors given at times of their own (a merged export with a row per motor): the commands
+// are as fast as the slowest motor, not as the four together, and a hole in one motor is a hole.
+FlightSignals motorsApart(double motor_dt, double span) {
+  FlightSignals s = synthetic(0.002, 0.02, 1.0, span);
+  s.command = {};
+  s.command.source = {"columns u1,u2,u3,u4", "", ""};
+  s.command_times_per_motor.resize(4);
+  for (double t0 = 0.0; t0 <= span + 1e-9; t0 += motor_dt)
+    for (std::size_t m = 0; m < 4; ++m) {
+      const double t = t0 + motor_dt * static_cast<double>(m) / 4.0;  // motor m + 1 a quarter period after motor m
+      s.command_times_per_motor[m].push_back(t);
+    }
+  for (const std::vector<double>& times : s.command_times_per_motor)
+    for (double t : times) s.command.t.push_back(t);
+  std::sort(s.command.t.begin(), s.command.t.end());
+  s.command.v.assign(s.command.t.size(), {0.07, 0.07, 0.07, 0.07});
+  return s;
+}
+
+TEST(TelemetryFromLog, MotorsGivenApartAreAsFastAsTheSlowestAndEachOnesHolesCount) {
+  {  // Each motor at 100 Hz, a quarter period apart: the four together change every 2.5 ms.
+    LogSampleSource src;
+    const FlightSignals s = motorsApart(0.01, 5.0);
+    EXPECT_NEAR(1.0 / medianInterval(s.command.t), 400.0, 1.0);
+    const ImportRefusal r = buildLogSampleSource(s, LogFormat::kMergedCsv, ImportOptions{}, src);
+    ASSERT_TRUE(r.refused());
+    EXPECT_TRUE(contains(r.topic, "column u")) << r.topic;
+    EXPECT_TRUE(contains(r.message, "(commands) is logged at 100 Hz")) << r.message;
+  }
+  {  // Each at 500 Hz: read; then a 50 ms hole in motor 3 alone cuts the flight there.
+    FlightSignals s = motorsApart(0.002, 10.0);
+    LogSampleSource whole;
+    ASSERT_FALSE(buildLogSampleSource(s, LogFormat::kMergedCsv, ImportOptions{}, whole).refused());
+    EXPECT_EQ(whole.stretchCount(), 1u);
+    EXPECT_TRUE(contains(whole.report().signals.at(2).source.fields, "the slowest of u1..u4"));
+    EXPECT_NEAR(whole.report().signals.at(2).rate_hz, 500.0, 1.0);
+    std::vector<double>& m3 = s.command_times_per_motor[2];
+    m3.erase(std::remove_if(m3.begin(), m3.end(), [](double t) { return t > 5.0 && t < 5.05; }), m3.end());
+    LogSampleSource holed;
+    ASSERT_FALSE(buildLogSampleSource(s, LogFormat::kMergedCsv, ImportOptions{}, holed).refused());
+    EXPECT_EQ(holed.stretchCount(), 2u);
+    EXPECT_TRUE(contains(holed.report().phases.at(0).note, "1 hole")) << holed.report().phases.at(0).note;
+  }
+}
+
 TEST(TelemetryFromLog, AJumpTheLogDoesNotSizeIsCutNotBridged) {
   FlightSignals s = synthetic(0.002, 0.02, 0.002, 10.0);
   // The jump's last sample before it came 60 ms earlier (a slow signal): nothing after that is kept.
