@@ -109,11 +109,6 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   t->add("--max-input-period", o.max_input_period, "Refuse logs sampled coarser than this [s]").above(0.0);
   t->add("--max-gap", o.max_gap, "A longer hole in the log restarts the detector [s]").above(0.0);
   t->add("--quiet,-q", o.quiet, "No summary or warnings on stderr (errors still go there)");
-  t->add("--csv-numbering", o.csv_numbering,
-         "Telemetry CSV: whose motor numbers u1..u4 are in: quadfdi (1 front-right, 2 back-right, 3 back-left, 4 "
-         "front-left) or vehicle (the --vehicle description's [motor.N] numbering, e.g. PX4's, as a simulator of that "
-         "autopilot writes them); outputs keep quadfdi's `motor` and add the vehicle's `autopilot_motor`")
-      .choices({"quadfdi", "vehicle"});
   addLogInputOptions(*t, o.log);
   attachOptions(*cmd, t);
   return cmd;
@@ -277,19 +272,10 @@ int runDetect(const DetectOptions& o) {
   // broken one must be refused ("FILE:LINE: problem"), not read as "no model of its own".
   // The motor numbers a pilot reads: a CSV is in quadfdi's numbering, which the description's
   // [motor.N] table (its autopilot's numbering) translates; a log's extractor overrides both.
-  MotorNumbering numbering;
-  if (!o.log.vehicle.empty()) {
-    const VehicleDescription vehicle = loadVehicleDescription(o.log.vehicle);
-    numbering.name = vehicle.motor_numbering.substr(0, vehicle.motor_numbering.find(" ("));
-    numbering.autopilot_motor = vehicle.autopilot_motor_of_quadfdi_motor;
-  }
-  const bool renumber = o.csv_numbering == "vehicle";  // checked before any work or message
-  if (renumber && o.log.vehicle.empty())
-    throw ConfigError("--csv-numbering vehicle: needs --vehicle FILE, whose [motor.N] sections give the numbering");
+  MotorNumbering numbering = vehicleNumbering(o.log);
+  const bool renumber = csvInVehicleNumbering(o.log);  // checked before any work or message
   const std::string format = resolveInputFormat(o.input, o.log.format);
   const bool csv = format == "csv" || format == "csv-merged";
-  if (renumber && !csv)
-    throw ConfigError("--csv-numbering: reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering");
   refuseOptionsUnreadBy(format, o.log);  // --csv-frame, --csv-commands on a log; a log's options on a CSV
   const TelemetryReaderOptions reading = csv ? csvReadingOptions(o.log) : TelemetryReaderOptions{};
   const bool rotor_speed = reading.commands == CommandQuantity::kRotorSpeed;
@@ -395,7 +381,7 @@ int runDetect(const DetectOptions& o) {
     if (!o.quiet)
       for (const std::string& w : log.warnings) std::fprintf(stderr, "detect: warning: %s\n", w.c_str());
   }
-  if (renumber) {
+  if (renumber && format == "csv") {  // a merged CSV comes renumbered (openFlightLog)
     renumbered = std::make_unique<RenumberedSource>(*source, numbering.autopilot_motor);
     source = renumbered.get();
   }

@@ -33,7 +33,6 @@ struct DetectOptions {
   double max_gap = 0.02;            // [s]
   bool quiet = false;
   std::string plot;                 // PNG of Θ̂ against time; empty: none
-  std::string csv_numbering = "quadfdi";  // quadfdi | vehicle: whose motor numbers a CSV's u1..u4 are in
   LogInputOptions log;              // flight logs (PX4, ArduPilot, Crazyflie): shared with `import`
 };
 

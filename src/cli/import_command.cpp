@@ -30,6 +30,7 @@ CLI::App* addImportCommand(CLI::App& app, ImportCommandOptions& o) {
 }
 
 int runImport(const ImportCommandOptions& o) {
+  csvInVehicleNumbering(o.log);  // --csv-numbering vehicle needs --vehicle: checked before any work; openFlightLog renumbers
   const std::string format = resolveInputFormat(o.input, o.log.format);
   require(format != "csv", o.input + ": already telemetry CSV (or not a flight log: --format names one)");
   refuseOptionsUnreadBy(format, o.log);

@@ -66,6 +66,12 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
         "('roll [deg]') says the same. Small angles in degrees read as radians pass the range check and tilt the vehicle "
         "57 times too far: say so")
       .choices({"rad", "deg"});
+  t.add("--csv-numbering", o.csv_numbering,
+        "Telemetry CSV: whose motor numbers u1..u4 are in: quadfdi (1 front-right, 2 back-right, 3 back-left, 4 "
+        "front-left) or vehicle (the --vehicle description's [motor.N] numbering, e.g. PX4's, as a simulator of that "
+        "autopilot writes them); detect's outputs keep quadfdi's `motor` and add the vehicle's `autopilot_motor`, and "
+        "import writes u1..u4 in quadfdi's order with the vehicle's numbers in its '# motor_numbering' comment")
+      .choices({"quadfdi", "vehicle"});
   t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]; detect with a "
         "scale-free model (the default) needs no scale")
       .atLeast(0.0)
@@ -98,6 +104,7 @@ void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o) 
                 "reads a telemetry CSV; a " + format + " log's commands are converted by its reader");
     refuseGiven(o.given, {"csv_columns", "csv_time_unit", "csv_angle_unit"},
                 "reads a telemetry CSV; a " + format + " log names its own fields and units");
+    refuseGiven(o.given, {"csv_numbering"}, "reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering");
   }
   if (format == "csv") {
     refuseGiven(o.given,
@@ -151,6 +158,22 @@ TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o) {
   r.time_unit = secondsPerTimeUnit(o.csv_time_unit);  // one of s, ms, us, ns (the option's choices)
   r.angles_in_degrees = o.csv_angle_unit == "deg";
   return r;
+}
+
+MotorNumbering vehicleNumbering(const LogInputOptions& o) {
+  MotorNumbering numbering;
+  if (o.vehicle.empty()) return numbering;
+  const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
+  numbering.name = vehicle.motor_numbering.substr(0, vehicle.motor_numbering.find(" ("));
+  numbering.autopilot_motor = vehicle.autopilot_motor_of_quadfdi_motor;
+  return numbering;
+}
+
+bool csvInVehicleNumbering(const LogInputOptions& o) {
+  const bool renumber = o.csv_numbering == "vehicle";
+  if (renumber && o.vehicle.empty())
+    throw quadfdi::ConfigError("--csv-numbering vehicle: needs --vehicle FILE, whose [motor.N] sections give the numbering");
+  return renumber;
 }
 
 namespace {
@@ -210,6 +233,25 @@ ImportOptions importOptions(const LogInputOptions& o, double dt, double max_gap)
 }
 
 // A merged telemetry CSV: its signals from the rows that hold them, then the conventions layer.
+// Commands given in `vehicle`'s numbering (--csv-numbering vehicle) put in quadfdi's: motor k + 1
+// takes the column of autopilot motor autopilot_motor[k]; the report names the vehicle's numbers.
+void inQuadfdisNumbering(FlightSignals& s, const MotorNumbering& vehicle) {
+  auto column = [&](std::size_t k) { return static_cast<std::size_t>(vehicle.autopilot_motor[k] - 1); };
+  for (std::array<double, kMotors>& u : s.command.v) {
+    const std::array<double, kMotors> given = u;
+    for (std::size_t k = 0; k < kMotors; ++k) u[k] = given[column(k)];
+  }
+  if (!s.command_times_per_motor.empty()) {
+    const std::vector<std::vector<double>> given = s.command_times_per_motor;
+    for (std::size_t k = 0; k < kMotors; ++k) s.command_times_per_motor[k] = given[column(k)];
+  }
+  s.numbering = vehicle;
+  std::string columns;
+  for (std::size_t k = 0; k < kMotors; ++k)
+    columns += (k ? ", " : "") + std::to_string(k + 1) + " ← u" + std::to_string(vehicle.autopilot_motor[k]);
+  s.conventions.push_back("u1..u4 in the vehicle's numbering (" + vehicle.name + ", --csv-numbering vehicle), put in quadfdi's (motor ← column): " + columns);
+}
+
 OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const TelemetryReaderOptions& reading,
                         double dt, double max_gap) {
   const ImportOptions io = importOptions(o, dt, max_gap);  // its u1..u4 are newtons: no thrust scale
@@ -222,6 +264,7 @@ OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const
   TelemetryReader reader(path == "-" ? std::cin : file, name, reading);  // throws on an empty file or a bad header
   FlightSignals signals;
   const MergedTelemetryCounts counts = readMergedTelemetry(reader, signals);
+  if (csvInVehicleNumbering(o)) inQuadfdisNumbering(signals, vehicleNumbering(o));
   OpenedLog opened;
   if (counts.without_time > 0 || counts.partial > 0)
     opened.warnings.push_back(std::to_string(counts.without_time) + " row(s) without a time skipped, " +

@@ -5,12 +5,14 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <array>
 #include <memory>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "cli/options.h"
+#include "core/motor_numbering.h"
 #include "io/telemetry_reader.h"
 #include "logs/telemetry_from_log.h"
 
@@ -33,6 +35,7 @@ struct LogInputOptions {
   std::vector<std::string> csv_columns;   // COLUMN=HEADER: read quadfdi's column from the header's cell named so
   std::string csv_time_unit = "s";        // s | ms | us | ns: the unit of the t column
   std::string csv_angle_unit = "rad";     // rad | deg: the unit of the roll, pitch, yaw columns
+  std::string csv_numbering = "quadfdi";  // quadfdi | vehicle: whose motor numbers a CSV's u1..u4 are in
   std::set<std::string> given;       // keys the command was given (its whole table): options a format does not read
 };
 
@@ -53,6 +56,15 @@ void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o);
 // from --vehicle). Throws ConfigError for a combination that cannot be read: a command quantity
 // that needs the vehicle's curve without --vehicle, pulse limits without pulses, an empty range.
 TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o);
+
+// The motors' numbering the run reports: the --vehicle description's [motor.N] table, else
+// quadfdi's. A log's or a CSV's own numbering replaces it where the caller reads one.
+MotorNumbering vehicleNumbering(const LogInputOptions& o);
+
+// --csv-numbering vehicle: the CSV's u1..u4 are in the vehicle's numbering. Throws ConfigError
+// without --vehicle (a flight log's refusal is refuseOptionsUnreadBy's). Run before any work.
+// A merged CSV is reordered into quadfdi's numbering by openFlightLog; a plain CSV by the caller.
+bool csvInVehicleNumbering(const LogInputOptions& o);
 
 struct OpenedLog {
   std::unique_ptr<LogSampleSource> source;

@@ -419,6 +419,26 @@ TEST(DetectCli, ACsvInTheVehiclesOwnNumberingIsReorderedByItsDescription) {
   const CommandResult misread = run("detect -q --vehicle " + vehicle + " --input " + px4, false);
   ASSERT_EQ(misread.exit_code, 0);
   EXPECT_EQ(misread.out.find("\"motor\": 2, \"severity\": \"failed\""), std::string::npos);
+  // Read as a merged export, and imported: the same reordering, and the vehicle's numbers in the comment.
+  const std::string numbered = " --vehicle " + vehicle + " --csv-numbering vehicle --format csv-merged ";
+  const CommandResult merged = run("detect -q" + numbered + "--input " + px4, false);
+  ASSERT_EQ(merged.exit_code, 0);
+  EXPECT_NE(merged.out.find("\"motor\": 2, \"severity\": \"failed\""), std::string::npos);
+  const CommandResult imported = run("import" + numbered + px4 + " -o " + temp("px4-imported.csv"));
+  ASSERT_EQ(imported.exit_code, 0) << imported.out;
+  EXPECT_NE(imported.out.find("u1..u4 in the vehicle's numbering (PX4 quad X, --csv-numbering vehicle), put in quadfdi's (motor ← column): "
+                              "1 ← u1, 2 ← u4, 3 ← u2, 4 ← u3"),
+            std::string::npos)
+      << imported.out;
+  EXPECT_NE(imported.out.find("2: back-right, PX4 quad X motor 4"), std::string::npos) << imported.out;
+  EXPECT_EQ(readFile(temp("px4-imported.csv")).rfind("# motor_numbering: PX4 quad X = 1 4 2 3\n", 0), 0u);
+  ASSERT_EQ(run("import --format csv-merged " + ours + " -o " + temp("ours-imported.csv")).exit_code, 0);
+  const CommandResult back = run("detect -q --vehicle " + vehicle + " --input " + temp("px4-imported.csv"), false);
+  const CommandResult ours_back = run("detect -q --vehicle " + vehicle + " --input " + temp("ours-imported.csv"), false);
+  ASSERT_EQ(back.exit_code, 0);
+  EXPECT_EQ(back.out, ours_back.out);
+  EXPECT_EQ(back.out, merged.out);
+  EXPECT_EQ(run("import --csv-numbering vehicle --format csv-merged " + px4 + " -o " + temp("x.csv")).exit_code, 1);
   // Refused, in one line, without a description (on a flight log: LogCli.CsvNumberingOnALogIsRefused).
   const CommandResult alone = run("detect --csv-numbering vehicle --input " + ours);
   EXPECT_EQ(alone.exit_code, 1);
