@@ -103,7 +103,7 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
   if (counts.without_signal > 0)
     out.conventions.push_back(plural(counts.without_signal, "row") + " with none of the three signals (other columns only) passed over");
   if (counts.partial > 0)
-    out.conventions.push_back(plural(counts.partial, "signal") + " left out of a row for lacking some of its cells (first: " +
+    out.conventions.push_back(plural(counts.partial, "signal") + " left out of a row for lacking some of its cells or a bad command cell (first: " +
                               counts.first_problem + ")");
   if (counts.split_commands > 0)
     out.conventions.push_back(plural(counts.split_commands, "row") + " with some of u1..u4 and not all: each motor's command "

@@ -19,7 +19,8 @@ struct MergedTelemetryCounts {
   std::size_t rows = 0;           // data rows read
   std::size_t without_time = 0;   // skipped: t empty or non-finite
   std::size_t without_signal = 0; // rows holding none of the three signals (another topic's columns only)
-  std::size_t partial = 0;        // position or attitude left out of a row for holding some of its cells but not all
+  std::size_t partial = 0;        // rows leaving out position or attitude for holding some of its cells but not all,
+                                  // or a motor's command for a NaN, infinite or absurd cell
   std::size_t split_commands = 0; // rows giving some of u1..u4 and not all: the motors at times of their own
   std::size_t repeated = 0;       // a signal given twice at one time: the later row kept
   std::size_t repeated_motor = 0; // a motor's command given twice at one time (counted apart: only split commands use it)

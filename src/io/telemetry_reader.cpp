@@ -306,12 +306,14 @@ bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::
   split(text, separator_, cells);
   if (static_cast<int>(cells.size()) != cells_)
     throw TelemetryError(where() + ": " + std::to_string(cells.size()) + " cells, the header has " + std::to_string(cells_));
+  blank_.fill(false);
   for (int r = 0; r < 15; ++r) {
     present[r] = false;
     if (!isRead(r)) continue;
     const std::string& cell = cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])];
     if (cell.empty()) {
       why[r] = where() + ": column '" + label(r) + "' is empty";
+      blank_[static_cast<std::size_t>(r)] = true;
       continue;
     }
     char* end = nullptr;
@@ -482,8 +484,12 @@ SampleSource::Next TelemetryReader::nextParts(TelemetryRowParts& parts, std::str
   };
   whole(1, 3, parts.has_position);
   whole(quaternion_ ? kQw : kRoll, quaternion_ ? 4 : 3, parts.has_attitude);
-  // Each motor's command stands alone (a merged export may give them on rows of their own).
-  for (int i = 0; i < 4; ++i) parts.has_u[static_cast<std::size_t>(i)] = present[kU1 + i];
+  // Each motor's command stands alone (a merged export may give them on rows of their own); an
+  // empty cell gives none, a NaN, infinite or absurd one is a problem, said as a partial signal's is.
+  for (int i = 0; i < 4; ++i) {
+    parts.has_u[static_cast<std::size_t>(i)] = present[kU1 + i];
+    if (!present[kU1 + i] && !blank_[static_cast<std::size_t>(kU1 + i)] && parts.dropped.empty()) parts.dropped = why[kU1 + i];
+  }
   parts.has_commands = present[kU1] && present[kU1 + 1] && present[kU1 + 2] && present[kU1 + 3];
   if (parts.has_position) parts.position = positionOf(values);
   if (parts.has_attitude) {

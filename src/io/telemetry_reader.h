@@ -75,7 +75,8 @@ struct TelemetryRowParts {
   std::array<double, 3> position{};   // x, y, z [m], world, z up
   std::array<double, 3> attitude{};   // roll, pitch, yaw [rad], ZYX, body FLU
   std::array<double, kInputDim> u{};  // per motor, as TelemetrySample::u (those of has_u)
-  std::string dropped;  // "FILE:LINE: column 'y' is empty": position or attitude with some of its cells and not all, left out
+  std::string dropped;  // "FILE:LINE: column 'y' is empty": position or attitude with some of its cells and not all, or
+                        // a command cell NaN, infinite or absurd: left out
 };
 
 class TelemetryReader : public SampleSource {
@@ -133,6 +134,7 @@ class TelemetryReader : public SampleSource {
   bool quaternion_ = false;       // attitude from qw, qx, qy, qz
   std::vector<std::string> cells_buffer_;
   std::optional<MotorNumbering> numbering_;
+  std::array<bool, 15> blank_{};  // of the row just read: which cells are empty (not NaN, not absurd)
 };
 
 }  // namespace quadfdi

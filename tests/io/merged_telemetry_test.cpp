@@ -127,6 +127,13 @@ TEST(MergedTelemetry, MotorsOnRowsOfTheirOwnAreEachHeldToTheOthersTimes) {
   bool said = false;
   for (const std::string& line : s.conventions) said = said || line.find("6 rows with some of u1..u4 and not all") == 0;
   EXPECT_TRUE(said);
+  // A NaN command is no command of that motor, and said; the others on its row are read.
+  MergedTelemetryCounts nan_counts;
+  const FlightSignals nan = readMerged("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,,,,,,,1,2,3,4\n0.002,,,,,,,5,6,nan,8\n", &nan_counts);
+  EXPECT_EQ(nan_counts.partial, 1u);
+  EXPECT_EQ(nan_counts.first_problem, "merged.csv:3: column 'u3' is nan; that signal left out of the row");
+  ASSERT_EQ(nan.command.t.size(), 2u);
+  EXPECT_EQ(nan.command.v[1], (std::array<double, 4>{5, 6, 3, 8}));
   // A motor never given: no commands at all (the conventions layer refuses that, naming the column).
   const FlightSignals none = readMerged("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,,,,,,,1,2,3,\n0.002,,,,,,,1,2,3,\n");
   EXPECT_TRUE(none.command.empty());
