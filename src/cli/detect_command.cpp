@@ -168,28 +168,6 @@ class JsonLinesSink : public DetectionSink {
   MotorNumbering numbering_;
 };
 
-// A telemetry CSV written in an autopilot's motor numbering (--csv-numbering vehicle): u1..u4
-// reordered into quadfdi's, quadfdi motor k + 1 taking the column of autopilot motor
-// autopilot_motor[k]. Everything else passes through.
-class RenumberedSource : public SampleSource {
- public:
-  RenumberedSource(SampleSource& in, const std::array<int, kMotors>& autopilot_motor) : in_(in), autopilot_motor_(autopilot_motor) {}
-  Next next(TelemetrySample& sample, std::string& problem) override {
-    const Next n = in_.next(sample, problem);
-    if (n == Next::kSample) {
-      const std::array<double, kInputDim> u = sample.u;
-      for (std::size_t k = 0; k < kMotors; ++k) sample.u[k] = u[static_cast<std::size_t>(autopilot_motor_[k] - 1)];
-    }
-    return n;
-  }
-  std::string where() const override { return in_.where(); }
-  bool moreReady() const override { return in_.moreReady(); }
-
- private:
-  SampleSource& in_;
-  std::array<int, kMotors> autopilot_motor_;
-};
-
 // Keeps every output for the plot, then passes it on.
 class RecordingSink : public DetectionSink {
  public:
@@ -359,7 +337,6 @@ int runDetect(const DetectOptions& o) {
   std::ifstream file;
   const std::string name = o.input == "-" ? std::string("<stdin>") : o.input;
   std::unique_ptr<TelemetryReader> reader;
-  std::unique_ptr<RenumberedSource> renumbered;
   OpenedLog log;
   SampleSource* source = nullptr;
   if (format == "csv") {
@@ -380,10 +357,6 @@ int runDetect(const DetectOptions& o) {
     if (format != "csv-merged" || (!logged.isQuadfdis() && !renumber)) numbering = logged;
     if (!o.quiet)
       for (const std::string& w : log.warnings) std::fprintf(stderr, "detect: warning: %s\n", w.c_str());
-  }
-  if (renumber && format == "csv") {  // a merged CSV comes renumbered (openFlightLog)
-    renumbered = std::make_unique<RenumberedSource>(*source, numbering.autopilot_motor);
-    source = renumbered.get();
   }
 
   std::unique_ptr<AtomicFileWriter> file_out;

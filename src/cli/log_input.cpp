@@ -145,6 +145,7 @@ TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o) {
     const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
     r.curve.max_thrust = vehicle.params.max_thrust;
     r.curve.model_factor = vehicle.params.thrust_model_factor;
+    if (csvInVehicleNumbering(o)) r.file_motor = vehicle.autopilot_motor_of_quadfdi_motor;  // read in quadfdi's order
   }
   r.curve.pwm_min = o.csv_pwm_min;
   r.curve.pwm_max = o.csv_pwm_max;
@@ -233,18 +234,9 @@ ImportOptions importOptions(const LogInputOptions& o, double dt, double max_gap)
 }
 
 // A merged telemetry CSV: its signals from the rows that hold them, then the conventions layer.
-// Commands given in `vehicle`'s numbering (--csv-numbering vehicle) put in quadfdi's: motor k + 1
-// takes the column of autopilot motor autopilot_motor[k]; the report names the vehicle's numbers.
-void inQuadfdisNumbering(FlightSignals& s, const MotorNumbering& vehicle) {
-  auto column = [&](std::size_t k) { return static_cast<std::size_t>(vehicle.autopilot_motor[k] - 1); };
-  for (std::array<double, kMotors>& u : s.command.v) {
-    const std::array<double, kMotors> given = u;
-    for (std::size_t k = 0; k < kMotors; ++k) u[k] = given[column(k)];
-  }
-  if (!s.command_times_per_motor.empty()) {
-    const std::vector<std::vector<double>> given = s.command_times_per_motor;
-    for (std::size_t k = 0; k < kMotors; ++k) s.command_times_per_motor[k] = given[column(k)];
-  }
+// A merged CSV read in the vehicle's numbering (--csv-numbering vehicle; TelemetryReaderOptions::
+// file_motor reordered its columns): the report names the vehicle's motors and how they were read.
+void inVehicleNumbering(FlightSignals& s, const MotorNumbering& vehicle) {
   s.numbering = vehicle;
   std::string columns;
   for (std::size_t k = 0; k < kMotors; ++k)
@@ -264,7 +256,7 @@ OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const
   TelemetryReader reader(path == "-" ? std::cin : file, name, reading);  // throws on an empty file or a bad header
   FlightSignals signals;
   const MergedTelemetryCounts counts = readMergedTelemetry(reader, signals);
-  if (csvInVehicleNumbering(o)) inQuadfdisNumbering(signals, vehicleNumbering(o));
+  if (csvInVehicleNumbering(o)) inVehicleNumbering(signals, vehicleNumbering(o));
   OpenedLog opened;
   if (counts.without_time > 0 || counts.partial > 0)
     opened.warnings.push_back(std::to_string(counts.without_time) + " row(s) without a time skipped, " +

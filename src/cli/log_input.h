@@ -5,7 +5,6 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <array>
 #include <memory>
 #include <set>
 #include <string>
@@ -63,7 +62,7 @@ MotorNumbering vehicleNumbering(const LogInputOptions& o);
 
 // --csv-numbering vehicle: the CSV's u1..u4 are in the vehicle's numbering. Throws ConfigError
 // without --vehicle (a flight log's refusal is refuseOptionsUnreadBy's). Run before any work.
-// A merged CSV is reordered into quadfdi's numbering by openFlightLog; a plain CSV by the caller.
+// csvReadingOptions then reads the CSV's columns in quadfdi's order (TelemetryReaderOptions::file_motor).
 bool csvInVehicleNumbering(const LogInputOptions& o);
 
 struct OpenedLog {

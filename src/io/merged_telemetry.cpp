@@ -2,22 +2,24 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdio>
 #include <limits>
 
 namespace quadfdi {
 namespace {
 
-// Appends (t, v), or replaces the last sample when it is at the same t (two rows of one time).
+// Appends (t, v), or replaces the last sample when it is at the same t (two rows of one time):
+// true when it replaced one.
 template <class Series, class Value>
-void append(Series& s, double t, const Value& v, std::size_t& repeated) {
+bool append(Series& s, double t, const Value& v) {
   if (!s.t.empty() && s.t.back() == t) {
     s.v.back() = v;
-    ++repeated;
-    return;
+    return true;
   }
   s.t.push_back(t);
   s.v.push_back(v);
+  return false;
 }
 
 // The four motors' commands, each given at times of its own, as one series: every time one of
@@ -29,9 +31,11 @@ SignalSeries<kMotors> heldTogether(const std::array<SignalSeries<1>, kMotors>& m
     if (m.empty()) return all;
     start = std::max(start, m.t.front());
   }
-  for (const SignalSeries<1>& m : motor)
+  for (const SignalSeries<1>& m : motor) {  // each motor's times are in order: merged in linear time
+    const auto merged = static_cast<std::ptrdiff_t>(all.t.size());
     all.t.insert(all.t.end(), std::lower_bound(m.t.begin(), m.t.end(), start), m.t.end());
-  std::sort(all.t.begin(), all.t.end());
+    std::inplace_merge(all.t.begin(), all.t.begin() + merged, all.t.end());
+  }
   all.t.erase(std::unique(all.t.begin(), all.t.end()), all.t.end());
   all.v.resize(all.t.size());
   std::array<std::size_t, kMotors> next{};
@@ -78,17 +82,18 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
     }
     if (out.states.empty()) out.states.push_back({row.t, true, false});  // the file is the flight, from its first signal
     last_t = row.t;
-    if (row.has_position) append(out.position, row.t, row.position, counts.repeated);
-    if (row.has_attitude) append(out.attitude, row.t, row.attitude, counts.repeated);
-    if (row.has_commands) append(out.command, row.t, row.u, counts.repeated);
-    if (some_command && !row.has_commands) ++counts.split_commands;
+    if (row.has_position && append(out.position, row.t, row.position)) ++counts.repeated;
+    if (row.has_attitude && append(out.attitude, row.t, row.attitude)) ++counts.repeated;
+    bool command_repeated = false;  // the commands are one signal, however many of their motors repeat
     for (std::size_t i = 0; i < kMotors; ++i)
-      if (row.has_u[i]) append(motor[i], row.t, std::array<double, 1>{row.u[i]}, counts.repeated_motor);
+      if (row.has_u[i] && append(motor[i], row.t, std::array<double, 1>{row.u[i]})) command_repeated = true;
+    if (command_repeated) ++counts.repeated;
+    if (some_command && !row.has_commands) ++counts.split_commands;
   }
-  if (counts.split_commands > 0) {  // the motors at times of their own: each held to the others' times
-    out.command = heldTogether(motor);
+  // Whole rows only: each motor has the rows' times, and the series is the rows' own.
+  out.command = heldTogether(motor);
+  if (counts.split_commands > 0)  // the motors at times of their own: the conventions layer checks each
     for (const SignalSeries<1>& m : motor) out.command_times_per_motor.push_back(m.t);
-  }
   // The "topic" of each signal is its columns: the refusals and the report name them.
   out.position.source = {"columns x,y,z", "", ""};
   out.attitude.source = {reader.quaternionAttitude() ? "columns qw,qx,qy,qz" : "columns roll,pitch,yaw", "",
@@ -110,9 +115,8 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
                               "read from the rows that give it, held to the times the others are given, from " +
                               (out.command.empty() ? std::string("the first time all four are (never)")
                                                    : "the first time all four are (t = " + std::to_string(out.command.t.front()) + " s)"));
-  const std::size_t repeated = counts.repeated + (counts.split_commands > 0 ? counts.repeated_motor : 0);
-  if (repeated > 0)
-    out.conventions.push_back(plural(repeated, "signal") + " given twice at one time: the later row kept");
+  if (counts.repeated > 0)
+    out.conventions.push_back(plural(counts.repeated, "signal") + " given twice at one time: the later row kept");
   return counts;
 }
 

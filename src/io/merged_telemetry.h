@@ -23,7 +23,6 @@ struct MergedTelemetryCounts {
                                   // or a motor's command for a NaN, infinite or absurd cell
   std::size_t split_commands = 0; // rows giving some of u1..u4 and not all: the motors at times of their own
   std::size_t repeated = 0;       // a signal given twice at one time: the later row kept
-  std::size_t repeated_motor = 0; // a motor's command given twice at one time (counted apart: only split commands use it)
   std::string first_problem;      // "FILE:LINE: …" of the first row or signal left out, for the warning
 };
 

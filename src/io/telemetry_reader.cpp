@@ -1,5 +1,7 @@
 #include "io/telemetry_reader.h"
 
+#include <algorithm>
+
 #include <poll.h>
 #include <unistd.h>
 
@@ -200,6 +202,10 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   }
   if (!(options_.time_unit > 0.0) || !std::isfinite(options_.time_unit))
     throw std::invalid_argument("TelemetryReader: the time unit must be > 0 s");
+  std::array<int, kInputDim> sorted = options_.file_motor;
+  std::sort(sorted.begin(), sorted.end());
+  if (sorted != std::array<int, kInputDim>{1, 2, 3, 4})
+    throw std::invalid_argument("TelemetryReader: file_motor must be a permutation of 1..4");
   for (int r = 0; r < 15; ++r) label_[static_cast<std::size_t>(r)] = kColumns[r];
   std::array<bool, 15> renamed{};
   for (const auto& [column, header_name] : options_.header_names) {
@@ -392,6 +398,8 @@ bool TelemetryReader::attitudeOf(const double (&values)[15], EulerZyx& attitude,
   return true;
 }
 
+int TelemetryReader::commandColumn(std::size_t motor) const { return kU1 + options_.file_motor[motor] - 1; }
+
 // Column r (one of u1..u4) of a row whose cell is present → thrust of that motor (or squared
 // speed). Each motor's command is converted alone: a merged export may give them on rows of their own.
 double TelemetryReader::commandOf(const double (&values)[15], int r) const {
@@ -453,7 +461,7 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
     return Row::kSkipped;
   }
   std::array<double, kInputDim> u{};
-  for (int i = 0; i < 4; ++i) u[static_cast<std::size_t>(i)] = commandOf(values, kU1 + i);
+  for (std::size_t i = 0; i < kInputDim; ++i) u[i] = commandOf(values, commandColumn(i));
   sample.t = values[0];
   const std::array<double, 3> p = positionOf(values);
   sample.y = {p[0], p[1], p[2], attitude.roll, attitude.pitch, attitude.yaw};
@@ -486,9 +494,10 @@ SampleSource::Next TelemetryReader::nextParts(TelemetryRowParts& parts, std::str
   whole(quaternion_ ? kQw : kRoll, quaternion_ ? 4 : 3, parts.has_attitude);
   // Each motor's command stands alone (a merged export may give them on rows of their own); an
   // empty cell gives none, a NaN, infinite or absurd one is a problem, said as a partial signal's is.
-  for (int i = 0; i < 4; ++i) {
-    parts.has_u[static_cast<std::size_t>(i)] = present[kU1 + i];
-    if (!present[kU1 + i] && !blank_[static_cast<std::size_t>(kU1 + i)] && parts.dropped.empty()) parts.dropped = why[kU1 + i];
+  for (std::size_t i = 0; i < kInputDim; ++i) {
+    const int c = commandColumn(i);
+    parts.has_u[i] = present[c];
+    if (!present[c] && !blank_[static_cast<std::size_t>(c)] && parts.dropped.empty()) parts.dropped = why[c];
   }
   parts.has_commands = present[kU1] && present[kU1 + 1] && present[kU1 + 2] && present[kU1 + 3];
   if (parts.has_position) parts.position = positionOf(values);
@@ -499,8 +508,8 @@ SampleSource::Next TelemetryReader::nextParts(TelemetryRowParts& parts, std::str
     if (!parts.has_attitude && parts.dropped.empty()) parts.dropped = zero;
     parts.attitude = {attitude.roll, attitude.pitch, attitude.yaw};
   }
-  for (int i = 0; i < 4; ++i)
-    if (parts.has_u[static_cast<std::size_t>(i)]) parts.u[static_cast<std::size_t>(i)] = commandOf(values, kU1 + i);
+  for (std::size_t i = 0; i < kInputDim; ++i)
+    if (parts.has_u[i]) parts.u[i] = commandOf(values, commandColumn(i));
   return Row::kSample;
 }
 

@@ -61,6 +61,10 @@ struct TelemetryReaderOptions {
   std::vector<std::pair<std::string, std::string>> header_names;
   double time_unit = 1.0;  // [s] per unit of the t column: 1e-3 (ms), 1e-6 (µs), 1e-9 (ns, a ROS stamp)
   bool angles_in_degrees = false;  // roll, pitch, yaw in degrees (a quaternion has no unit)
+  // The file's motor number m (its column u_m) of quadfdi's motor k + 1: a file written in an
+  // autopilot's numbering (--csv-numbering vehicle) has the vehicle description's
+  // autopilot_motor_of_quadfdi_motor here, and is read in quadfdi's order. A permutation of 1..4.
+  std::array<int, kInputDim> file_motor{1, 2, 3, 4};
 };
 
 // One row of an export that merges signals sampled at different times (PlotJuggler, a ROS bag):
@@ -120,6 +124,7 @@ class TelemetryReader : public SampleSource {
   std::string cellText(int column) const;  // of the row just read, cut at 40 characters
   bool attitudeOf(const double (&values)[15], EulerZyx& attitude, std::string& problem) const;
   double commandOf(const double (&values)[15], int column) const;  // column: kU1..kU1 + 3
+  int commandColumn(std::size_t motor) const;  // index into kColumns of quadfdi motor + 1's command (options' file_motor)
   std::array<double, 3> positionOf(const double (&values)[15]) const;
   EulerZyx inQuadfdisFrame(const EulerZyx& attitude) const;  // from the file's frame (options_.frame)
   const std::string& label(int column) const { return label_[static_cast<std::size_t>(column)]; }

@@ -240,8 +240,10 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   const std::vector<double>* command_times = &signals.command.t;
   SignalSource command_source = signals.command.source;
   double slowest = -1.0;
+  std::vector<double> motor_hole_limit;  // each motor's, as hole_limit below is each signal's
   for (std::size_t i = 0; i < motor_times.size(); ++i) {
     const double d = motor_times[i].size() < 2 ? std::numeric_limits<double>::infinity() : medianInterval(motor_times[i]);
+    motor_hole_limit.push_back(std::max(o.max_hole, o.hole_intervals * d));
     if (d <= slowest) continue;
     slowest = d;
     command_times = &motor_times[i];
@@ -394,8 +396,7 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
     cutHoles(mine, signals.attitude.t, hole_limit[0], holes);
     cutHoles(mine, signals.position.t, hole_limit[1], holes);
     if (motor_times.empty()) cutHoles(mine, signals.command.t, hole_limit[2], holes);
-    for (const std::vector<double>& motor_t : motor_times)
-      cutHoles(mine, motor_t, std::max(o.max_hole, o.hole_intervals * medianInterval(motor_t)), holes);
+    for (std::size_t i = 0; i < motor_times.size(); ++i) cutHoles(mine, motor_times[i], motor_hole_limit[i], holes);
     if (holes) notes.push_back(std::to_string(holes) + " hole" + (holes == 1 ? "" : "s") + " in the signals: not bridged");
     int cuts = 0;
     const SignalBreak* first_cut = nullptr;

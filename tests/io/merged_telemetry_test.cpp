@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "io/merged_telemetry.h"
@@ -134,6 +135,14 @@ TEST(MergedTelemetry, MotorsOnRowsOfTheirOwnAreEachHeldToTheOthersTimes) {
   EXPECT_EQ(nan_counts.first_problem, "merged.csv:3: column 'u3' is nan; that signal left out of the row");
   ASSERT_EQ(nan.command.t.size(), 2u);
   EXPECT_EQ(nan.command.v[1], (std::array<double, 4>{5, 6, 3, 8}));
+  // Read in a vehicle's numbering (--csv-numbering vehicle): quadfdi motor k + 1 from the file's u_m, m = file_motor[k].
+  TelemetryReaderOptions px4;
+  px4.file_motor = {1, 4, 2, 3};
+  const FlightSignals reordered = readMerged("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,,,,,,,1,2,,\n0,,,,,,,,,3,4\n", nullptr, px4);
+  ASSERT_EQ(reordered.command.t.size(), 1u);
+  EXPECT_EQ(reordered.command.v[0], (std::array<double, 4>{1, 4, 2, 3}));
+  px4.file_motor = {1, 1, 2, 3};
+  EXPECT_THROW(readMerged("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n", nullptr, px4), std::invalid_argument);
   // A motor never given: no commands at all (the conventions layer refuses that, naming the column).
   const FlightSignals none = readMerged("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,,,,,,,1,2,3,\n0.002,,,,,,,1,2,3,\n");
   EXPECT_TRUE(none.command.empty());
