@@ -11,6 +11,7 @@
 
 #include "cli/cli_util.h"
 #include "cli/options.h"
+#include "cli/shipped_files.h"
 #include "cli/detection_plot.h"
 #include "core/motor_numbering.h"
 #include "data/features.h"
@@ -22,10 +23,6 @@
 #include "io/telemetry_reader.h"
 #include "io/vehicle_file.h"
 
-#ifndef QUADFDI_DEFAULT_MODEL
-#define QUADFDI_DEFAULT_MODEL "models/tcn-randomised.qfdw"
-#endif
-
 namespace quadfdi::cli {
 
 namespace {
@@ -36,9 +33,11 @@ std::string environmentModel() {
 }
 }  // namespace
 
+std::string generalModelPath() { return (std::filesystem::path(shippedModelsDir()) / kGeneralModelName).string(); }
+
 std::string defaultModelPath() {
   const std::string env = environmentModel();
-  return env.empty() ? std::string(QUADFDI_DEFAULT_MODEL) : env;
+  return env.empty() ? generalModelPath() : env;
 }
 
 std::string vehicleModelName(const std::string& vehicle_file) {
@@ -56,9 +55,9 @@ DetectModelChoice detectModelPath(const std::string& model_option, const std::st
   using Source = DetectModelChoice::Source;
   if (!model_option.empty()) return {model_option, Source::kOption};
   if (const std::string env = environmentModel(); !env.empty()) return {env, Source::kEnvironment};
-  const std::string own = vehicleModelPath(vehicle_file, std::filesystem::path(QUADFDI_DEFAULT_MODEL).parent_path().string());
+  const std::string own = vehicleModelPath(vehicle_file, shippedModelsDir());
   if (!own.empty()) return {own, Source::kVehicle};
-  return {QUADFDI_DEFAULT_MODEL, Source::kGeneral};
+  return {generalModelPath(), Source::kGeneral};
 }
 
 CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
@@ -280,7 +279,7 @@ int runDetect(const DetectOptions& o) {
     // one), or $QUADFDI_MODEL, which wins over the vehicle's own.
     using Source = DetectModelChoice::Source;
     const std::string why = choice.source == Source::kEnvironment ? "from $QUADFDI_MODEL, which wins over the own model of"
-                            : choice.source == Source::kGeneral   ? "the general model: no models/" + vehicleModelName(o.log.vehicle) + " for"
+                            : choice.source == Source::kGeneral   ? "the general model: no " + vehicleModelName(o.log.vehicle) + " in " + shippedModelsDir() + " for"
                                                                   : "for";
     std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(), why.c_str(), o.log.vehicle.c_str());
   }

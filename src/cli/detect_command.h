@@ -69,7 +69,13 @@ struct CalibrationChoice {
 };
 CalibrationChoice defaultCalibrationPath(const std::string& model_path, const std::string& vehicle_file);
 
-// The shipped model: $QUADFDI_MODEL if set, else models/tcn-randomised.qfdw of the source tree.
+// The shipped general model's file name (models/README.md).
+inline constexpr const char* kGeneralModelName = "tcn-randomised.qfdw";
+
+// The shipped general model: kGeneralModelName in shippedModelsDir() (installed, else the source tree's).
+std::string generalModelPath();
+
+// The model run when none is named: $QUADFDI_MODEL if set, else generalModelPath().
 std::string defaultModelPath();
 
 // The file name of a vehicle's own model: tcn-STEM.qfdw for the description FILE STEM.toml (the

@@ -6,7 +6,8 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
-#include <system_error>
+
+#include "cli/shipped_files.h"
 
 namespace quadfdi::cli {
 
@@ -15,10 +16,7 @@ int handOverToTraining(int argc, char** argv) {
 #ifdef QUADFDI_TRAINING_EXECUTABLE
   // Next to this executable's file, links resolved: the build tree and an installed copy keep
   // the two side by side, and a link to quadfdi elsewhere on the PATH still finds it.
-  std::error_code error;
-  std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (error) self = std::filesystem::absolute(argv[0], error);
-  const std::string training = (self.parent_path() / QUADFDI_TRAINING_EXECUTABLE).string();
+  const std::string training = (std::filesystem::path(executablePath(argv[0])).parent_path() / QUADFDI_TRAINING_EXECUTABLE).string();
   ::execv(training.c_str(), argv);
   std::cerr << "quadfdi: error: " << command << " runs in " << training << ", which could not be started: "
             << std::strerror(errno) << "\n";

@@ -848,8 +848,8 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
   EXPECT_NE(general.out, plain.out);
   EXPECT_EQ(withoutAutopilotNumbers(general.out), withoutAutopilotNumbers(plain.out));
   const CommandResult told = run("detect --vehicle " + mine + " --input " + csv + " --output -", true);
-  EXPECT_NE(told.out.find("/models/tcn-randomised.qfdw (the general model: no models/tcn-" +
-                             std::filesystem::path(mine).stem().string() + ".qfdw for --vehicle " + mine + ")"),
+  EXPECT_NE(told.out.find("/models/tcn-randomised.qfdw (the general model: no tcn-" + std::filesystem::path(mine).stem().string() +
+                             ".qfdw in " + src + "/models for --vehicle " + mine + ")"),
             std::string::npos)
       << told.out.substr(0, 400);
   const CommandResult named =
