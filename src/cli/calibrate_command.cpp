@@ -37,7 +37,7 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->recordGivenIn(o.given);
-  t->add("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)").defaultText("");
+  t->add("--model,-m", o.model, "Model file (default: the shipped model, or $QUADFDI_MODEL)").defaultText("").shippedFile();
   t->add("--output,-o", o.output, "Calibration JSON to write (default: MODEL.calibration.json beside the model, which detect reads)")
       .defaultText("");
   t->add("--flights", o.flights, "Healthy flights").range(1, 100000);
@@ -84,8 +84,8 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
   t->add("--attitude-noise", o.attitude_noise, "Sensor noise on Euler angles [rad]").atLeast(0.0);
   t->add("--randomise", o.randomise,
          "Randomisation FILE (configs/randomisation-default.toml): fly its vehicles, controllers, manoeuvres and estimator "
-         "noise instead of the nominal Crazyflie under LQR");
-  t->add("--vehicle", o.vehicles, "With --randomise: vehicle description FILEs instead of the file's (repeatable)");
+         "noise instead of the nominal Crazyflie under LQR").shippedFile();
+  t->add("--vehicle", o.vehicles, "With --randomise: vehicle description FILEs instead of the file's (repeatable)").vehicleFile();
   t->add("--quiet,-q", o.quiet, "No report on stderr");
   attachOptions(*cmd, t);
   return cmd;

@@ -74,7 +74,7 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   t->addConfigFile(o.config);
   t->add("--model,-m", o.model,
          "Model file (default: $QUADFDI_MODEL; else, with --vehicle FILE, the shipped models/tcn-STEM.qfdw trained for that "
-         "vehicle when there is one; else the shipped general model)").defaultText("");
+         "vehicle when there is one; else the shipped general model)").defaultText("").shippedFile();
   t->add("--input,-i", o.input,
          "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)");
   t->add("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
@@ -94,7 +94,7 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
       .above(0.0, 3600.0)
       .defaultText("the calibration's target; 0.1 without one");
   t->add("--calibration", o.calibration,
-         "Sequential: noise model and threshold data from `quadfdi calibrate` (default: documented defaults)");
+         "Sequential: noise model and threshold data from `quadfdi calibrate` (default: documented defaults)").shippedFile();
   t->add("--stride", o.stride, "Evaluate every N samples while all Θ̂ are above --watch (extra first-look delay ≤ N−1 samples)")
       .range(1, 1000);
   t->add("--watch", o.watch, "Below this min Θ̂, evaluate every sample").range(0.0, 1.0);

@@ -69,9 +69,6 @@ struct CalibrationChoice {
 };
 CalibrationChoice defaultCalibrationPath(const std::string& model_path, const std::string& vehicle_file);
 
-// The shipped general model's file name (models/README.md).
-inline constexpr const char* kGeneralModelName = "tcn-randomised.qfdw";
-
 // The shipped general model: kGeneralModelName in shippedModelsDir() (installed, else the source tree's).
 std::string generalModelPath();
 

@@ -39,16 +39,16 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->recordGivenIn(o.given);
-  t->add("--model-free,--model", o.model_free, "Model-free LSTM model file (E1, E3–E6)");
-  t->add("--model-based", o.model_based, "Model-based LSTM model file (E3–E5)");
-  t->add("--residual", o.residual, "Residual-only model file (E4, optional)");
-  t->add("--mlp", o.mlp, "Model-free MLP model file (E2)");
+  t->add("--model-free,--model", o.model_free, "Model-free LSTM model file (E1, E3–E6)").shippedFile();
+  t->add("--model-based", o.model_based, "Model-based LSTM model file (E3–E5)").shippedFile();
+  t->add("--residual", o.residual, "Residual-only model file (E4, optional)").shippedFile();
+  t->add("--mlp", o.mlp, "Model-free MLP model file (E2)").shippedFile();
   t->add("--experiments,-e", o.experiments, "Experiments to run").choices({"e1", "e2", "e3", "e4", "e5", "e6", "e7", "decisions"});
-  t->add("--vehicle", o.vehicles, "E7, decisions: vehicle description FILEs (repeatable)");
-  t->add("--randomise", o.randomise, "decisions: randomisation FILE of the long healthy flights");
+  t->add("--vehicle", o.vehicles, "E7, decisions: vehicle description FILEs (repeatable)").vehicleFile();
+  t->add("--randomise", o.randomise, "decisions: randomisation FILE of the long healthy flights").shippedFile();
   t->add("--calibration", o.calibration,
          "E7, decisions: the sequential rule's calibration (default: with one --vehicle STEM.toml, MODEL.STEM.calibration.json if "
-         "there is one; else MODEL.calibration.json)");
+         "there is one; else MODEL.calibration.json)").shippedFile();
   t->add("--flights-per-class", o.flights_per_class, "E7, decisions: flights per (motor, Θ) (0: from --scale)").atLeast(0);
   t->add("--faulty-per-theta", o.faulty_per_theta,
          "decisions: faulty flights per (vehicle, Θ), one motor after another (0: 4 × --flights-per-class)")

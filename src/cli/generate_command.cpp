@@ -34,8 +34,8 @@ CLI::App* addGenerateCommand(CLI::App& app, GenerateOptions& o) {
       .choices(scaleNames());
   t->add("--controller", o.controller, "Controller flying the data").choices({"lqr", "cbf"});
   t->add("--controller-config", o.controller_config,
-         "Controller FILE (configs/controller-example.toml); --controller given explicitly wins");
-  t->add("--params", o.params, "Plant: nominal, perturbed, perturbed-strong or a FILE");
+         "Controller FILE (configs/controller-example.toml); --controller given explicitly wins").shippedFile();
+  t->add("--params", o.params, "Plant: nominal, perturbed, perturbed-strong or a FILE").shippedFile();
   t->add("--motors", o.motors, "Faulty motors (1..4); the paper trains on motor 2 only").range(1, 4);
   t->add("--thetas", o.thetas, "Effectiveness values after the fault, each in [0, 1]").range(0.0, 1.0);
   t->add("--initial-conditions,-n", o.initial_conditions, "Initial conditions per iteration (overrides --scale)")
@@ -45,7 +45,7 @@ CLI::App* addGenerateCommand(CLI::App& app, GenerateOptions& o) {
   t->add("--window", o.window, "Window length T [samples]; flights have 2T steps").atLeast(1);
   t->add("--preroll", o.preroll, "Random healthy pre-roll before recording, up to this many seconds").atLeast(0);
   t->add("--randomise", o.randomise,
-         "Randomisation FILE: vehicles, plant errors, estimator, controller mix, manoeuvres (docs/data.md#randomisation)");
+         "Randomisation FILE: vehicles, plant errors, estimator, controller mix, manoeuvres (docs/data.md#randomisation)").shippedFile();
   t->add("--post-fault", o.post_fault, "Seconds recorded after the fault (0: the window T)").atLeast(0);
   t->add("--output-kind", o.output_kind, "y: position-euler (paper text) or position-rates (authors' code)")
       .choices({"position-euler", "position-rates"});

@@ -25,11 +25,12 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
         "read from the rows that hold it, then put on the model's clock as a log's), ulog, dataflash, crazyflie")
       .choices({"auto", "csv", "csv-merged", "ulog", "dataflash", "crazyflie"});
   t.add("--vehicle", o.vehicle,
-        "Logs with thrust-fraction commands: a vehicle description FILE (docs/vehicles.md); its max thrust and mass "
+        "Logs with thrust-fraction commands: a vehicle description FILE (docs/vehicles.md), or a library vehicle's name "
+        "(crazyflie2, racer250, quad450: configs/vehicles/NAME.toml, wherever quadfdi runs from); its max thrust and mass "
         "stand in for --max-thrust and --mass where those are not given, and its thrust curve for THR_MDL_FAC / "
         "MOT_THST_EXPO where the log has none; detect also runs the vehicle's own shipped model (models/tcn-STEM.qfdw) when "
         "there is one")
-      .defaultText("");
+      .defaultText("").vehicleFile();
   t.add("--csv-frame", o.csv_frame,
         "Telemetry CSV: the frames of its position and attitude: zup (quadfdi's: world z up, body x forward, y left, z "
         "up) or ned (world north, east, down, body forward, right, down: PX4, ArduPilot, AirSim, PX4's Gazebo bridge); "

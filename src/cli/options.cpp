@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "cli/shipped_files.h"
 #include "io/key_value.h"
 
 namespace quadfdi::cli {
@@ -165,6 +166,22 @@ Option& Option::defaultText(std::string text) {
   return *this;
 }
 
+Option& Option::shippedFile() {
+  file_kind_ = FileKind::kShipped;
+  return *this;
+}
+
+Option& Option::vehicleFile() {
+  file_kind_ = FileKind::kVehicle;
+  return *this;
+}
+
+std::string Option::fileText(const std::string& given, std::string& problem) const {
+  if (file_kind_ == FileKind::kShipped) return cli::shippedFile(given);
+  problem = vehicleFileProblem(given);
+  return cli::vehicleFile(given);
+}
+
 std::string Option::checkText(const std::string& text) const {
   if (!choices_.empty() && std::find(choices_.begin(), choices_.end(), text) == choices_.end()) {
     std::string list;
@@ -253,7 +270,7 @@ void OptionTable::resolve() {
   std::set<std::string> from_command_line, set;
   for (const auto& o : options_)
     if (o->cli_ && o->cli_->count() > 0) from_command_line.insert(o->key_);
-  if (config_path_ && !config_path_->empty()) applyConfigFile(*config_path_, from_command_line, set);
+  if (config_path_ && !config_path_->empty()) applyConfigFile(shippedFile(*config_path_), from_command_line, set);
   for (const auto& o : options_) {
     if (from_command_line.count(o->key_) == 0) continue;
     const std::vector<std::string> texts = o->is_flag_ ? std::vector<std::string>{"true"} : o->cli_->results();

@@ -69,6 +69,13 @@ class Option {
   Option& required();
   // What --help shows as the default instead of the field's initial value ("" shows none).
   Option& defaultText(std::string text);
+  // A file the user may name by its path in the shipped tree ("configs/randomisation-default.toml",
+  // "models/tcn-quad450.qfdw"): opened from the shipped data folder when it is not found as given
+  // (cli/shipped_files.h: shippedFile), so that an installed quadfdi runs from any folder.
+  Option& shippedFile();
+  // A vehicle description: shippedFile, and a bare library name ("quad450") is the library's
+  // description; a bare name that is neither is refused, naming the library's vehicles.
+  Option& vehicleFile();
 
   const std::string& key() const { return key_; }
   const std::string& longFlag() const { return long_flag_; }
@@ -78,8 +85,14 @@ class Option {
 
   std::string checkText(const std::string& text) const;  // choices and the custom check
   std::string checkNumber(double v) const;                // the range
+  enum class FileKind { kNone, kShipped, kVehicle };
+  // The text a file option's value is opened as, or its problem (shippedFile(), vehicleFile()).
+  std::string fileText(const std::string& given, std::string& problem) const;
   template <typename E>
-  std::string parseOne(const std::string& text, E& out) const {
+  std::string parseOne(const std::string& given, E& out) const {
+    std::string problem;
+    const std::string text = file_kind_ == FileKind::kNone ? given : fileText(given, problem);
+    if (!problem.empty()) return problem;
     if (std::string p = checkText(text); !p.empty()) return p;
     if (std::string p = parseOptionValue(text, out); !p.empty()) return p;
     if constexpr (std::is_arithmetic_v<E> && !std::is_same_v<E, bool>) return checkNumber(static_cast<double>(out));
@@ -119,6 +132,7 @@ class Option {
   bool is_list_ = false;
   int exact_count_ = 0;    // lists: 0 = one or more
   bool required_ = false;
+  FileKind file_kind_ = FileKind::kNone;
   std::vector<std::string> choices_;
   double low_ = -std::numeric_limits<double>::infinity();
   double high_ = std::numeric_limits<double>::infinity();

@@ -1,37 +1,83 @@
 #include "cli/shipped_files.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <system_error>
+#include <vector>
 
-#include "cli/detect_command.h"
-
-// Set by src/CMakeLists.txt: the source tree's models folder, and the installed models folder
-// relative to the installed executable's (GNUInstallDirs' bin and share, e.g. ../share/quadfdi/models).
-#ifndef QUADFDI_SOURCE_MODELS_DIR
-#define QUADFDI_SOURCE_MODELS_DIR "models"
+// Set by src/CMakeLists.txt: the source tree's root, and the installed data folder relative to the
+// installed executable's (GNUInstallDirs' bin and share: ../share/quadfdi).
+#ifndef QUADFDI_SOURCE_DATA_DIR
+#define QUADFDI_SOURCE_DATA_DIR "."
 #endif
-#ifndef QUADFDI_INSTALLED_MODELS_FROM_BIN
-#define QUADFDI_INSTALLED_MODELS_FROM_BIN "../share/quadfdi/models"
+#ifndef QUADFDI_INSTALLED_DATA_FROM_BIN
+#define QUADFDI_INSTALLED_DATA_FROM_BIN "../share/quadfdi"
 #endif
 
 namespace quadfdi::cli {
+namespace fs = std::filesystem;
+
+namespace {
+// The error_code overloads: a name the file system rejects (too long, …) is "not there", never
+// an exception; the reader then refuses it in one line.
+bool isFile(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+
+bool isBareName(const std::string& path) { return !path.empty() && path.find('/') == std::string::npos; }
+
+std::string withoutToml(const std::string& name) {
+  const std::string ext = ".toml";
+  const bool has = name.size() > ext.size() && name.compare(name.size() - ext.size(), ext.size(), ext) == 0;
+  return has ? name.substr(0, name.size() - ext.size()) : name;
+}
+}  // namespace
 
 std::string executablePath(const char* argv0) {
   std::error_code error;
-  std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (error && argv0 != nullptr) self = std::filesystem::absolute(argv0, error);
+  fs::path self = fs::read_symlink("/proc/self/exe", error);
+  if (error && argv0 != nullptr) self = fs::absolute(argv0, error);
   return error ? std::string() : self.string();
 }
 
-std::string shippedModelsDir() {
+std::string shippedDataDir() {
   const std::string self = executablePath(nullptr);
   if (!self.empty()) {
-    const std::filesystem::path installed =
-        (std::filesystem::path(self).parent_path() / QUADFDI_INSTALLED_MODELS_FROM_BIN).lexically_normal();
-    std::error_code ec;  // unreadable is "not installed": the source tree's folder serves
-    if (std::filesystem::is_regular_file(installed / kGeneralModelName, ec)) return installed.string();
+    const fs::path installed = (fs::path(self).parent_path() / QUADFDI_INSTALLED_DATA_FROM_BIN).lexically_normal();
+    if (isFile(installed / "models" / kGeneralModelName)) return installed.string();
   }
-  return QUADFDI_SOURCE_MODELS_DIR;
+  return QUADFDI_SOURCE_DATA_DIR;
+}
+
+std::string shippedModelsDir() { return (fs::path(shippedDataDir()) / "models").string(); }
+
+std::string vehicleLibraryDir() { return (fs::path(shippedDataDir()) / "configs" / "vehicles").string(); }
+
+std::string shippedFile(const std::string& path) {
+  if (path.empty() || fs::path(path).is_absolute() || isFile(path)) return path;
+  const fs::path shipped = fs::path(shippedDataDir()) / path;
+  return isFile(shipped) ? shipped.string() : path;
+}
+
+std::string vehicleFile(const std::string& path) {
+  const std::string found = shippedFile(path);
+  if (found != path || isFile(path) || !isBareName(path)) return found;
+  const fs::path library = fs::path(vehicleLibraryDir()) / (withoutToml(path) + ".toml");
+  return isFile(library) ? library.string() : path;
+}
+
+std::string vehicleFileProblem(const std::string& path) {
+  if (!isBareName(path) || isFile(vehicleFile(path))) return {};
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (fs::directory_iterator it(vehicleLibraryDir(), ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().extension() == ".toml" && isFile(it->path())) names.push_back(it->path().stem().string());
+  std::sort(names.begin(), names.end());
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return "no such file, and no vehicle " + withoutToml(path) + " in the library " + vehicleLibraryDir() + ": " +
+         (list.empty() ? "it is empty" : list);
 }
 
 }  // namespace quadfdi::cli

@@ -34,15 +34,15 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
       .choices({"lqr", "cbf", "pid", "geometric"});
   t->add("--params", o.params,
          "Plant parameters: nominal, perturbed, perturbed-strong, or a parameter FILE "
-         "(see configs/vehicle-example.toml)");
+         "(see configs/vehicle-example.toml)").shippedFile();
   t->add("--controller-params", o.controller_params,
-         "Model the controller is designed on (same forms as --params); default: the plant's");
+         "Model the controller is designed on (same forms as --params); default: the plant's").shippedFile();
   t->add("--lqr-weights", o.lqr_weights,
          "LQR weights: bryson (documented default) or authors (Q = I, R = I, Euler discretisation)")
       .choices({"bryson", "authors"});
   t->add("--controller-config", o.controller_config,
          "Controller FILE: LQR weights and CBF safe set (configs/controller-example.toml); "
-         "--controller, --lqr-weights and --cbf-* flags given explicitly win");
+         "--controller, --lqr-weights and --cbf-* flags given explicitly win").shippedFile();
   t->add("--motor", o.motor, "Faulty motor 1..4 (Crazyflie numbering: 1 front-right, 2 back-right, "
                              "3 back-left, 4 front-left); omit for a healthy flight")
       .range(1, 4)

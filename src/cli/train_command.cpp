@@ -44,7 +44,7 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
   t->add("--symmetry", o.symmetry, "Symmetry the model will be used with (recorded)").choices({"exact", "paper"});
   t->add("--loss", o.loss, "norm (seed eq. 4) or per-motor (authors' code)").choices({"norm", "per-motor"});
   t->add("--controller", o.controller, "Controller flying the training data").choices({"lqr", "cbf"});
-  t->add("--params", o.params, "Plant of the training data: nominal, perturbed, perturbed-strong or FILE");
+  t->add("--params", o.params, "Plant of the training data: nominal, perturbed, perturbed-strong or FILE").shippedFile();
   t->add("--thetas", o.thetas, "Θ₂ values flown from every initial condition, each in [0, 1]").range(0.0, 1.0);
   t->add("--batch-size", o.batch_size, "Windows per minibatch (windows training)").atLeast(1).defaultText("from --scale");
   t->add("--batch-trajectories", o.batch_trajectories, "Trajectories per minibatch (sequences training)").atLeast(1);
@@ -67,9 +67,9 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
   t->add("--preroll", o.preroll, "Random healthy pre-roll before each flight, up to this many seconds").atLeast(0);
   t->add("--randomise", o.randomise,
          "Randomisation FILE: vehicles, plant errors, estimator noise/lag/delay, controller mix and gains, manoeuvres "
-         "(configs/randomisation-default.toml; docs/data.md)");
+         "(configs/randomisation-default.toml; docs/data.md)").shippedFile();
   t->add("--vehicle", o.vehicles,
-         "Vehicle description FILE (repeatable; configs/vehicles/): with --randomise, the vehicles flown; alone, the plant");
+         "Vehicle description FILE or library name (repeatable; configs/vehicles/, e.g. quad450): with --randomise, the vehicles flown; alone, the plant").vehicleFile();
   t->add("--post-fault", o.post_fault, "Seconds recorded after the fault (0: the window T, the paper's)").atLeast(0);
   t->add("--seed", o.seed, "Seed of weights, data and shuffling");
   t->add("--device", o.device, "Where to train").choices({"cpu", "cuda"});
@@ -80,7 +80,7 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
   t->add("--resume", o.resume, "Continue from the checkpoint if there is one");
   t->add("--start-from", o.start_from,
          "Fine-tune: start from this finished model's weights and normalisation (a .qfdw whose network matches "
-         "this training's) instead of fresh ones, e.g. the general model on your vehicle (docs/networks.md#fine-tuning)");
+         "this training's) instead of fresh ones, e.g. the general model on your vehicle (docs/networks.md#fine-tuning)").shippedFile();
   t->add("--quiet,-q", o.quiet, "No progress bar or summary");
   attachOptions(*cmd, t);
   return cmd;
