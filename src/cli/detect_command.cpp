@@ -13,6 +13,7 @@
 #include "cli/options.h"
 #include "cli/shipped_files.h"
 #include "cli/detection_plot.h"
+#include "cli/detection_summary.h"
 #include "core/motor_numbering.h"
 #include "data/features.h"
 #include "detection/session.h"
@@ -79,6 +80,10 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
          "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)");
   t->add("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
   t->add("--output,-o", o.output, "JSON Lines output, or - for standard output");
+  t->add("--summary", o.summary,
+         "Also write the run's verdict as one JSON object to this file (- for standard output): \"verdict\" (fault, no "
+         "fault, no decision), every alarm with the times it rose and cleared, the motor (quadfdi's and the autopilot's "
+         "number, its position), its worst severity and Θ̂ interval, the model, the calibration and the decided flight time");
   t->add("--rule", o.rule,
          "Alarm rule: sequential (per-motor CUSUM, severity levels, thresholds from --false-alarms-per-hour) or "
          "persistence (--raise-below for --raise-after evaluations: the earlier rule, output unchanged)")
@@ -167,20 +172,29 @@ class JsonLinesSink : public DetectionSink {
   MotorNumbering numbering_;
 };
 
-// Keeps every output for the plot, then passes it on.
+// Keeps every output for the plot (when asked), the alarm episodes and the warnings for the
+// summary, then passes them on.
 class RecordingSink : public DetectionSink {
  public:
-  RecordingSink(DetectionSink& next, std::vector<DetectorOutput>* record) : next_(next), record_(record) {}
+  RecordingSink(DetectionSink& next, std::vector<DetectorOutput>* record, AlarmEpisodes& episodes,
+                std::vector<std::string>& warnings)
+      : next_(next), record_(record), episodes_(episodes), warnings_(warnings) {}
   void output(const DetectorOutput& d) override {
     if (record_) record_->push_back(d);
+    episodes_.add(d);
     next_.output(d);
   }
-  void warning(const std::string& text) override { next_.warning(text); }
+  void warning(const std::string& text) override {
+    warnings_.push_back(text);
+    next_.warning(text);
+  }
   void idle() override { next_.idle(); }
 
  private:
   DetectionSink& next_;
   std::vector<DetectorOutput>* record_;
+  AlarmEpisodes& episodes_;
+  std::vector<std::string>& warnings_;
 };
 
 }  // namespace
@@ -298,10 +312,10 @@ int runDetect(const DetectOptions& o) {
   config.alarm.raise_after = o.raise_after;
   config.alarm.clear_after = o.clear_after;
   config.rule = sequential ? AlarmRule::kSequential : AlarmRule::kPersistence;
+  std::string calibration = o.calibration;  // sequential: the one run with; empty: the documented defaults
   if (sequential) {
     // The model's calibration for the vehicle (MODEL.STEM.calibration.json), else its own
     // (MODEL.calibration.json beside MODEL.qfdw), unless one is named.
-    std::string calibration = o.calibration;
     if (calibration.empty()) {
       const CalibrationChoice chosen = defaultCalibrationPath(model_path, o.log.vehicle);
       calibration = chosen.path;
@@ -323,6 +337,8 @@ int runDetect(const DetectOptions& o) {
   }
 
   if (!o.plot.empty()) requireGnuplot();  // before any work
+  require(o.summary != "-" || o.output != "-", "--summary -: the JSON Lines already go to standard output (--output FILE)");
+  require(o.summary.empty() || o.summary == "-" || o.summary != o.output, "--summary: the same file as --output");
   const bool live = o.input == "-" && format == "csv";  // a merged export is read to its end first
   // With a telemetry CSV a vehicle description chooses the model and its calibration (and numbers the motors): say so
   // when it chose neither, rather than let it look as if the detector knew the airframe.
@@ -361,9 +377,13 @@ int runDetect(const DetectOptions& o) {
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;
+  std::unique_ptr<AtomicFileWriter> summary_out;  // opened now: an unwritable summary is refused before any work
+  if (!o.summary.empty() && o.summary != "-") summary_out = std::make_unique<AtomicFileWriter>(o.summary);
   JsonLinesSink json(out, o.quiet, sequential, numbering);
   std::vector<DetectorOutput> recorded;
-  RecordingSink sink(json, o.plot.empty() ? nullptr : &recorded);
+  AlarmEpisodes episodes(o.max_gap);
+  std::vector<std::string> warnings = log.warnings;
+  RecordingSink sink(json, o.plot.empty() ? nullptr : &recorded, episodes, warnings);
   SessionConfig session;
   session.live = live;
   const SessionResult r = runDetection(*detector, *source, sink, session);
@@ -391,12 +411,34 @@ int runDetect(const DetectOptions& o) {
                          (r.skipped > 0 ? ": all " + std::to_string(r.skipped) + " rows have an empty or non-finite cell; " +
                                               merged_hint
                                         : std::string()));
-  if (!o.quiet && format == "csv" && r.skipped >= r.samples)
-    std::fprintf(stderr, "detect: warning: %s: %ld of %ld rows skipped for an empty or non-finite cell; %s\n", name.c_str(),
-                 r.skipped, r.skipped + r.samples, merged_hint.c_str());
+  if (format == "csv" && r.skipped >= r.samples) {
+    warnings.push_back(name + ": " + std::to_string(r.skipped) + " of " + std::to_string(r.skipped + r.samples) +
+                       " rows skipped for an empty or non-finite cell; " + merged_hint);
+    if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
+  }
+  // The summary is made before anything is committed: both files are written, or neither is replaced.
+  if (!o.summary.empty()) {
+    DetectionSummaryInputs in;
+    in.input = o.input;
+    in.format = log.source ? log.source->report().format : "telemetry CSV";
+    in.model = model_path;
+    in.calibration = sequential ? calibration : std::string();
+    in.vehicle = o.log.vehicle;
+    in.rule = o.rule;
+    in.detector = &detector->summary();
+    in.episodes = &episodes;
+    in.numbering = &numbering;
+    if (log.source)
+      for (const PhaseReport& p : log.source->report().phases)
+        if (p.evaluated) in.evaluated_phases.emplace_back(p.eval_begin, p.eval_end);
+    in.warnings = warnings;
+    const std::string text = detectionSummaryJson(in);
+    (summary_out ? summary_out->stream() : std::cout) << text;
+  }
   out.flush();
   if (!out) throw std::runtime_error(o.output + ": write failed");
   if (file_out) file_out->commit();
+  if (summary_out) summary_out->commit();
   if (!o.plot.empty()) {
     DetectionPlotData plot;
     plot.outputs = std::move(recorded);

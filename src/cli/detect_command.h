@@ -33,6 +33,7 @@ struct DetectOptions {
   double max_gap = 0.02;            // [s]
   bool quiet = false;
   std::string plot;                 // PNG of Θ̂ against time; empty: none
+  std::string summary;              // JSON summary of the run (cli/detection_summary.h); empty: none; - : stdout
   LogInputOptions log;              // flight logs (PX4, ArduPilot, Crazyflie): shared with `import`
 };
 

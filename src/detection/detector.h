@@ -57,7 +57,7 @@ struct DetectorOutput {
   MotorTheta theta{1, 1, 1, 1};          // Θ̂ per motor from the latest evaluation at or before t
   bool alarm = false;                    // sequential: severity is degraded or failed; persistence: the filter's alarm
   int motor = 0;                         // 1..4 while alarm, else 0
-  // Sequential rule only (persistence: kHealthy / the raw Θ̂ of the motor, no interval):
+  // Sequential rule only (persistence: kHealthy and 1, its defaults):
   Severity severity = Severity::kHealthy;
   double theta_est = 1.0;                // [-] Θ estimate of `motor` while alarm
   double theta_lo = 1.0, theta_hi = 1.0; // [-] its interval (SequentialConfig::interval_level)

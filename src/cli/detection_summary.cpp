@@ -1,0 +1,84 @@
+#include "cli/detection_summary.h"
+
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
+#include "detection/sequential.h"
+
+namespace quadfdi::cli {
+
+void AlarmEpisodes::add(const DetectorOutput& d) {
+  if (last_t_ && d.t - *last_t_ <= max_gap_) decided_seconds_ += d.t - *last_t_;
+  last_t_ = d.t;
+  if (open_ && (!d.alarm || d.motor != episodes_.back().motor)) {
+    episodes_.back().t_cleared = d.t;
+    open_ = false;
+  }
+  if (!d.alarm) return;
+  if (!open_) {
+    AlarmEpisode e;
+    e.t_raised = d.t;
+    e.motor = d.motor;
+    e.severity_raised = d.severity;
+    episodes_.push_back(e);
+    open_ = true;
+  }
+  AlarmEpisode& e = episodes_.back();
+  if (static_cast<int>(d.severity) > static_cast<int>(e.severity_worst)) e.severity_worst = d.severity;
+  e.theta_lowest = std::min(e.theta_lowest, static_cast<double>(d.theta[static_cast<std::size_t>(d.motor - 1)]));
+  e.theta_est = d.theta_est;
+  e.theta_lo = d.theta_lo;
+  e.theta_hi = d.theta_hi;
+}
+
+std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
+  using nlohmann::json;
+  const DetectorSummary& s = *in.detector;
+  const bool sequential = in.rule == "sequential";
+  json alarms = json::array();
+  for (const AlarmEpisode& e : in.episodes->episodes()) {
+    json a;
+    a["t_raised"] = e.t_raised;
+    a["t_cleared"] = e.t_cleared ? json(*e.t_cleared) : json(nullptr);
+    a["motor"] = e.motor;
+    a["motor_position"] = motorPosition(e.motor);
+    a["autopilot_motor"] = in.numbering->autopilot_motor[static_cast<std::size_t>(e.motor - 1)];
+    if (sequential) {
+      a["severity_raised"] = toString(e.severity_raised);
+      a["severity"] = toString(e.severity_worst);
+      a["theta_est"] = e.theta_est;
+      a["theta_lo"] = e.theta_lo;
+      a["theta_hi"] = e.theta_hi;
+    } else {  // the persistence rule has no severity, estimate or interval
+      a["severity_raised"] = nullptr;
+      a["severity"] = nullptr;
+      a["theta_est"] = nullptr;
+      a["theta_lo"] = nullptr;
+      a["theta_hi"] = nullptr;
+    }
+    a["theta_lowest"] = e.theta_lowest;
+    alarms.push_back(std::move(a));
+  }
+  json j;
+  j["verdict"] = s.outputs == 0 ? "no decision" : in.episodes->episodes().empty() ? "no fault" : "fault";
+  j["input"] = in.input;
+  j["format"] = in.format;
+  j["model"] = in.model;
+  j["calibration"] = in.calibration.empty() ? json(nullptr) : json(in.calibration);
+  j["vehicle"] = in.vehicle.empty() ? json(nullptr) : json(in.vehicle);
+  j["rule"] = in.rule;
+  j["motor_numbering"] = in.numbering->isQuadfdis() ? std::string("quadfdi") : in.numbering->name;
+  j["samples"] = s.input_samples;
+  j["decisions"] = s.outputs;
+  j["decided_seconds"] = in.episodes->decidedSeconds();
+  j["restarts"] = s.restarts;
+  json phases = json::array();
+  for (const auto& [begin, end] : in.evaluated_phases) phases.push_back({begin, end});
+  j["evaluated_phases"] = phases;
+  j["alarms"] = std::move(alarms);
+  j["warnings"] = in.warnings;
+  return j.dump() + "\n";
+}
+
+}  // namespace quadfdi::cli
