@@ -25,12 +25,7 @@ std::string temp(const std::string& name) { return quadfdi::test::scratchPath("d
 std::string exe() { return QUADFDI_EXE; }
 int countLines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
-std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using quadfdi::test::readFile;
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;

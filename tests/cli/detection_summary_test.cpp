@@ -19,6 +19,7 @@ namespace quadfdi::cli {
 namespace {
 
 using nlohmann::json;
+using test::readFile;
 
 DetectorOutput output(double t, int motor, Severity severity = Severity::kDegraded, float theta = 0.5f) {
   DetectorOutput d;
@@ -102,13 +103,6 @@ TEST(AlarmEpisodes, TheJsonNamesTheVerdictAndEveryAlarm) {
   EXPECT_TRUE(p["severity"].is_null());
   EXPECT_TRUE(p["theta_est"].is_null());
   EXPECT_NEAR(p["theta_lowest"].get<double>(), 0.05, 1e-6);
-}
-
-std::string readFile(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
 }
 
 TEST(DetectSummaryCli, AgreesWithTheJsonLinesAndIsWrittenWithThemOrNotAtAll) {

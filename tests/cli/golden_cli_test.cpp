@@ -27,12 +27,7 @@ using quadfdi::test::CommandResult;
 std::string temp(const std::string& name) { return quadfdi::test::scratchPath("golden", name); }
 std::string golden(const std::string& name) { return std::string(QUADFDI_SOURCE_DIR) + "/tests/golden/" + name; }
 
-std::string readFile(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using quadfdi::test::readFile;
 
 bool sameCell(const std::string& a, const std::string& b) {
   if (a == b) return true;

@@ -28,12 +28,7 @@ void writeBytes(const std::string& path, const std::vector<std::uint8_t>& b) {
   std::ofstream f(path, std::ios::binary);
   f.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
 }
-std::string readFile(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using quadfdi::test::readFile;
 
 // Motor 3 fails completely at 4 s; written once as a PX4 ULog.
 const std::string& faultyUlog() {
