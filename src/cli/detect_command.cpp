@@ -10,10 +10,10 @@
 #include <memory>
 
 #include "cli/cli_util.h"
-#include "cli/options.h"
-#include "cli/shipped_files.h"
 #include "cli/detection_plot.h"
 #include "cli/detection_summary.h"
+#include "cli/options.h"
+#include "cli/shipped_files.h"
 #include "core/motor_numbering.h"
 #include "data/features.h"
 #include "detection/session.h"
