@@ -56,9 +56,10 @@ DetectModelChoice detectModelPath(const std::string& model_option, const std::st
   using Source = DetectModelChoice::Source;
   if (!model_option.empty()) return {model_option, Source::kOption};
   if (const std::string env = environmentModel(); !env.empty()) return {env, Source::kEnvironment};
-  const std::string own = vehicleModelPath(vehicle_file, shippedModelsDir());
+  const std::string models = shippedModelsDir();
+  const std::string own = vehicleModelPath(vehicle_file, models);
   if (!own.empty()) return {own, Source::kVehicle};
-  return {generalModelPath(), Source::kGeneral};
+  return {(std::filesystem::path(models) / kGeneralModelName).string(), Source::kGeneral};
 }
 
 CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
@@ -293,7 +294,8 @@ int runDetect(const DetectOptions& o) {
     // one), or $QUADFDI_MODEL, which wins over the vehicle's own.
     using Source = DetectModelChoice::Source;
     const std::string why = choice.source == Source::kEnvironment ? "from $QUADFDI_MODEL, which wins over the own model of"
-                            : choice.source == Source::kGeneral   ? "the general model: no " + vehicleModelName(o.log.vehicle) + " in " + shippedModelsDir() + " for"
+                            : choice.source == Source::kGeneral   ? "the general model: no " + vehicleModelName(o.log.vehicle) + " in " +
+                                                                        std::filesystem::path(model_path).parent_path().string() + " for"
                                                                   : "for";
     std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(), why.c_str(), o.log.vehicle.c_str());
   }

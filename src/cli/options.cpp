@@ -178,8 +178,7 @@ Option& Option::vehicleFile() {
 
 std::string Option::fileText(const std::string& given, std::string& problem) const {
   if (file_kind_ == FileKind::kShipped) return cli::shippedFile(given);
-  problem = vehicleFileProblem(given);
-  return cli::vehicleFile(given);
+  return cli::vehicleFile(given, &problem);
 }
 
 std::string Option::checkText(const std::string& text) const {

@@ -26,12 +26,6 @@ bool isFile(const fs::path& p) {
 }
 
 bool isBareName(const std::string& path) { return !path.empty() && path.find('/') == std::string::npos; }
-
-std::string withoutToml(const std::string& name) {
-  const std::string ext = ".toml";
-  const bool has = name.size() > ext.size() && name.compare(name.size() - ext.size(), ext.size(), ext) == 0;
-  return has ? name.substr(0, name.size() - ext.size()) : name;
-}
 }  // namespace
 
 std::string executablePath(const char* argv0) {
@@ -60,24 +54,26 @@ std::string shippedFile(const std::string& path) {
   return isFile(shipped) ? shipped.string() : path;
 }
 
-std::string vehicleFile(const std::string& path) {
+std::string vehicleFile(const std::string& path, std::string* problem) {
   const std::string found = shippedFile(path);
-  if (found != path || isFile(path) || !isBareName(path)) return found;
-  const fs::path library = fs::path(vehicleLibraryDir()) / (withoutToml(path) + ".toml");
-  return isFile(library) ? library.string() : path;
-}
-
-std::string vehicleFileProblem(const std::string& path) {
-  if (!isBareName(path) || isFile(vehicleFile(path))) return {};
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (fs::directory_iterator it(vehicleLibraryDir(), ec), end; !ec && it != end; it.increment(ec))
-    if (it->path().extension() == ".toml" && isFile(it->path())) names.push_back(it->path().stem().string());
-  std::sort(names.begin(), names.end());
-  std::string list;
-  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-  return "no such file, and no vehicle " + withoutToml(path) + " in the library " + vehicleLibraryDir() + ": " +
-         (list.empty() ? "it is empty" : list);
+  if (found != path || !isBareName(path) || isFile(path)) return found;
+  const fs::path given(path);
+  const std::string name = given.extension() == ".toml" ? given.stem().string() : path;
+  const fs::path library_dir = vehicleLibraryDir();
+  const fs::path library = library_dir / (name + ".toml");
+  if (isFile(library)) return library.string();
+  if (problem) {
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (fs::directory_iterator it(library_dir, ec), end; !ec && it != end; it.increment(ec))
+      if (it->path().extension() == ".toml" && isFile(it->path())) names.push_back(it->path().stem().string());
+    std::sort(names.begin(), names.end());
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    *problem = "no such file, and no vehicle " + name + " in the library " + library_dir.string() + ": " +
+               (list.empty() ? "it is empty" : list);
+  }
+  return path;
 }
 
 }  // namespace quadfdi::cli

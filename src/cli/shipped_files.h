@@ -27,12 +27,9 @@ std::string vehicleLibraryDir();  // shippedDataDir()/configs/vehicles
 std::string shippedFile(const std::string& path);
 
 // A --vehicle value as it is opened: shippedFile(PATH), and a bare library name ("quad450", or
-// "quad450.toml" where no such file is here) as vehicleLibraryDir()/NAME.toml.
-std::string vehicleFile(const std::string& path);
-
-// "" when vehicleFile(PATH) may be opened; for a bare name that is neither a file nor a library
-// vehicle, the problem, naming the library's vehicles ("no such file, and no vehicle x500 in the
-// library DIR: crazyflie2, quad450, racer250").
-std::string vehicleFileProblem(const std::string& path);
+// "quad450.toml" where no such file is here) as vehicleLibraryDir()/NAME.toml. A bare name that is
+// neither is returned as given, and PROBLEM (when given) says so, naming the library's vehicles
+// ("no such file, and no vehicle x500 in the library DIR: crazyflie2, quad450, racer250").
+std::string vehicleFile(const std::string& path, std::string* problem = nullptr);
 
 }  // namespace quadfdi::cli
