@@ -17,6 +17,7 @@
 #include "cli/interrupt.h"
 #include "cli/options.h"
 #include "cli/sequential_report.h"
+#include "cli/shipped_files.h"
 #include "data/scales.h"
 #include "evaluation/experiments.h"
 #include "io/atomic_file.h"
@@ -211,7 +212,9 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
   in.flights_per_class = o.flights_per_class > 0 ? o.flights_per_class : std::max(2, scale_flights_per_class / 10);
   in.faulty_per_theta = o.faulty_per_theta > 0 ? o.faulty_per_theta : 4 * in.flights_per_class;
   in.flight_hours = o.flight_hours > 0.0 ? o.flight_hours : (scale_flights_per_class >= 200 ? 10.0 : 0.05);
-  in.randomise_path = o.randomise;
+  // The default names the shipped file, which the option's shippedFile() only resolves when given.
+  const std::string randomise = shippedFile(o.randomise);
+  in.randomise_path = randomise;
   in.seed = o.seed;
   in.threads = o.threads;
   in.output_dir = o.output;
@@ -219,7 +222,7 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
     if (!o.quiet) std::fprintf(stderr, "evaluate %s: %s\n", id.c_str(), msg.c_str());
   };
   if (id == "e7") return transferReport(in, progress);
-  in.randomisation = loadRandomisation(o.randomise);
+  in.randomisation = loadRandomisation(randomise);
   return decisionsReport(in, progress);
 }
 
