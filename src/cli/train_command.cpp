@@ -32,8 +32,10 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
       .choices({"lstm", "mlp", "tcn"});
   t->add("--features", o.features,
          "model-free (y, u), model-free-heading (local increments; needed by tcn), scale-free (model-free-heading with "
-         "the commands as shares of the collective: any vehicle size), model-based (y, u, residual) or residual")
-      .choices({"model-free", "model-free-heading", "scale-free", "model-based", "residual"});
+         "the commands as shares of the collective: any vehicle size), scale-free-rates (scale-free with the measured body "
+         "rates: trains and runs on simulated flights; detect cannot feed it yet, docs/networks.md#body-rates), "
+         "model-based (y, u, residual) or residual")
+      .choices({"model-free", "model-free-heading", "scale-free", "scale-free-rates", "model-based", "residual"});
   t->add("--training", o.training,
          "windows (the paper's: one label per window) or sequences (causal networks: whole trajectories, a label "
          "per position; docs/networks.md)")
@@ -122,7 +124,7 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   c.data.rollout.seed = o.seed;
   require(parseArchitecture(o.architecture, c.model.architecture), "--architecture must be lstm, mlp or tcn");
   require(parseFeatureSet(o.features, c.model.features),
-          "--features must be model-free, model-free-heading, scale-free, model-based or residual");
+          "--features must be model-free, model-free-heading, scale-free, scale-free-rates, model-based or residual");
   require(!isStreamingFeatureSet(c.model.features) || c.data.rollout.output == OutputKind::kPositionEuler,
           "--features " + o.features + " needs --output-kind position-euler (it reads the yaw angle)");
   if (o.training.empty())

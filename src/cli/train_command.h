@@ -16,7 +16,7 @@ struct TrainOptions {
   std::string config;                           // key = value file; flags given on the command line win
   std::string scale = "default";                // named scale: data per iteration, buffer, schedule
   std::string architecture = "lstm";            // lstm | mlp | tcn
-  std::string features = "model-free";          // model-free | model-based | residual | model-free-heading | scale-free
+  std::string features = "model-free";          // model-free | model-based | residual | model-free-heading | scale-free | scale-free-rates
   std::string training;                         // windows | sequences; empty: sequences for tcn, else windows
   int tcn_channels = quadfdi::TcnShape{}.channels;      // [-] hidden channels of a tcn (inference/model_metadata.h)
   std::string output_kind = "position-euler";   // position-euler | position-rates

@@ -13,6 +13,7 @@ const char* toString(FeatureSet f) {
     case FeatureSet::kResidualOnly: return "residual";
     case FeatureSet::kModelFreeHeading: return "model-free-heading";
     case FeatureSet::kScaleFree: return "scale-free";
+    case FeatureSet::kScaleFreeRates: return "scale-free-rates";
   }
   return "?";
 }
@@ -23,6 +24,7 @@ bool parseFeatureSet(const std::string& text, FeatureSet& f) {
   if (text == "residual" || text == "residual-only") { f = FeatureSet::kResidualOnly; return true; }
   if (text == "model-free-heading") { f = FeatureSet::kModelFreeHeading; return true; }
   if (text == "scale-free") { f = FeatureSet::kScaleFree; return true; }
+  if (text == "scale-free-rates") { f = FeatureSet::kScaleFreeRates; return true; }
   return false;
 }
 
@@ -33,15 +35,19 @@ int featureChannels(FeatureSet f) {
     case FeatureSet::kResidualOnly: return kOutputDim;
     case FeatureSet::kModelFreeHeading: return kOutputDim + kInputDim;
     case FeatureSet::kScaleFree: return kOutputDim + kInputDim + 1;
+    case FeatureSet::kScaleFreeRates: return kOutputDim + kInputDim + 1 + kRateDim;
   }
   return 0;
 }
+
+bool featuresReadRates(FeatureSet f) { return f == FeatureSet::kScaleFreeRates; }
 
 void gatherWindowFeatures(const TrajectoryBatch& b, const WindowRef& w, int length, FeatureSet features,
                           OutputKind output, const SymmetryMap* map, float* out) {
   const std::size_t o = b.sampleOffset(w.trajectory, w.end_sample - length + 1);  // samples are contiguous
   gatherFeatures(&b.outputs[o * kOutputDim], &b.inputs[o * kInputDim],
-                 b.residuals.empty() ? nullptr : &b.residuals[o * kOutputDim], length, features, output, map, out);
+                 b.residuals.empty() ? nullptr : &b.residuals[o * kOutputDim],
+                 b.rates.empty() ? nullptr : &b.rates[o * kRateDim], length, features, output, map, out);
 }
 
 void headingFeatureRow(const Output& previous, const Output& current, const Input& u, float* out) {
@@ -58,12 +64,12 @@ void headingFeatureRow(const Output& previous, const Output& current, const Inpu
 }
 
 bool isStreamingFeatureSet(FeatureSet f) {
-  return f == FeatureSet::kModelFreeHeading || f == FeatureSet::kScaleFree;
+  return f == FeatureSet::kModelFreeHeading || f == FeatureSet::kScaleFree || f == FeatureSet::kScaleFreeRates;
 }
 
 void streamingFeatureRow(FeatureSet f, const Output& previous_y, const Input& previous_u, const Output& y,
                          const Input& u, float* out) {
-  if (f != FeatureSet::kScaleFree) {
+  if (f != FeatureSet::kScaleFree && f != FeatureSet::kScaleFreeRates) {
     headingFeatureRow(previous_y, y, u, out);
     return;
   }
@@ -78,9 +84,17 @@ void streamingFeatureRow(FeatureSet f, const Output& previous_y, const Input& pr
   out[6 + kInputDim] = static_cast<float>(change_defined ? std::log(collective / previous_collective) : 0.0);
 }
 
-void gatherFeatures(const float* outputs, const float* inputs, const float* residuals, int length, FeatureSet features,
-                    OutputKind output, const SymmetryMap* map, float* out) {
+void rateChannels(const Vec3& rates, const SymmetryMap* map, float* out) {
+  // ω → det(S)·S·ω for the exact group: the state map's rate block (docs/symmetry.md).
+  const Vec3 w = map ? Vec3(map->state_map.block<kRateDim, kRateDim>(idx::kRate, idx::kRate) * rates) : rates;
+  for (int i = 0; i < kRateDim; ++i) out[i] = static_cast<float>(w(i));
+}
+
+void gatherFeatures(const float* outputs, const float* inputs, const float* residuals, const float* rates, int length,
+                    FeatureSet features, OutputKind output, const SymmetryMap* map, float* out) {
   if (isStreamingFeatureSet(features)) {
+    const bool read_rates = featuresReadRates(features);
+    const int rate_offset = featureChannels(features) - kRateDim;
     Output previous_y = Output::Zero();
     Input previous_u = Input::Zero();
     const int channels = featureChannels(features);
@@ -96,6 +110,8 @@ void gatherFeatures(const float* outputs, const float* inputs, const float* resi
       // The first row has no predecessor: zero increments.
       if (k == 0) streamingFeatureRow(features, y, u, y, u, out);
       else streamingFeatureRow(features, previous_y, previous_u, y, u, out);
+      if (read_rates) rateChannels(Vec3(rates[k * kRateDim], rates[k * kRateDim + 1], rates[k * kRateDim + 2]), map,
+                                   out + rate_offset);
       previous_y = y;
       previous_u = u;
       out += channels;

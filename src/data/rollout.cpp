@@ -126,6 +126,7 @@ void recordEnd(TrajectoryBatch& b, int slot, int length, StepStatus status) {
     zero(b.inputs, kInputDim);
     zero(b.states, kStateDim);
     zero(b.residuals, kOutputDim);
+    zero(b.rates, kRateDim);
   }
   b.length[s] = length;
   b.end_status[s] = static_cast<std::uint8_t>(status);
@@ -234,6 +235,7 @@ void RolloutEngine::rolloutOne(const TrajectoryJob& job, Controller& controller,
       store<kOutputDim>(outputOf(plant.x, config_.output), &b.outputs[o * kOutputDim]);
       store<kStateDim>(plant.x, &b.states[o * kStateDim]);
       store<kOutputDim>(residual, &b.residuals[o * kOutputDim]);
+      store<kRateDim>(Vec3(plant.x.segment<kRateDim>(idx::kRate)), &b.rates[o * kRateDim]);
       controller.compute(plant.x, control);
       store<kInputDim>(control.u_cmd, &b.inputs[o * kInputDim]);
       length = k + 1;
@@ -377,6 +379,7 @@ void RolloutEngine::rolloutRandomised(const TrajectoryJob& job, TrajectoryBatch&
       store<kOutputDim>(outputOf(estimate, config_.output), &b.outputs[o * kOutputDim]);
       store<kStateDim>(plant.x, &b.states[o * kStateDim]);
       store<kOutputDim>(residual, &b.residuals[o * kOutputDim]);
+      store<kRateDim>(Vec3(estimate.segment<kRateDim>(idx::kRate)), &b.rates[o * kRateDim]);  // the gyro path's
       const State estimate_before = estimate;
       advance(estimate, k >= fault_step ? theta : Input::Ones());
       store<kInputDim>(control.u_cmd, &b.inputs[o * kInputDim]);

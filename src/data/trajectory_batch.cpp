@@ -15,6 +15,7 @@ void TrajectoryBatch::resize(int n, int samples_per_trajectory) {
   inputs.resize(ns * kInputDim);
   states.resize(ns * kStateDim);
   residuals.resize(ns * kOutputDim);
+  rates.resize(ns * kRateDim);
   theta.assign(un * kInputDim, 1.0f);
   fault_step.assign(un, 0);
   length.assign(un, 0);
@@ -25,7 +26,7 @@ void TrajectoryBatch::resize(int n, int samples_per_trajectory) {
 }
 
 std::size_t TrajectoryBatch::bytes() const {
-  return (outputs.size() + inputs.size() + states.size() + residuals.size() + theta.size()) * sizeof(float) +
+  return (outputs.size() + inputs.size() + states.size() + residuals.size() + rates.size() + theta.size()) * sizeof(float) +
          (fault_step.size() + length.size()) * sizeof(std::int32_t) + end_status.size() +
          (initial_state.size() + goal.size()) * sizeof(double) + scenario_index.size() * sizeof(std::uint64_t);
 }

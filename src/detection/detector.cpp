@@ -27,6 +27,10 @@ Detector::Detector(const DetectorConfig& config, const TrainedModel& model)
   if (m.features == FeatureSet::kModelBased || m.features == FeatureSet::kResidualOnly || m.output != OutputKind::kPositionEuler)
     throw std::invalid_argument(std::string("the detector needs a model-free network on position and Euler angles; this one reads ") +
                                 toString(m.features) + " features");
+  if (featuresReadRates(m.features))
+    throw std::invalid_argument(std::string("this model reads ") + toString(m.features) +
+                                " features, with body rates, which telemetry does not carry into the detector yet "
+                                "(docs/networks.md#body-rates): use a scale-free model");
   if (StreamingMotorEstimator::canStream(m))
     streaming_ = std::make_unique<StreamingMotorEstimator>(model, config.symmetry);
   else
@@ -131,7 +135,7 @@ void Detector::evaluateDue(bool look_ahead) {
     for (int i = 0; i < n; ++i) {
       const long first = due[i] - window_ + 1 - first_index_;
       windowed_->gather(&outputs_[static_cast<std::size_t>(first * kOutputDim)], &inputs_[static_cast<std::size_t>(first * kInputDim)],
-                        nullptr, features_.data() + static_cast<std::size_t>(i) * per);
+                        nullptr, nullptr, features_.data() + static_cast<std::size_t>(i) * per);
     }
     windowed_->estimate(features_.data(), n, estimates_.data());
     for (int i = 0; i < n && due[i] == next_due_; ++i) apply(due[i], estimates_[static_cast<std::size_t>(i)]);

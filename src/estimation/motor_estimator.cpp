@@ -29,9 +29,12 @@ MotorEstimator::MotorEstimator(const TrainedModel& model, SymmetryMode mode)
   out_.assign(static_cast<std::size_t>(engine_->lanes()) * 4, 0.0f);
 }
 
-void MotorEstimator::gather(const float* outputs, const float* inputs, const float* residuals, float* out) const {
+void MotorEstimator::gather(const float* outputs, const float* inputs, const float* residuals, const float* rates,
+                            float* out) const {
+  if (!rates && featuresReadRates(metadata_.features))
+    throw std::invalid_argument("this model reads body rates (scale-free-rates features) and none were given");
   for (std::size_t k = 0; k < maps_.size(); ++k)
-    gatherFeatures(outputs, inputs, residuals, metadata_.window, metadata_.features, metadata_.output, &maps_[k],
+    gatherFeatures(outputs, inputs, residuals, rates, metadata_.window, metadata_.features, metadata_.output, &maps_[k],
                    out + k * per_window_);
 }
 
@@ -51,7 +54,8 @@ void MotorEstimator::estimate(const float* features, int count, MotorTheta* thet
 }
 
 bool StreamingMotorEstimator::canStream(const ModelMetadata& m) {
-  return m.architecture == Architecture::kTcn && isStreamingFeatureSet(m.features) &&
+  // Streams carry no body rates yet (TelemetrySample): a model that reads them runs on windows only.
+  return m.architecture == Architecture::kTcn && isStreamingFeatureSet(m.features) && !featuresReadRates(m.features) &&
          m.output == OutputKind::kPositionEuler;
 }
 

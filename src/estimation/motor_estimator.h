@@ -30,8 +30,9 @@ class MotorEstimator {
   int preferredBatch() const { return engine_->lanes() / kMotors; }  // windows per engine pass, ×4 maps
 
   // The four mapped feature windows of T consecutive samples (outputs [T][6], inputs [T][4],
-  // residuals [T][6] or null) → out: 4 × T × channels floats.
-  void gather(const float* outputs, const float* inputs, const float* residuals, float* out) const;
+  // residuals [T][6] or null, body rates [T][3] or null; a model that reads rates refuses null)
+  // → out: 4 × T × channels floats.
+  void gather(const float* outputs, const float* inputs, const float* residuals, const float* rates, float* out) const;
 
   // `count` gathered windows (each 4 maps) → theta[count]; with `raw`, also the network's four
   // outputs for every (window, map): raw[i][k] (the paper's printed rule needs them). No allocation.

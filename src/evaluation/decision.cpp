@@ -59,7 +59,8 @@ std::vector<Input> estimateAllMotors(const TrainedModel& model, SymmetryMode mod
         const WindowRef& w = windows[first + i];
         const std::size_t o = batch.sampleOffset(w.trajectory, w.end_sample - m.window + 1);  // samples are contiguous
         estimator.gather(&batch.outputs[o * kOutputDim], &batch.inputs[o * kInputDim],
-                         batch.residuals.empty() ? nullptr : &batch.residuals[o * kOutputDim], &features[i * kMotors * per]);
+                         batch.residuals.empty() ? nullptr : &batch.residuals[o * kOutputDim],
+                         batch.rates.empty() ? nullptr : &batch.rates[o * kRateDim], &features[i * kMotors * per]);
       }
       estimator.estimate(features.data(), static_cast<int>(n), est.data(), raw ? outs.data() : nullptr);
       for (std::size_t i = 0; i < n; ++i) {

@@ -12,7 +12,10 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
                                                     const std::vector<TrajectoryJob>& jobs, int threads, int chunk,
                                                     const std::atomic<bool>* stop, const CommandGateConfig& gate) {
   if (!StreamingMotorEstimator::canStream(model.metadata))
-    throw std::invalid_argument("simulated Θ̂ streams need a streaming model (a TCN on streaming features)");
+    throw std::invalid_argument(featuresReadRates(model.metadata.features)
+                                    ? "simulated Θ̂ streams do not carry body rates yet, which this model reads "
+                                      "(docs/networks.md#body-rates)"
+                                    : "simulated Θ̂ streams need a streaming model (a TCN on streaming features)");
   const RolloutEngine engine(rollout);
   if (!engine.error().empty()) throw std::invalid_argument("rollout: " + engine.error());
   const int workers = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));

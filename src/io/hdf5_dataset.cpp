@@ -160,6 +160,11 @@ class Reader {
       fail("cannot read dataset '" + full + "' (truncated or corrupt file?)");
   }
 
+  bool hasDataset(const char* name) const {
+    const std::string full = std::string("trajectories/") + name;
+    return H5Lexists(file_, "trajectories", H5P_DEFAULT) > 0 && H5Lexists(file_, full.c_str(), H5P_DEFAULT) > 0;
+  }
+
   // Shape of a dataset in the trajectories group.
   std::vector<hsize_t> shape(const char* name) {
     const std::string full = std::string("trajectories/") + name;
@@ -207,6 +212,7 @@ void writeDataset(const std::string& path, const TrajectoryBatch& b, const Datas
     w.dataset("inputs", H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, {n, s, kInputDim}, b.inputs.data());
     w.dataset("states", H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, {n, s, kStateDim}, b.states.data());
     w.dataset("residuals", H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, {n, s, kOutputDim}, b.residuals.data());
+    if (!b.rates.empty()) w.dataset("rates", H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, {n, s, kRateDim}, b.rates.data());
     w.dataset("theta", H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, {n, kInputDim}, b.theta.data());
     w.dataset("fault_step", H5T_NATIVE_INT32, H5T_STD_I32LE, {n}, b.fault_step.data());
     w.dataset("length", H5T_NATIVE_INT32, H5T_STD_I32LE, {n}, b.length.data());
@@ -262,6 +268,8 @@ TrajectoryBatch readDataset(const std::string& path, DatasetMetadata* meta_out) 
   r.dataset("inputs", H5T_NATIVE_FLOAT, H5T_FLOAT, {n, s, kInputDim}, b.inputs);
   r.dataset("states", H5T_NATIVE_FLOAT, H5T_FLOAT, {n, s, kStateDim}, b.states);
   r.dataset("residuals", H5T_NATIVE_FLOAT, H5T_FLOAT, {n, s, kOutputDim}, b.residuals);
+  // Optional: files written before 2026-12-02 have no body rates (b.rates stays empty).
+  if (r.hasDataset("rates")) r.dataset("rates", H5T_NATIVE_FLOAT, H5T_FLOAT, {n, s, kRateDim}, b.rates);
   r.dataset("theta", H5T_NATIVE_FLOAT, H5T_FLOAT, {n, kInputDim}, b.theta);
   r.dataset("fault_step", H5T_NATIVE_INT32, H5T_INTEGER, {n}, b.fault_step);
   r.dataset("length", H5T_NATIVE_INT32, H5T_INTEGER, {n}, b.length);

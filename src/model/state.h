@@ -23,6 +23,7 @@ inline constexpr int kPos = 0, kVel = 3, kAtt = 6, kRate = 9;  // block starts
 }  // namespace idx
 
 inline constexpr int kStateDim = 12;
+inline constexpr int kRateDim = 3;  // body rates p, q, r
 
 using State = Eigen::Matrix<double, kStateDim, 1>;
 using Input = Eigen::Matrix<double, kInputDim, 1>;

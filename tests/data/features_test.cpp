@@ -34,7 +34,7 @@ void flight(std::vector<float>& y, std::vector<float>& u) {
 
 std::vector<float> scaleFreeRows(const std::vector<float>& y, const std::vector<float>& u) {
   std::vector<float> out(kLength * kScaleFreeChannels);
-  gatherFeatures(y.data(), u.data(), nullptr, kLength, FeatureSet::kScaleFree, OutputKind::kPositionEuler, nullptr,
+  gatherFeatures(y.data(), u.data(), nullptr, nullptr, kLength, FeatureSet::kScaleFree, OutputKind::kPositionEuler, nullptr,
                  out.data());
   return out;
 }
@@ -132,6 +132,50 @@ TEST(DenseLabels, SwitchToThetaAfterTheFaultAndMaskInvalidSamples) {
   for (int p = 0; p < positions; ++p) {
     EXPECT_EQ(mask[static_cast<std::size_t>(p)], 1.0f);
     EXPECT_EQ(labels[static_cast<std::size_t>(p) * 4 + 1], 1.0f);  // healthy flight (Θ = 1)
+  }
+}
+
+// scale-free-rates: the scale-free row, then the measured body rates; a symmetry map sends the rates
+// as it sends the state's rate block, ω → det(S)·S·ω (docs/symmetry.md), e.g. (p, −q, −r) for the
+// reflection x → −x that sends motor 1 to motor 2.
+TEST(ScaleFreeRatesFeatures, AreTheScaleFreeRowThenTheRatesMappedLikeTheState) {
+  FeatureSet f = FeatureSet::kModelFree;
+  ASSERT_TRUE(parseFeatureSet("scale-free-rates", f));
+  EXPECT_EQ(f, FeatureSet::kScaleFreeRates);
+  EXPECT_STREQ(toString(f), "scale-free-rates");
+  constexpr int kChannels = kScaleFreeChannels + kRateDim;
+  EXPECT_EQ(featureChannels(f), kChannels);
+  EXPECT_TRUE(isStreamingFeatureSet(f));
+  EXPECT_TRUE(featuresReadRates(f));
+  EXPECT_FALSE(featuresReadRates(FeatureSet::kScaleFree));
+
+  std::vector<float> y, u;
+  flight(y, u);
+  std::vector<float> rates(kLength * kRateDim);
+  for (int k = 0; k < kLength; ++k)
+    for (int i = 0; i < kRateDim; ++i) rates[static_cast<std::size_t>(k * kRateDim + i)] = static_cast<float>(0.1 * (i + 1) * std::sin(0.2 * k + i));
+  for (int motor = 0; motor <= 4; ++motor) {  // 0: no map
+    const SymmetryMap map = mapMotorToMotor2(motor == 0 ? 2 : motor, SymmetryMode::kExactGroup);
+    const SymmetryMap* m = motor == 0 ? nullptr : &map;
+    std::vector<float> with(kLength * kChannels), without(kLength * kScaleFreeChannels);
+    gatherFeatures(y.data(), u.data(), nullptr, rates.data(), kLength, f, OutputKind::kPositionEuler, m, with.data());
+    gatherFeatures(y.data(), u.data(), nullptr, nullptr, kLength, FeatureSet::kScaleFree, OutputKind::kPositionEuler, m,
+                   without.data());
+    for (int k = 0; k < kLength; ++k) {
+      for (int c = 0; c < kScaleFreeChannels; ++c)
+        EXPECT_EQ(with[static_cast<std::size_t>(k * kChannels + c)], without[static_cast<std::size_t>(k * kScaleFreeChannels + c)]);
+      State x = State::Zero();
+      for (int i = 0; i < kRateDim; ++i) x(idx::kRate + i) = rates[static_cast<std::size_t>(k * kRateDim + i)];
+      const State mapped = m ? m->applyToState(x) : x;
+      for (int i = 0; i < kRateDim; ++i)
+        EXPECT_FLOAT_EQ(with[static_cast<std::size_t>(k * kChannels + kScaleFreeChannels + i)], static_cast<float>(mapped(idx::kRate + i)))
+            << "motor " << motor << " sample " << k;
+    }
+    if (motor == 1) {  // x → −x: (p, −q, −r)
+      EXPECT_FLOAT_EQ(with[kScaleFreeChannels + 0], rates[0]);
+      EXPECT_FLOAT_EQ(with[kScaleFreeChannels + 1], -rates[1]);
+      EXPECT_FLOAT_EQ(with[kScaleFreeChannels + 2], -rates[2]);
+    }
   }
 }
 

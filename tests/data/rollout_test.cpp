@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "data/algorithm1.h"
@@ -257,6 +258,41 @@ TEST(Flyability, ASlowlyGrowingCycleIsCaughtOnALongFlight) {
   const FlightDraw d = a.flightDraw(3, &attempts);
   EXPECT_EQ(attempts, 1);
   EXPECT_FALSE(b.flyable(d, 3));
+}
+
+// The body rates are the log's: the true state's without a sensor model, the estimate's with one
+// (a gyro's white noise here, 0.05 rad/s: their difference from the truth has about that RMS).
+TEST(Rollout, RecordsTheBodyRatesTheLogHas) {
+  auto rateError = [](const TrajectoryBatch& b, int trajectory, double& sum_squares, int& samples) {
+    for (int k = 0; k < b.length[static_cast<std::size_t>(trajectory)]; ++k)
+      for (int i = 0; i < kRateDim; ++i) {
+        const double d =
+            static_cast<double>(b.rates[b.sampleOffset(trajectory, k) * kRateDim + static_cast<std::size_t>(i)]) -
+            static_cast<double>(b.states[b.sampleOffset(trajectory, k) * kStateDim + static_cast<std::size_t>(idx::kRate + i)]);
+        sum_squares += d * d;
+        ++samples;
+      }
+  };
+  TrajectoryBatch paper;
+  RolloutEngine(smallConfig(50)).run({TrajectoryJob{5, 3, 0.3}}, 1, paper);
+  ASSERT_EQ(paper.rates.size(), paper.states.size() / kStateDim * kRateDim);
+  double sum_squares = 0.0;
+  int samples = 0;
+  rateError(paper, 0, sum_squares, samples);
+  EXPECT_GT(samples, 0);
+  EXPECT_EQ(sum_squares, 0.0);
+
+  RolloutConfig c = lqrOnlyRandomised(0.02);
+  c.randomisation.sensors.rate_std = {0.05, 0.05};
+  TrajectoryBatch noisy;
+  RolloutEngine(c).run(algorithm1Jobs(0, 4, {1.0}, {2}), 1, noisy);
+  sum_squares = 0.0;
+  samples = 0;
+  for (int i = 0; i < noisy.count; ++i) rateError(noisy, i, sum_squares, samples);
+  ASSERT_GT(samples, 100);
+  const double rms = std::sqrt(sum_squares / samples);
+  EXPECT_GT(rms, 0.04);
+  EXPECT_LT(rms, 0.06);
 }
 
 }  // namespace

@@ -359,6 +359,13 @@ TEST(Detector, RefusesNetworksItCannotRun) {
   c.stride = 4;
   model.metadata.features = FeatureSet::kModelBased;  // needs residuals the detector does not have
   EXPECT_THROW(Detector(c, model), std::invalid_argument);
+  model.metadata.features = FeatureSet::kScaleFreeRates;  // needs body rates, which telemetry does not carry yet
+  try {
+    Detector(c, model);
+    ADD_FAILURE() << "a network on body rates was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("body rates"), std::string::npos) << e.what();
+  }
   model.metadata.features = FeatureSet::kModelFree;
   model.metadata.trained_motor = 3;  // the maps send every motor to motor 2
   EXPECT_THROW(Detector(c, model), std::invalid_argument);

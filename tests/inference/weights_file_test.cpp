@@ -145,7 +145,7 @@ TEST_P(StreamingEstimator, EqualsTheWindowedEstimateBitForBit) {
     EXPECT_EQ(ready, k >= t_len - 1) << k;
     if (!ready) continue;
     const int first = k - t_len + 1;
-    windows.gather(&y[static_cast<std::size_t>(first * kOutputDim)], &u[static_cast<std::size_t>(first * kInputDim)], nullptr,
+    windows.gather(&y[static_cast<std::size_t>(first * kOutputDim)], &u[static_cast<std::size_t>(first * kInputDim)], nullptr, nullptr,
                    features.data());
     MotorTheta windowed{};
     windows.estimate(features.data(), 1, &windowed);

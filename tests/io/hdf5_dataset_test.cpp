@@ -56,6 +56,8 @@ TEST(Hdf5Dataset, RoundTripPreservesEveryValue) {
   EXPECT_EQ(back.inputs, b.inputs);
   EXPECT_EQ(back.states, b.states);
   EXPECT_EQ(back.residuals, b.residuals);
+  EXPECT_FALSE(b.rates.empty());
+  EXPECT_EQ(back.rates, b.rates);
   EXPECT_EQ(back.theta, b.theta);
   EXPECT_EQ(back.fault_step, b.fault_step);
   EXPECT_EQ(back.length, b.length);
@@ -68,6 +70,22 @@ TEST(Hdf5Dataset, RoundTripPreservesEveryValue) {
   EXPECT_EQ(back_meta.seed, 3u);
   EXPECT_EQ(back_meta.window, 10);
   EXPECT_EQ(back_meta.dt, 0.002);
+}
+
+// Files written before the body rates were recorded have no 'rates' dataset: they still read,
+// with no rates, and everything else unchanged.
+TEST(Hdf5Dataset, AFileWithoutBodyRatesReadsWithNone) {
+  TrajectoryBatch b = smallBatch(1);
+  b.rates.clear();
+  const std::string path = temp("no-rates.h5");
+  DatasetMetadata meta;
+  meta.window = 10;
+  meta.fault_step = 10;
+  writeDataset(path, b, meta);
+  const TrajectoryBatch back = readDataset(path);
+  EXPECT_TRUE(back.rates.empty());
+  EXPECT_EQ(back.outputs, b.outputs);
+  EXPECT_EQ(back.states, b.states);
 }
 
 TEST(Hdf5Dataset, FilesAreByteIdenticalWhateverTheThreadCount) {
