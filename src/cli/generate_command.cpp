@@ -35,7 +35,7 @@ CLI::App* addGenerateCommand(CLI::App& app, GenerateOptions& o) {
   t->add("--controller", o.controller, "Controller flying the data").choices({"lqr", "cbf"});
   t->add("--controller-config", o.controller_config,
          "Controller FILE (configs/controller-example.toml); --controller given explicitly wins").shippedFile();
-  t->add("--params", o.params, "Plant: nominal, perturbed, perturbed-strong or a FILE").shippedFile();
+  t->add("--params", o.params, "Plant: nominal, perturbed, perturbed-strong or a FILE").paramsFile();
   t->add("--motors", o.motors, "Faulty motors (1..4); the paper trains on motor 2 only").range(1, 4);
   t->add("--thetas", o.thetas, "Effectiveness values after the fault, each in [0, 1]").range(0.0, 1.0);
   t->add("--initial-conditions,-n", o.initial_conditions, "Initial conditions per iteration (overrides --scale)")

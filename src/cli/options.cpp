@@ -8,6 +8,7 @@
 
 #include "cli/shipped_files.h"
 #include "io/key_value.h"
+#include "model/vehicle_params.h"
 
 namespace quadfdi::cli {
 namespace {
@@ -176,9 +177,18 @@ Option& Option::vehicleFile() {
   return *this;
 }
 
+Option& Option::paramsFile() {
+  file_kind_ = FileKind::kParams;
+  return *this;
+}
+
 std::string Option::fileText(const std::string& given, std::string& problem) const {
   if (file_kind_ == FileKind::kShipped) return cli::shippedFile(given);
-  return cli::vehicleFile(given, &problem);
+  if (file_kind_ == FileKind::kParams && isNamedParamSet(given)) return given;
+  const std::string text = cli::vehicleFile(given, &problem);
+  if (!problem.empty() && file_kind_ == FileKind::kParams)
+    problem = "not nominal, perturbed or perturbed-strong; " + problem;
+  return text;
 }
 
 std::string Option::checkText(const std::string& text) const {

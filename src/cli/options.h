@@ -76,6 +76,9 @@ class Option {
   // A vehicle description: shippedFile, and a bare library name ("quad450") is the library's
   // description; a bare name that is neither is refused, naming the library's vehicles.
   Option& vehicleFile();
+  // Plant parameters: a named set (nominal, perturbed, perturbed-strong) as it is; anything else
+  // as vehicleFile, so --params takes a library vehicle by name as --vehicle does.
+  Option& paramsFile();
 
   const std::string& key() const { return key_; }
   const std::string& longFlag() const { return long_flag_; }
@@ -85,8 +88,8 @@ class Option {
 
   std::string checkText(const std::string& text) const;  // choices and the custom check
   std::string checkNumber(double v) const;                // the range
-  enum class FileKind { kNone, kShipped, kVehicle };
-  // The text a file option's value is opened as, or its problem (shippedFile(), vehicleFile()).
+  enum class FileKind { kNone, kShipped, kVehicle, kParams };
+  // The text a file option's value is opened as, or its problem (shippedFile(), vehicleFile(), paramsFile()).
   std::string fileText(const std::string& given, std::string& problem) const;
   template <typename E>
   std::string parseOne(const std::string& given, E& out) const {

@@ -33,10 +33,10 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
          "Mellinger controller; docs/control.md)")
       .choices({"lqr", "cbf", "pid", "geometric"});
   t->add("--params", o.params,
-         "Plant parameters: nominal, perturbed, perturbed-strong, or a parameter FILE "
-         "(see configs/vehicle-example.toml)").shippedFile();
+         "Plant parameters: nominal, perturbed, perturbed-strong, a parameter FILE "
+         "(see configs/vehicle-example.toml), or a library vehicle's name (crazyflie2, racer250, quad450)").paramsFile();
   t->add("--controller-params", o.controller_params,
-         "Model the controller is designed on (same forms as --params); default: the plant's").shippedFile();
+         "Model the controller is designed on (same forms as --params); default: the plant's").paramsFile();
   t->add("--lqr-weights", o.lqr_weights,
          "LQR weights: bryson (documented default) or authors (Q = I, R = I, Euler discretisation)")
       .choices({"bryson", "authors"});

@@ -46,7 +46,7 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
   t->add("--symmetry", o.symmetry, "Symmetry the model will be used with (recorded)").choices({"exact", "paper"});
   t->add("--loss", o.loss, "norm (seed eq. 4) or per-motor (authors' code)").choices({"norm", "per-motor"});
   t->add("--controller", o.controller, "Controller flying the training data").choices({"lqr", "cbf"});
-  t->add("--params", o.params, "Plant of the training data: nominal, perturbed, perturbed-strong or FILE").shippedFile();
+  t->add("--params", o.params, "Plant of the training data: nominal, perturbed, perturbed-strong or FILE").paramsFile();
   t->add("--thetas", o.thetas, "Θ₂ values flown from every initial condition, each in [0, 1]").range(0.0, 1.0);
   t->add("--batch-size", o.batch_size, "Windows per minibatch (windows training)").atLeast(1).defaultText("from --scale");
   t->add("--batch-trajectories", o.batch_trajectories, "Trajectories per minibatch (sequences training)").atLeast(1);

@@ -21,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct FileOptions {
-  std::string config, model, output;
+  std::string config, model, output, params = "nominal";
   std::vector<std::string> vehicles;
 };
 
@@ -35,6 +35,7 @@ FileOptions parsed(std::vector<std::string> args) {
   t->add("--model", o.model, "Model").shippedFile();
   t->add("--vehicle", o.vehicles, "Vehicles").vehicleFile();
   t->add("--output", o.output, "Output");
+  t->add("--params", o.params, "Plant").paramsFile();
   attachOptions(*cmd, t);
   args.insert(args.begin(), "demo");
   std::reverse(args.begin(), args.end());  // CLI11 takes them last-first
@@ -97,6 +98,19 @@ TEST_F(ShippedFiles, AnUnknownVehicleNameIsRefusedNamingTheLibrary) {
   } catch (const OptionError& e) {
     EXPECT_EQ(std::string(e.what()), "--vehicle: no such file, and no vehicle x500 in the library " + vehicleLibraryDir() +
                                          ": crazyflie2, quad450, racer250");
+  }
+}
+
+// --params: the named sets as they are, a library vehicle by name as --vehicle takes it.
+TEST_F(ShippedFiles, PlantParametersTakeANamedSetOrALibraryVehicle) {
+  EXPECT_EQ(parsed({"--params", "perturbed-strong"}).params, "perturbed-strong");
+  EXPECT_EQ(fs::path(parsed({"--params", "quad450"}).params), fs::path(vehicleLibraryDir()) / "quad450.toml");
+  try {
+    parsed({"--params", "x500"});
+    ADD_FAILURE() << "no error";
+  } catch (const OptionError& e) {
+    EXPECT_EQ(std::string(e.what()), "--params: not nominal, perturbed or perturbed-strong; no such file, and no vehicle "
+                                     "x500 in the library " + vehicleLibraryDir() + ": crazyflie2, quad450, racer250");
   }
 }
 
