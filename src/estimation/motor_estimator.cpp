@@ -54,8 +54,7 @@ void MotorEstimator::estimate(const float* features, int count, MotorTheta* thet
 }
 
 bool StreamingMotorEstimator::canStream(const ModelMetadata& m) {
-  // Streams carry no body rates yet (TelemetrySample): a model that reads them runs on windows only.
-  return m.architecture == Architecture::kTcn && isStreamingFeatureSet(m.features) && !featuresReadRates(m.features) &&
+  return m.architecture == Architecture::kTcn && isStreamingFeatureSet(m.features) &&
          m.output == OutputKind::kPositionEuler;
 }
 
@@ -63,7 +62,8 @@ StreamingMotorEstimator::StreamingMotorEstimator(const TrainedModel& model, Symm
     : metadata_(model.metadata), maps_(mapsToTrainedMotor(model.metadata, mode)) {
   if (!canStream(metadata_))
     throw std::invalid_argument(
-        "only TCN networks on model-free-heading or scale-free features with Euler-angle outputs can stream");
+        "only TCN networks on model-free-heading, scale-free or scale-free-rates features with Euler-angle outputs can "
+        "stream");
   streamer_ = std::make_unique<TcnStreamer>(model.weights, kMotors);
   if (streamer_->receptiveField() > metadata_.window - 1)
     throw std::invalid_argument("the TCN's receptive field exceeds the window");
@@ -76,13 +76,22 @@ void StreamingMotorEstimator::reset() {
 }
 
 bool StreamingMotorEstimator::push(const Output& y, const Input& u, MotorTheta& theta) {
+  if (featuresReadRates(metadata_.features))
+    throw std::logic_error("this model reads body rates (scale-free-rates features) and none were given");
+  return push(y, u, Vec3::Zero(), theta);
+}
+
+bool StreamingMotorEstimator::push(const Output& y, const Input& u, const Vec3& rates, MotorTheta& theta) {
   const auto row = static_cast<std::size_t>(metadata_.channels());
+  const bool read_rates = featuresReadRates(metadata_.features);
+  const auto rate_offset = row - kRateDim;
   for (std::size_t k = 0; k < maps_.size(); ++k) {
     const Output my = maps_[k].applyToOutput(y, OutputKind::kPositionEuler);
     const Input mu = maps_[k].applyToInput(u);
     // The first sample has no predecessor: zero increments, as in a window's first row.
     if (samples_ == 0) streamingFeatureRow(metadata_.features, my, mu, my, mu, rows_.data() + k * row);
     else streamingFeatureRow(metadata_.features, previous_[k], previous_u_[k], my, mu, rows_.data() + k * row);
+    if (read_rates) rateChannels(rates, &maps_[k], rows_.data() + k * row + rate_offset);
     previous_[k] = my;
     previous_u_[k] = mu;
   }

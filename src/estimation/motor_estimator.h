@@ -56,8 +56,11 @@ class StreamingMotorEstimator {
   static bool canStream(const ModelMetadata& m);
 
   void reset();
-  // One sample (y: position, Euler angles; u: commanded thrust). Returns true when `theta` holds
-  // an estimate (T samples since reset). No allocation.
+  // One sample (y: position, Euler angles; u: commanded thrust; rates: body rates p, q, r [rad/s],
+  // read by a model on scale-free-rates features). Returns true when `theta` holds an estimate (T
+  // samples since reset). No allocation.
+  bool push(const Output& y, const Input& u, const Vec3& rates, MotorTheta& theta);
+  // The same for a model that reads no rates; throws std::logic_error for one that does.
   bool push(const Output& y, const Input& u, MotorTheta& theta);
   int window() const { return metadata_.window; }
   const char* kernel() const { return streamer_->kernel(); }
@@ -69,7 +72,7 @@ class StreamingMotorEstimator {
   std::array<Output, kMotors> previous_{};
   std::array<Input, kMotors> previous_u_{};
   long samples_ = 0;
-  std::array<float, kMotors * (kOutputDim + kInputDim + 1)> rows_{};  // the widest streaming row (scale-free)
+  std::array<float, kMotors * (kOutputDim + kInputDim + 1 + kRateDim)> rows_{};  // the widest streaming row (scale-free-rates)
   std::array<float, kMotors * 4> out_{};
 };
 

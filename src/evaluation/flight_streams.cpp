@@ -12,10 +12,7 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
                                                     const std::vector<TrajectoryJob>& jobs, int threads, int chunk,
                                                     const std::atomic<bool>* stop, const CommandGateConfig& gate) {
   if (!StreamingMotorEstimator::canStream(model.metadata))
-    throw std::invalid_argument(featuresReadRates(model.metadata.features)
-                                    ? "simulated Θ̂ streams do not carry body rates yet, which this model reads "
-                                      "(docs/networks.md#body-rates)"
-                                    : "simulated Θ̂ streams need a streaming model (a TCN on streaming features)");
+    throw std::invalid_argument("simulated Θ̂ streams need a streaming model (a TCN on streaming features)");
   const RolloutEngine engine(rollout);
   if (!engine.error().empty()) throw std::invalid_argument("rollout: " + engine.error());
   const int workers = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
@@ -50,9 +47,10 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
           Input u;
           for (int i = 0; i < kOutputDim; ++i) y(i) = batch.outputs[o * kOutputDim + static_cast<std::size_t>(i)];
           for (int i = 0; i < kInputDim; ++i) u(i) = batch.inputs[o * kInputDim + static_cast<std::size_t>(i)];
+          const Vec3 rates(batch.rates[o * kRateDim], batch.rates[o * kRateDim + 1], batch.rates[o * kRateDim + 2]);
           MotorTheta theta;
           const std::uint8_t observable = command_gate.step({u(0), u(1), u(2), u(3)});
-          if (estimator.push(y, u, theta)) {
+          if (estimator.push(y, u, rates, theta)) {
             s.theta.push_back(theta);
             s.observable.push_back(observable);
           }

@@ -127,11 +127,13 @@ TEST_P(StreamingEstimator, EqualsTheWindowedEstimateBitForBit) {
   const int t_len = model.metadata.window, n = 260;
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, 1.0);
-  std::vector<float> y(static_cast<std::size_t>(n) * kOutputDim), u(static_cast<std::size_t>(n) * kInputDim);
+  std::vector<float> y(static_cast<std::size_t>(n) * kOutputDim), u(static_cast<std::size_t>(n) * kInputDim),
+      w(static_cast<std::size_t>(n) * kRateDim);
   for (int k = 0; k < n; ++k) {
     for (int i = 0; i < kOutputDim; ++i) y[static_cast<std::size_t>(k * kOutputDim + i)] = static_cast<float>(0.3 * std::sin(0.05 * k + i) + 0.01 * noise(rng));
     y[static_cast<std::size_t>(k * kOutputDim + 5)] = static_cast<float>(3.0 * std::sin(0.01 * k));  // yaw through ±π
     for (int i = 0; i < kInputDim; ++i) u[static_cast<std::size_t>(k * kInputDim + i)] = static_cast<float>(0.07 + 0.01 * noise(rng));
+    for (int i = 0; i < kRateDim; ++i) w[static_cast<std::size_t>(k * kRateDim + i)] = static_cast<float>(2.0 * std::sin(0.03 * k + i) + 0.05 * noise(rng));
   }
   std::vector<float> features(kMotors * windows.featuresPerWindow());
   int compared = 0;
@@ -140,26 +142,33 @@ TEST_P(StreamingEstimator, EqualsTheWindowedEstimateBitForBit) {
     Input uk;
     for (int i = 0; i < kOutputDim; ++i) yk(i) = y[static_cast<std::size_t>(k * kOutputDim + i)];
     for (int i = 0; i < kInputDim; ++i) uk(i) = u[static_cast<std::size_t>(k * kInputDim + i)];
+    const Vec3 wk(w[static_cast<std::size_t>(k * kRateDim)], w[static_cast<std::size_t>(k * kRateDim + 1)],
+                  w[static_cast<std::size_t>(k * kRateDim + 2)]);
     MotorTheta streamed{};
-    const bool ready = stream.push(yk, uk, streamed);
+    const bool ready = featuresReadRates(GetParam()) ? stream.push(yk, uk, wk, streamed) : stream.push(yk, uk, streamed);
     EXPECT_EQ(ready, k >= t_len - 1) << k;
     if (!ready) continue;
     const int first = k - t_len + 1;
-    windows.gather(&y[static_cast<std::size_t>(first * kOutputDim)], &u[static_cast<std::size_t>(first * kInputDim)], nullptr, nullptr,
-                   features.data());
+    windows.gather(&y[static_cast<std::size_t>(first * kOutputDim)], &u[static_cast<std::size_t>(first * kInputDim)], nullptr,
+                   &w[static_cast<std::size_t>(first * kRateDim)], features.data());
     MotorTheta windowed{};
     windows.estimate(features.data(), 1, &windowed);
     EXPECT_EQ(streamed, windowed) << "sample " << k;
     ++compared;
   }
   EXPECT_EQ(compared, n - t_len + 1);
+  if (featuresReadRates(GetParam())) {
+    MotorTheta theta{};
+    EXPECT_THROW(stream.push(Output::Zero(), Input::Ones(), theta), std::logic_error);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(StreamingFeatureSets, StreamingEstimator,
-                         ::testing::Values(FeatureSet::kModelFreeHeading, FeatureSet::kScaleFree),
+                         ::testing::Values(FeatureSet::kModelFreeHeading, FeatureSet::kScaleFree, FeatureSet::kScaleFreeRates),
                          [](const ::testing::TestParamInfo<FeatureSet>& param) {
-                           return param.param == FeatureSet::kScaleFree ? std::string("ScaleFree")
-                                                                       : std::string("ModelFreeHeading");
+                           return param.param == FeatureSet::kScaleFree        ? std::string("ScaleFree")
+                                  : param.param == FeatureSet::kScaleFreeRates ? std::string("ScaleFreeRates")
+                                                                               : std::string("ModelFreeHeading");
                          });
 
 }  // namespace
