@@ -50,7 +50,7 @@ void gatherWindowFeatures(const TrajectoryBatch& batch, const WindowRef& window,
 // One kModelFreeHeading row from a (mapped) sample and its (mapped) predecessor.
 void headingFeatureRow(const Output& previous, const Output& current, const Input& u, float* out);
 // Feature sets whose row at a sample depends only on that sample and its predecessor: a causal
-// network on them can run on a stream (kModelFreeHeading, kScaleFree).
+// network on them can run on a stream (kModelFreeHeading, kScaleFree, kScaleFreeRates).
 bool isStreamingFeatureSet(FeatureSet f);
 // One row of such a set from a (mapped) sample (y, u) and its (mapped) predecessor; the first
 // sample of a stream or window passes itself as its predecessor (zero increments). For

@@ -23,7 +23,7 @@ struct TrajectoryBatch {
   std::vector<float> residuals;  // kOutputDim channels: ỹ = y − ȳ (nominal one-step prediction)
   // kRateDim channels: body rates p, q, r [rad/s] as the log has them — the estimate's (gyro
   // noise, low-pass and delay) where a sensor model is flown, the true state's otherwise. Empty
-  // when read from a dataset written before they were recorded (version 1).
+  // when read from a dataset written before they were recorded (2026-12-02).
   std::vector<float> rates;
   // Per trajectory.
   std::vector<float> theta;                  // [count][4] effectiveness after the fault
