@@ -23,8 +23,9 @@ void decodeAndRun(const std::uint8_t* data, std::size_t size) {
     MotorEstimator estimator(model, m.symmetry);
     const std::vector<float> outputs(static_cast<std::size_t>(m.window) * kOutputDim, 0.25f);
     const std::vector<float> inputs(static_cast<std::size_t>(m.window) * kInputDim, 0.07f);
+    const std::vector<float> rates(static_cast<std::size_t>(m.window) * kRateDim, 0.1f);  // read by scale-free-rates models
     std::vector<float> features(kMotors * estimator.featuresPerWindow());
-    estimator.gather(outputs.data(), inputs.data(), nullptr, features.data());
+    estimator.gather(outputs.data(), inputs.data(), nullptr, rates.data(), features.data());
     MotorTheta theta{};
     estimator.estimate(features.data(), 1, &theta);
     for (float t : theta) QUADFDI_FUZZ_CHECK(t >= 0.0f && t <= 1.0f);
