@@ -391,6 +391,10 @@ int runDetect(const DetectOptions& o) {
   const SessionResult r = runDetection(*detector, *source, sink, session);
   if (r.status == SessionStatus::kNotIncreasing)
     throw TelemetryError(r.where + ": time goes backwards (t = " + std::to_string(r.t) + " s)");
+  if (r.status == SessionStatus::kNoRates)
+    throw TelemetryError(name + ": the model " + model_path + " reads body rates (" + toString(m.features) +
+                         " features) and this telemetry has none: give columns p,q,r [rad/s] (docs/conventions.md), a log "
+                         "that records them, or a model on scale-free features");
   if (r.status == SessionStatus::kTooCoarse) {
     // Intervals of a second or more are no autopilot's rate: most likely t is not in seconds.
     const double mean_interval = r.samples > 1 ? (r.t - r.first_t) / static_cast<double>(r.samples - 1) : 0.0;

@@ -39,7 +39,8 @@ int runImport(const ImportCommandOptions& o) {
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;
-  writeTelemetryCsvHeader(out, log.source->report().numbering);  // detect reads the autopilot's motor numbers back
+  const bool rates = log.source->carriesRates();  // the log records body rates: they go along, as p,q,r
+  writeTelemetryCsvHeader(out, log.source->report().numbering, rates);  // detect reads the autopilot's motor numbers back
   TelemetrySample s;
   std::string problem;
   long rows = 0, skipped = 0;
@@ -48,7 +49,7 @@ int runImport(const ImportCommandOptions& o) {
       if (!o.quiet && ++skipped <= 10) std::fprintf(stderr, "import: warning: %s\n", problem.c_str());
       continue;
     }
-    writeTelemetryCsvRow(out, s);
+    writeTelemetryCsvRow(out, s, rates);
     ++rows;
   }
   if (!o.quiet && skipped > 10) std::fprintf(stderr, "import: warning: %ld more samples dropped\n", skipped - 10);

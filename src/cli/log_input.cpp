@@ -48,14 +48,14 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
   t.add("--csv-columns", o.csv_columns,
         "Telemetry CSV: columns named otherwise in the header, as COLUMN=NAME (e.g. t=__time "
         "x=/mavros/local_position/pose/pose/position/x u1=/motors/0), COLUMN one of t, x, y, z, roll, pitch, yaw, qw, qx, qy, "
-        "qz, u1..u4")
+        "qz, u1..u4, p, q, r")
       .check([](const std::string& text) -> std::string {
         const std::size_t eq = text.find('=');
         if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) return "'" + text + "' is not COLUMN=NAME";
         const std::string column = text.substr(0, eq);
         for (const char* c : TelemetryReader::kColumns)
           if (column == c) return "";
-        return "'" + column + "' is no telemetry column (t, x, y, z, roll, pitch, yaw, qw, qx, qy, qz, u1, u2, u3, u4)";
+        return "'" + column + "' is no telemetry column (t, x, y, z, roll, pitch, yaw, qw, qx, qy, qz, u1, u2, u3, u4, p, q, r)";
       })
       .defaultText("");
   t.add("--csv-time-unit", o.csv_time_unit,
@@ -67,6 +67,10 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
         "('roll [deg]') says the same. Small angles in degrees read as radians pass the range check and tilt the vehicle "
         "57 times too far: say so")
       .choices({"rad", "deg"});
+  t.add("--csv-rate-unit", o.csv_rate_unit,
+        "Telemetry CSV: the unit of the optional body rates p, q, r (read by models on scale-free-rates features): rad/s "
+        "or deg/s; a unit in the header ('p [deg/s]') says the same")
+      .choices({"rad/s", "deg/s"});
   t.add("--csv-numbering", o.csv_numbering,
         "Telemetry CSV: whose motor numbers u1..u4 are in: quadfdi (1 front-right, 2 back-right, 3 back-left, 4 "
         "front-left) or vehicle (the --vehicle description's [motor.N] numbering, e.g. PX4's, as a simulator of that "
@@ -103,7 +107,7 @@ void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o) 
     refuseGiven(o.given, {"csv_frame"}, "reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows");
     refuseGiven(o.given, {"csv_commands", "csv_pwm_min", "csv_pwm_max"},
                 "reads a telemetry CSV; a " + format + " log's commands are converted by its reader");
-    refuseGiven(o.given, {"csv_columns", "csv_time_unit", "csv_angle_unit"},
+    refuseGiven(o.given, {"csv_columns", "csv_time_unit", "csv_angle_unit", "csv_rate_unit"},
                 "reads a telemetry CSV; a " + format + " log names its own fields and units");
     refuseGiven(o.given, {"csv_numbering"}, "reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering");
   }
@@ -159,6 +163,7 @@ TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o) {
   }
   r.time_unit = secondsPerTimeUnit(o.csv_time_unit);  // one of s, ms, us, ns (the option's choices)
   r.angles_in_degrees = o.csv_angle_unit == "deg";
+  r.rates_in_degrees = o.csv_rate_unit == "deg/s";
   return r;
 }
 

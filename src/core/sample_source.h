@@ -20,6 +20,9 @@ class SampleSource {
   virtual Next next(TelemetrySample& sample, std::string& problem) = 0;
   virtual std::string where() const = 0;       // "FILE:LINE" or "FILE: topic T" of the last sample
   virtual bool moreReady() const { return true; }  // more input is waiting now (a live pipe may say no)
+  // Every sample holds body rates (TelemetrySample::rates); false: they are all zero. Known once the
+  // source is set up (a CSV's header read, a log's signals extracted), before the first sample.
+  virtual bool carriesRates() const { return false; }
 };
 
 }  // namespace quadfdi

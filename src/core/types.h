@@ -18,6 +18,9 @@ struct TelemetrySample {
   double t = 0.0;                     // [s]
   std::array<double, kOutputDim> y{};  // x, y, z [m] (world, z up), roll, pitch, yaw [rad] (ZYX, body FLU)
   std::array<double, kInputDim> u{};   // commanded thrust per motor [N], before any fault
+  // Body rates p, q, r [rad/s] (body FLU), as the gyro's filtered output the flight controller
+  // flies on; all zero from a source that carries none (SampleSource::carriesRates()).
+  std::array<double, 3> rates{};
 };
 
 // Θ̂: estimated effectiveness per motor, 1 = healthy, 0 = no thrust; index k is motor k + 1.

@@ -27,10 +27,6 @@ Detector::Detector(const DetectorConfig& config, const TrainedModel& model)
   if (m.features == FeatureSet::kModelBased || m.features == FeatureSet::kResidualOnly || m.output != OutputKind::kPositionEuler)
     throw std::invalid_argument(std::string("the detector needs a model-free network on position and Euler angles; this one reads ") +
                                 toString(m.features) + " features");
-  if (featuresReadRates(m.features))
-    throw std::invalid_argument(std::string("this model reads ") + toString(m.features) +
-                                " features, with body rates, which telemetry does not carry into the detector yet "
-                                "(docs/networks.md#body-rates): use a scale-free model");
   if (StreamingMotorEstimator::canStream(m))
     streaming_ = std::make_unique<StreamingMotorEstimator>(model, config.symmetry);
   else
@@ -42,6 +38,8 @@ Detector::Detector(const DetectorConfig& config, const TrainedModel& model)
   capacity_ = window_ + kSpareSamples;
   outputs_.assign(static_cast<std::size_t>(capacity_) * kOutputDim, 0.0f);
   inputs_.assign(static_cast<std::size_t>(capacity_) * kInputDim, 0.0f);
+  reads_rates_ = featuresReadRates(m.features);
+  if (reads_rates_) rates_.assign(static_cast<std::size_t>(capacity_) * kRateDim, 0.0f);
   times_.assign(static_cast<std::size_t>(capacity_), 0.0);
   observable_.assign(static_cast<std::size_t>(capacity_), kAllMotorsObservable);
   CommandGateConfig gate = config.command_gate;
@@ -77,6 +75,8 @@ void Detector::appendModelSample(const TelemetrySample& s) {
     const long n = count_ - keep_from, off = keep_from - first_index_;
     std::memmove(outputs_.data(), outputs_.data() + off * kOutputDim, sizeof(float) * static_cast<std::size_t>(n * kOutputDim));
     std::memmove(inputs_.data(), inputs_.data() + off * kInputDim, sizeof(float) * static_cast<std::size_t>(n * kInputDim));
+    if (reads_rates_)
+      std::memmove(rates_.data(), rates_.data() + off * kRateDim, sizeof(float) * static_cast<std::size_t>(n * kRateDim));
     std::memmove(times_.data(), times_.data() + off, sizeof(double) * static_cast<std::size_t>(n));
     std::memmove(observable_.data(), observable_.data() + off, static_cast<std::size_t>(n));
     first_index_ = keep_from;
@@ -84,6 +84,8 @@ void Detector::appendModelSample(const TelemetrySample& s) {
   const long at = count_ - first_index_;
   for (int i = 0; i < kOutputDim; ++i) outputs_[static_cast<std::size_t>(at * kOutputDim + i)] = static_cast<float>(s.y[static_cast<std::size_t>(i)]);
   for (int i = 0; i < kInputDim; ++i) inputs_[static_cast<std::size_t>(at * kInputDim + i)] = static_cast<float>(s.u[static_cast<std::size_t>(i)]);
+  if (reads_rates_)
+    for (int i = 0; i < kRateDim; ++i) rates_[static_cast<std::size_t>(at * kRateDim + i)] = static_cast<float>(s.rates[static_cast<std::size_t>(i)]);
   times_[static_cast<std::size_t>(at)] = s.t;
   observable_[static_cast<std::size_t>(at)] = sequential_ ? gate_.step(s.u) : kAllMotorsObservable;  // only that rule reads it
   ++count_;
@@ -93,7 +95,9 @@ void Detector::appendModelSample(const TelemetrySample& s) {
     for (int i = 0; i < kOutputDim; ++i) y(i) = s.y[static_cast<std::size_t>(i)];
     for (int i = 0; i < kInputDim; ++i) u(i) = s.u[static_cast<std::size_t>(i)];
     MotorTheta theta;
-    if (streaming_->push(y, u, theta)) apply(count_ - 1, theta);
+    const bool estimated = reads_rates_ ? streaming_->push(y, u, Vec3(s.rates[0], s.rates[1], s.rates[2]), theta)
+                                        : streaming_->push(y, u, theta);
+    if (estimated) apply(count_ - 1, theta);
   }
 }
 
@@ -135,7 +139,8 @@ void Detector::evaluateDue(bool look_ahead) {
     for (int i = 0; i < n; ++i) {
       const long first = due[i] - window_ + 1 - first_index_;
       windowed_->gather(&outputs_[static_cast<std::size_t>(first * kOutputDim)], &inputs_[static_cast<std::size_t>(first * kInputDim)],
-                        nullptr, nullptr, features_.data() + static_cast<std::size_t>(i) * per);
+                        nullptr, reads_rates_ ? &rates_[static_cast<std::size_t>(first * kRateDim)] : nullptr,
+                        features_.data() + static_cast<std::size_t>(i) * per);
     }
     windowed_->estimate(features_.data(), n, estimates_.data());
     for (int i = 0; i < n && due[i] == next_due_; ++i) apply(due[i], estimates_[static_cast<std::size_t>(i)]);

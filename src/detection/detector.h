@@ -82,6 +82,8 @@ class Detector {
   Detector(const DetectorConfig& config, const TrainedModel& model);
   bool streaming() const { return streaming_ != nullptr; }
   const char* kernel() const { return streaming_ ? streaming_->kernel() : windowed_->kernel(); }
+  // The model reads body rates (scale-free-rates features): every sample pushed must carry them.
+  bool readsRates() const { return reads_rates_; }
 
   // Feeds one input sample. kNotIncreasing and kTooCoarse refuse it (the caller reports and stops);
   // kRestarted (a gap) and kJumped (an estimator reset) emptied the history. Evaluates what is
@@ -117,8 +119,10 @@ class Detector {
   AlarmFilter alarm_;
   std::unique_ptr<SequentialRule> sequential_;  // with AlarmRule::kSequential
   long last_evaluation_ = -1;                   // model sample of the previous evaluation since the restart
-  // History of model-rate samples since the last restart, contiguous: [capacity][6] and [capacity][4].
-  std::vector<float> outputs_, inputs_;
+  // History of model-rate samples since the last restart, contiguous: [capacity][6], [capacity][4]
+  // and, for a model that reads them, the body rates [capacity][3].
+  std::vector<float> outputs_, inputs_, rates_;
+  bool reads_rates_ = false;
   std::vector<double> times_;
   std::vector<std::uint8_t> observable_;  // [capacity] the command gate's mask after each sample
   CommandGate gate_;

@@ -1,7 +1,7 @@
 // Telemetry at any rate onto the model's grid (issue 6). Real logs arrive at their own rate
-// with jitter and dropped packets; the network was trained on samples every dt. Outputs are
-// interpolated linearly (yaw along the short way round); the commanded thrust is held, as the
-// flight controller holds it, from one logged command to the next.
+// with jitter and dropped packets; the network was trained on samples every dt. Outputs and body
+// rates are interpolated linearly (yaw along the short way round); the commanded thrust is held,
+// as the flight controller holds it, from one logged command to the next.
 #pragma once
 
 #include <cmath>

@@ -11,6 +11,11 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
   std::string problem;
   DetectorOutput d;
   double last_t = 0.0;  // [s] of the last sample read
+  if (detector.readsRates() && !source.carriesRates()) {  // zeros read as rates would be a vehicle at rest
+    result.status = SessionStatus::kNoRates;
+    result.where = source.where();
+    return result;
+  }
   for (;;) {
     const SampleSource::Next next = source.next(sample, problem);
     if (next == SampleSource::Next::kEnd) break;

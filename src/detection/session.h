@@ -21,6 +21,7 @@ enum class SessionStatus {
   kDone,           // the source ended
   kNotIncreasing,  // a sample's time went back (where, t say which); a repeated time is skipped
   kTooCoarse,      // the source is sampled more coarsely than the detector accepts
+  kNoRates,        // the model reads body rates and the source carries none: nothing was read
 };
 
 struct SessionResult {

@@ -84,6 +84,7 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
     last_t = row.t;
     if (row.has_position && append(out.position, row.t, row.position)) ++counts.repeated;
     if (row.has_attitude && append(out.attitude, row.t, row.attitude)) ++counts.repeated;
+    if (row.has_rates && append(out.rates, row.t, row.rates)) ++counts.repeated;
     bool command_repeated = false;  // the commands are one signal, however many of their motors repeat
     for (std::size_t i = 0; i < kMotors; ++i)
       if (row.has_u[i] && append(motor[i], row.t, std::array<double, 1>{row.u[i]})) command_repeated = true;
@@ -98,13 +99,16 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
   out.position.source = {"columns x,y,z", "", ""};
   out.attitude.source = {reader.quaternionAttitude() ? "columns qw,qx,qy,qz" : "columns roll,pitch,yaw", "",
                          reader.quaternionAttitude() ? "quaternion → ZYX Euler" : ""};
+  if (reader.carriesRates()) out.rates.source = {"columns p,q,r", "", ""};
   out.command.source = {"columns u1,u2,u3,u4", "",
                         counts.split_commands > 0 ? "each motor held from its own rows to the others' times" : ""};
   out.command_kind = CommandKind::kThrustNewton;
   if (reader.numbering()) out.numbering = *reader.numbering();
   out.conventions.push_back("a merged telemetry CSV: " + plural(counts.rows, "row") + ", position in " +
                             std::to_string(out.position.t.size()) + ", attitude in " + std::to_string(out.attitude.t.size()) +
-                            ", commands in " + std::to_string(out.command.t.size()) + "; the whole file is the flight");
+                            ", commands in " + std::to_string(out.command.t.size()) +
+                            (reader.carriesRates() ? ", body rates in " + std::to_string(out.rates.t.size()) : std::string()) +
+                            "; the whole file is the flight");
   if (counts.without_signal > 0)
     out.conventions.push_back(plural(counts.without_signal, "row") + " with none of the three signals (other columns only) passed over");
   if (counts.partial > 0)

@@ -14,19 +14,21 @@ void put(std::ostream& out, double v) {
 
 }  // namespace
 
-void writeTelemetryCsvHeader(std::ostream& out, const MotorNumbering& numbering) {
+void writeTelemetryCsvHeader(std::ostream& out, const MotorNumbering& numbering, bool rates) {
   if (!numbering.isQuadfdis()) {
     out << "# motor_numbering: " << numbering.name << " =";
     for (int m : numbering.autopilot_motor) out << ' ' << m;
     out << '\n';
   }
-  out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n";
+  out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4" << (rates ? ",p,q,r\n" : "\n");
 }
 
-void writeTelemetryCsvRow(std::ostream& out, const TelemetrySample& s) {
+void writeTelemetryCsvRow(std::ostream& out, const TelemetrySample& s, bool rates) {
   put(out, s.t);
   for (double v : s.y) { out << ','; put(out, v); }
   for (double v : s.u) { out << ','; put(out, v); }
+  if (rates)
+    for (double v : s.rates) { out << ','; put(out, v); }
   out << '\n';
 }
 

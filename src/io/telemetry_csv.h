@@ -24,7 +24,8 @@ void writeTelemetryCsv(std::ostream& out, const FlightLog& log, const TelemetryC
 // With `numbering` other than quadfdi's own, a comment line before the header records the
 // autopilot's number of each column's motor, "# motor_numbering: PX4 = 1 4 2 3" (u1..u4 stay in
 // quadfdi's order), which `detect` reads back to name motors as the pilot's autopilot does.
-void writeTelemetryCsvHeader(std::ostream& out, const MotorNumbering& numbering = {});
-void writeTelemetryCsvRow(std::ostream& out, const TelemetrySample& sample);
+// With `rates`, the body rates follow as columns p,q,r [rad/s] (a log that records them).
+void writeTelemetryCsvHeader(std::ostream& out, const MotorNumbering& numbering = {}, bool rates = false);
+void writeTelemetryCsvRow(std::ostream& out, const TelemetrySample& sample, bool rates = false);
 
 }  // namespace quadfdi

@@ -149,11 +149,15 @@ double secondsPerTimeUnit(const std::string& unit) {
   return unit == "s" ? 1.0 : unit == "ms" ? 1e-3 : unit == "us" || unit == "\u00b5s" ? 1e-6 : unit == "ns" ? 1e-9 : 0.0;
 }
 
-const char* const TelemetryReader::kColumns[15] = {"t",   "x",  "y",  "z",  "roll", "pitch", "yaw", "u1",
-                                                  "u2",  "u3", "u4", "qw", "qx",   "qy",    "qz"};
+const char* const TelemetryReader::kColumns[kColumnCount] = {"t",  "x",  "y",  "z",  "roll", "pitch", "yaw", "u1", "u2",
+                                                            "u3", "u4", "qw", "qx", "qy",   "qz",    "p",   "q",  "r"};
 
 namespace {
-constexpr int kRoll = 4, kU1 = 7, kQw = 11;  // indices into kColumns
+constexpr int kRoll = 4, kU1 = 7, kQw = 11, kP = 15;  // indices into kColumns
+constexpr int kColumnCount = TelemetryReader::kColumnCount;
+// A body rate beyond this is no flight: MEMS gyros of flight controllers saturate at 2000 °/s
+// (35 rad/s); degrees per second read as radians per second are, most often.
+constexpr double kMaxBodyRate = 100.0;  // [rad/s]
 }  // namespace
 
 bool TelemetryReader::readLine(std::string& text) {
@@ -206,14 +210,14 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   std::sort(sorted.begin(), sorted.end());
   if (sorted != std::array<int, kInputDim>{1, 2, 3, 4})
     throw std::invalid_argument("TelemetryReader: file_motor must be a permutation of 1..4");
-  for (int r = 0; r < 15; ++r) label_[static_cast<std::size_t>(r)] = kColumns[r];
-  std::array<bool, 15> renamed{};
+  for (int r = 0; r < kColumnCount; ++r) label_[static_cast<std::size_t>(r)] = kColumns[r];
+  std::array<bool, kColumnCount> renamed{};
   for (const auto& [column, header_name] : options_.header_names) {
     int r = 0;
-    while (r < 15 && column != kColumns[r]) ++r;
-    if (r == 15 || renamed[static_cast<std::size_t>(r)] || header_name.empty())
+    while (r < kColumnCount && column != kColumns[r]) ++r;
+    if (r == kColumnCount || renamed[static_cast<std::size_t>(r)] || header_name.empty())
       throw std::invalid_argument("TelemetryReader: header name '" + header_name + "' given for '" + column +
-                                  "', which is no column (t, x, y, z, roll, pitch, yaw, u1..u4, qw..qz), or given twice");
+                                  "', which is no column (t, x, y, z, roll, pitch, yaw, u1..u4, qw..qz, p, q, r), or given twice");
     renamed[static_cast<std::size_t>(r)] = true;
     label_[static_cast<std::size_t>(r)] = header_name;
   }
@@ -225,9 +229,9 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   split(header, separator_, cells);
   cells_ = static_cast<int>(cells.size());
   bool angle_unit_read = false;
-  const std::array<std::string, 15> header_names = label_;  // a column named with a unit is then labelled so
+  const std::array<std::string, kColumnCount> header_names = label_;  // a column named with a unit is then labelled so
   for (int c = 0; c < cells_; ++c)
-    for (int r = 0; r < 15; ++r) {
+    for (int r = 0; r < kColumnCount; ++r) {
       const std::string& cell = cells[static_cast<std::size_t>(c)];
       const std::string& wanted = header_names[static_cast<std::size_t>(r)];
       std::string base, unit;
@@ -245,7 +249,13 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   // The attitude: Euler angles when the header names any of them (all three then needed), else
   // the quaternion, whole (an absent attitude is reported as Euler's first column).
   quaternion_ = !has(kRoll) && !has(kRoll + 1) && !has(kRoll + 2) && (has(kQw) || has(kQw + 1) || has(kQw + 2) || has(kQw + 3));
-  for (int r = 0; r < 15; ++r)
+  // Body rates: all three or none (a header with one of them meant to give them).
+  rates_ = has(kP) || has(kP + 1) || has(kP + 2);
+  for (int r = kP; r < kP + 3 && rates_; ++r)
+    if (!has(r))
+      throw TelemetryError(where() + ": the header has body rates and lacks column '" + label(r) +
+                           "' (p, q, r [rad/s] come together, or not at all)");
+  for (int r = 0; r < kColumnCount; ++r)
     if (!has(r) && isRead(r)) {
       if (renamed[static_cast<std::size_t>(r)])
         throw TelemetryError(where() + ": the header lacks column '" + label(r) + "' (read as " +
@@ -289,6 +299,13 @@ void TelemetryReader::readHeaderUnit(int column, const std::string& unit, bool& 
               : options_.commands == CommandQuantity::kPwm      ? "--csv-commands pwm: pulses in us"
                                                                 : "--csv-commands throttle: a fraction without unit") +
              ")");
+  } else if (column >= kP) {
+    const bool degrees = unit == "deg/s" || unit == "\u00b0/s" || unit == "dps";
+    if (!degrees && unit != "rad/s") refuse("the unit '" + unit + "' is no angular rate unit read here (rad/s or deg/s)");
+    if (degrees != options_.rates_in_degrees && (rate_unit_read_ || options_.rates_in_degrees))
+      refuse("the header says " + unit + (rate_unit_read_ ? " here and another unit for another rate" : ", --csv-rate-unit deg/s"));
+    options_.rates_in_degrees = degrees;
+    rate_unit_read_ = true;
   } else if (!unitless) {
     refuse("a quaternion has no unit, the header says '" + unit + "'");
   }
@@ -296,13 +313,14 @@ void TelemetryReader::readHeaderUnit(int column, const std::string& unit, bool& 
 
 bool TelemetryReader::isRead(int column) const {
   if (column >= kRoll && column < kRoll + 3) return !quaternion_;
+  if (column >= kP) return rates_;
   if (column >= kQw) return quaternion_;
   return true;
 }
 
 // Splits the next data line and parses every read column: `present[r]` false for an empty,
 // non-finite or absurd cell, with `why[r]` saying which. Throws for what no row may hold.
-bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::string (&why)[15]) {
+bool TelemetryReader::readCells(double (&values)[kColumnCount], bool (&present)[kColumnCount], std::string (&why)[kColumnCount]) {
   std::string text;
   if (!readLine(text)) {
     if (in_.bad()) throw TelemetryError(name_ + ": read error after line " + std::to_string(line_));
@@ -313,7 +331,7 @@ bool TelemetryReader::readCells(double (&values)[15], bool (&present)[15], std::
   if (static_cast<int>(cells.size()) != cells_)
     throw TelemetryError(where() + ": " + std::to_string(cells.size()) + " cells, the header has " + std::to_string(cells_));
   blank_.fill(false);
-  for (int r = 0; r < 15; ++r) {
+  for (int r = 0; r < kColumnCount; ++r) {
     present[r] = false;
     if (!isRead(r)) continue;
     const std::string& cell = cells[static_cast<std::size_t>(column_[static_cast<std::size_t>(r)])];
@@ -362,7 +380,7 @@ std::string TelemetryReader::cellText(int column) const {
 
 // The attitude of a row whose attitude cells are all present, in quadfdi's frame; false (with
 // `problem`) for the zero quaternion an estimator writes before its first attitude.
-bool TelemetryReader::attitudeOf(const double (&values)[15], EulerZyx& attitude, std::string& problem) const {
+bool TelemetryReader::attitudeOf(const double (&values)[kColumnCount], EulerZyx& attitude, std::string& problem) const {
   if (quaternion_) {
     const double w = values[kQw], x = values[kQw + 1], y = values[kQw + 2], z = values[kQw + 3];
     const double norm = std::sqrt(w * w + x * x + y * y + z * z);
@@ -402,7 +420,7 @@ int TelemetryReader::commandColumn(std::size_t motor) const { return kU1 + optio
 
 // Column r (one of u1..u4) of a row whose cell is present → thrust of that motor (or squared
 // speed). Each motor's command is converted alone: a merged export may give them on rows of their own.
-double TelemetryReader::commandOf(const double (&values)[15], int r) const {
+double TelemetryReader::commandOf(const double (&values)[kColumnCount], int r) const {
   // Commands in newtons per motor: the largest quadrotor motors make ~100 N (10 kg of thrust), so
   // hundreds are another unit (PWM µs, a raw 0–65535 command), which the thrust map must convert.
   constexpr double kMaxMotorThrust = 500.0;  // [N] five times the largest heavy-lift motor's thrust
@@ -436,9 +454,22 @@ double TelemetryReader::commandOf(const double (&values)[15], int r) const {
 
 // Position and attitude from the file's frame into quadfdi's (north, east, down and FRD → north,
 // west, up and FLU: both turned 180° about x).
-std::array<double, 3> TelemetryReader::positionOf(const double (&values)[15]) const {
+std::array<double, 3> TelemetryReader::positionOf(const double (&values)[kColumnCount]) const {
   if (options_.frame == TelemetryFrame::kNed) return {values[1], -values[2], -values[3]};
   return {values[1], values[2], values[3]};
+}
+
+// Body rates from the file's unit and body frame into rad/s, FLU (FRD → FLU: q and r change sign,
+// the body turned 180° about x); a rate beyond any gyro's range is another unit, refused.
+std::array<double, 3> TelemetryReader::ratesOf(const double (&values)[kColumnCount]) const {
+  const double unit = options_.rates_in_degrees ? M_PI / 180.0 : 1.0;
+  for (int r = kP; r < kP + 3; ++r)
+    if (std::abs(values[r] * unit) > kMaxBodyRate)
+      throw TelemetryError(where() + ": " + label(r) + " = " + cellText(r) + " is no body rate" +
+                           (options_.rates_in_degrees ? " in deg/s (over 100 rad/s)"
+                                                      : " in rad/s (over 100 rad/s): degrees per second? --csv-rate-unit deg/s"));
+  const double sign = options_.frame == TelemetryFrame::kNed ? -1.0 : 1.0;
+  return {values[kP] * unit, sign * values[kP + 1] * unit, sign * values[kP + 2] * unit};
 }
 
 EulerZyx TelemetryReader::inQuadfdisFrame(const EulerZyx& attitude) const {
@@ -446,11 +477,11 @@ EulerZyx TelemetryReader::inQuadfdisFrame(const EulerZyx& attitude) const {
 }
 
 SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& problem) {
-  double values[15];
-  bool present[15];
-  std::string why[15];
+  double values[kColumnCount];
+  bool present[kColumnCount];
+  std::string why[kColumnCount];
   if (!readCells(values, present, why)) return Row::kEnd;
-  for (int r = 0; r < 15; ++r)
+  for (int r = 0; r < kColumnCount; ++r)
     if (isRead(r) && !present[r]) {
       problem = why[r] + "; row skipped";
       return Row::kSkipped;
@@ -466,13 +497,14 @@ SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& p
   const std::array<double, 3> p = positionOf(values);
   sample.y = {p[0], p[1], p[2], attitude.roll, attitude.pitch, attitude.yaw};
   sample.u = u;
+  sample.rates = rates_ ? ratesOf(values) : std::array<double, 3>{};
   return Row::kSample;
 }
 
 SampleSource::Next TelemetryReader::nextParts(TelemetryRowParts& parts, std::string& problem) {
-  double values[15];
-  bool present[15];
-  std::string why[15];
+  double values[kColumnCount];
+  bool present[kColumnCount];
+  std::string why[kColumnCount];
   if (!readCells(values, present, why)) return Row::kEnd;
   parts = TelemetryRowParts{};
   if (!present[0]) {
@@ -510,6 +542,10 @@ SampleSource::Next TelemetryReader::nextParts(TelemetryRowParts& parts, std::str
   }
   for (std::size_t i = 0; i < kInputDim; ++i)
     if (parts.has_u[i]) parts.u[i] = commandOf(values, commandColumn(i));
+  if (rates_) {
+    whole(kP, 3, parts.has_rates);
+    if (parts.has_rates) parts.rates = ratesOf(values);
+  }
   return Row::kSample;
 }
 

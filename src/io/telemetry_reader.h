@@ -3,8 +3,9 @@
 // none, by tabs, semicolons or runs of blanks (as the header is, every row is). A header name may
 // carry its unit ("t [ms]", "roll (deg)"): read where it sets an option, checked everywhere else. Rows are read one at a time so a live pipe works.
 // Attitude comes as ZYX Euler angles (roll, pitch, yaw) or, where those are absent, as a unit
-// quaternion (qw, qx, qy, qz); position and attitude in quadfdi's frames or in NED/FRD, which
-// the reader turns into quadfdi's (core/frames.h).
+// quaternion (qw, qx, qy, qz); body rates p, q, r (optional, read by models on scale-free-rates
+// features) in rad/s or deg/s; position, attitude and rates in quadfdi's frames or in NED/FRD,
+// which the reader turns into quadfdi's (core/frames.h).
 #pragma once
 
 #include <array>
@@ -61,6 +62,7 @@ struct TelemetryReaderOptions {
   std::vector<std::pair<std::string, std::string>> header_names;
   double time_unit = 1.0;  // [s] per unit of the t column: 1e-3 (ms), 1e-6 (µs), 1e-9 (ns, a ROS stamp)
   bool angles_in_degrees = false;  // roll, pitch, yaw in degrees (a quaternion has no unit)
+  bool rates_in_degrees = false;   // p, q, r in degrees per second
   // The file's motor number m (its column u_m) of quadfdi's motor k + 1: a file written in an
   // autopilot's numbering (--csv-numbering vehicle) has the vehicle description's
   // autopilot_motor_of_quadfdi_motor here, and is read in quadfdi's order. A permutation of 1..4.
@@ -79,6 +81,8 @@ struct TelemetryRowParts {
   std::array<double, 3> position{};   // x, y, z [m], world, z up
   std::array<double, 3> attitude{};   // roll, pitch, yaw [rad], ZYX, body FLU
   std::array<double, kInputDim> u{};  // per motor, as TelemetrySample::u (those of has_u)
+  bool has_rates = false;             // p, q, r all present (a header with them only)
+  std::array<double, 3> rates{};      // p, q, r [rad/s], body FLU
   std::string dropped;  // "FILE:LINE: column 'y' is empty": position or attitude with some of its cells and not all, or
                         // a command cell NaN, infinite or absurd: left out
 };
@@ -110,22 +114,25 @@ class TelemetryReader : public SampleSource {
   const std::optional<MotorNumbering>& numbering() const { return numbering_; }
   const std::string& name() const { return name_; }
   bool quaternionAttitude() const { return quaternion_; }  // read from qw, qx, qy, qz (no roll, pitch, yaw)
+  bool carriesRates() const override { return rates_; }   // the header has p, q, r
 
   // t, x, y, z, roll, pitch, yaw, u1 … u4, then qw, qx, qy, qz (read instead of roll, pitch, yaw
-  // when the header has none of those).
-  static const char* const kColumns[15];
+  // when the header has none of those), then the optional body rates p, q, r.
+  static constexpr int kColumnCount = 18;
+  static const char* const kColumns[kColumnCount];
 
  private:
   bool readLine(std::string& text);
   void readNumberingComment(const std::string& comment);
   bool isRead(int column) const;  // index into kColumns: read with the header's attitude
   void readHeaderUnit(int column, const std::string& unit, bool& angle_unit_read);
-  bool readCells(double (&values)[15], bool (&present)[15], std::string (&why)[15]);
+  bool readCells(double (&values)[kColumnCount], bool (&present)[kColumnCount], std::string (&why)[kColumnCount]);
   std::string cellText(int column) const;  // of the row just read, cut at 40 characters
-  bool attitudeOf(const double (&values)[15], EulerZyx& attitude, std::string& problem) const;
-  double commandOf(const double (&values)[15], int column) const;  // column: kU1..kU1 + 3
+  bool attitudeOf(const double (&values)[kColumnCount], EulerZyx& attitude, std::string& problem) const;
+  double commandOf(const double (&values)[kColumnCount], int column) const;  // column: kU1..kU1 + 3
   int commandColumn(std::size_t motor) const;  // index into kColumns of quadfdi motor + 1's command (options' file_motor)
-  std::array<double, 3> positionOf(const double (&values)[15]) const;
+  std::array<double, 3> positionOf(const double (&values)[kColumnCount]) const;
+  std::array<double, 3> ratesOf(const double (&values)[kColumnCount]) const;  // [rad/s], body FLU
   EulerZyx inQuadfdisFrame(const EulerZyx& attitude) const;  // from the file's frame (options_.frame)
   const std::string& label(int column) const { return label_[static_cast<std::size_t>(column)]; }
   std::istream& in_;
@@ -134,12 +141,14 @@ class TelemetryReader : public SampleSource {
   TelemetryReaderOptions options_;
   int cells_ = 0;                 // columns in the header
   char separator_ = ',';          // between cells, as the header has it (separatorOf)
-  std::array<int, 15> column_{};  // cell index of each of kColumns; −1: absent
-  std::array<std::string, 15> label_;  // how messages name each column: its name in the header
+  std::array<int, kColumnCount> column_{};  // cell index of each of kColumns; −1: absent
+  std::array<std::string, kColumnCount> label_;  // how messages name each column: its name in the header
   bool quaternion_ = false;       // attitude from qw, qx, qy, qz
+  bool rates_ = false;            // body rates from p, q, r
+  bool rate_unit_read_ = false;   // a rate column's header named its unit
   std::vector<std::string> cells_buffer_;
   std::optional<MotorNumbering> numbering_;
-  std::array<bool, 15> blank_{};  // of the row just read: which cells are empty (not NaN, not absurd)
+  std::array<bool, kColumnCount> blank_{};  // of the row just read: which cells are empty (not NaN, not absurd)
 };
 
 }  // namespace quadfdi

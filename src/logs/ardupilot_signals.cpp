@@ -286,6 +286,22 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   out.conventions.push_back("attitude: ATT Roll, Pitch, Yaw [deg] (NED/FRD, pitch nose-up, yaw clockwise from north) → "
                             "roll = Roll, pitch = −Pitch, yaw = −Yaw wrapped to (−π, π] [rad] (world x north, y west, z up; body FLU)");
 
+  // Body rates (optional): RATE R, P, Y, the gyro the rate controller flies on (AC_AttitudeControl
+  // Write_Rate: degrees of ahrs.get_gyro_latest(), deg/s, FRD), logged with ATT.
+  if (const LogTopic* rate = log.find("RATE")) {
+    const double* p = column(*rate, "R");
+    const double* q = column(*rate, "P");
+    const double* r = column(*rate, "Y");
+    if (p && q && r) {
+      std::size_t rate_dropped = 0;
+      for (std::size_t i : usableRows(*rate, nullptr, 0.0, rate_dropped)) {
+        out.rates.t.push_back(seconds(rate->timestamp_us[i]));
+        out.rates.v.push_back({p[i] * kDegToRad, -q[i] * kDegToRad, -r[i] * kDegToRad});
+      }
+      out.rates.source = {"RATE", "R,P,Y", "deg/s → rad/s; FRD → FLU: (R, −P, −Y)"};
+    }
+  }
+
   // Position.
   const char* pos_name = nullptr;
   for (const char* name : {"XKF1", "NKF1"}) {

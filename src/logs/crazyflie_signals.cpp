@@ -109,6 +109,39 @@ void noteSkippedRows(std::vector<std::string>& conventions, const std::string& s
   if (for_reason) conventions.push_back(series + ": " + std::to_string(for_reason) + " rows " + reason + " skipped");
 }
 
+// Body rates (optional): gyro.x/y/z, the filtered gyro the stabilizer flies on (sensors.c, deg/s,
+// body x forward, y left, z up: FLU already), else the controller's copies controller.r_roll,
+// r_pitch, r_yaw (controller_pid.c: radians(gyro.x), −radians(gyro.y), radians(gyro.z)). None, or
+// a series that cannot be read, leaves `rates` empty: only a model on body rates needs them.
+void extractRates(const DecodedLog& log, std::int64_t origin, FlightSignals& out) {
+  bool controller = false;
+  Located loc = locate(log, {"gyro.x", "gyro.y", "gyro.z"});
+  if (!loc.topic) {
+    loc = locate(log, {"controller.r_roll", "controller.r_pitch", "controller.r_yaw"});
+    controller = true;
+  }
+  if (!loc.topic) return;
+  const LogTopic& t = *loc.topic;
+  std::size_t skipped = 0;
+  const LogIssue issue = fill<3>(
+      loc, origin, controller ? "controller.r_roll,r_pitch,r_yaw" : "gyro.x,y,z",
+      [&](std::size_t r, std::array<double, 3>& v) {
+        for (int k = 0; k < 3; ++k) v[static_cast<std::size_t>(k)] = t.columns[static_cast<std::size_t>(loc.columns[static_cast<std::size_t>(k)])][r];
+        if (controller) v[1] = -v[1];
+        else for (double& x : v) x *= kDegToRad;
+        return finite(v[0]) && finite(v[1]) && finite(v[2]);
+      },
+      out.rates, skipped);
+  if (!issue.ok()) {
+    out.conventions.push_back("body rates not read: " + issue.message);
+    out.rates = {};
+    return;
+  }
+  out.rates.source.note = std::string(controller ? "rad/s, pitch rate sign restored (−r_pitch)" : "deg/s → rad/s") +
+                          ", body FLU as logged; " + rateNote(out.rates.t);
+  noteSkippedRows(out.conventions, "body rates", skipped);
+}
+
 // How the log gives the attitude, in the order they are looked for.
 enum class AttitudeSource {
   kEuler,                 // stateEstimate.roll/pitch/yaw [deg], legacy pitch sign
@@ -396,6 +429,7 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
     out.conventions.push_back("thrust: " + std::to_string(clamped) + " motor commands outside [0, " +
                               std::to_string(static_cast<long long>(fs)) + "] clamped");
   noteSkippedRows(out.conventions, "motors", skipped);
+  extractRates(log, origin, out);
   out.conventions.push_back("time: micro-SD timestamps [µs since boot] minus the log's first record, in seconds");
   return {};
 }

@@ -56,6 +56,10 @@ struct SignalBreak {
 struct FlightSignals {
   SignalSeries<3> position;        // x, y, z [m], world frame, z up
   SignalSeries<3> attitude;        // roll, pitch, yaw [rad], ZYX, body x forward, y left, z up
+  // Body rates p, q, r [rad/s], body FLU, the gyro as the flight controller filters it (PX4
+  // vehicle_angular_velocity, ArduPilot RATE, Crazyflie gyro); empty when the log has none. Read
+  // only by models on scale-free-rates features.
+  SignalSeries<3> rates;
   SignalSeries<kMotors> command;   // per motor, quadfdi numbering (1 FR, 2 BR, 3 BL, 4 FL)
   // Only when the log gives the motors' commands at times of their own (a merged export with a
   // row per motor): each motor's sample times, whose rates and holes the conventions layer checks

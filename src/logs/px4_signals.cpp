@@ -290,6 +290,26 @@ LogIssue extractAttitude(const DecodedLog& log, FlightSignals& out) {
   return {};
 }
 
+// Body rates: vehicle_angular_velocity.xyz, the bias-corrected, filtered gyro the rate controller
+// flies on (PX4 msg/VehicleAngularVelocity.msg, rad/s, FRD); older logs without it have the raw
+// sensor_combined.gyro_rad (msg/SensorCombined.msg). Optional: none leaves `rates` empty.
+void extractRates(const DecodedLog& log, FlightSignals& out) {
+  std::string name = "vehicle_angular_velocity", field = "xyz";
+  const LogTopic* t = findNonEmpty(log, name);
+  if (!t || t->fieldIndex("xyz[0]") < 0) {
+    name = "sensor_combined";
+    field = "gyro_rad";
+    t = findNonEmpty(log, name);
+  }
+  std::vector<const std::vector<double>*> c;
+  if (!t || !columnsOf(*t, {field + "[0]", field + "[1]", field + "[2]"}, c).ok()) return;
+  std::size_t skipped = 0;
+  for (std::size_t r = 0; r < t->rows(); ++r)  // FRD → FLU: the body turned 180° about x
+    append<3>(out.rates, seconds(t->timestamp_us[r]), {(*c[0])[r], -(*c[1])[r], -(*c[2])[r]}, skipped);
+  out.rates.source = {name, field + "[0..2]", "rad/s, FRD → FLU (p, −q, −r)"};
+  noteSkipped(out, name, skipped);
+}
+
 std::string motorTableText(const std::array<int, kMotors>& table) {
   std::string s;
   for (int k = 0; k < kMotors; ++k)
@@ -487,6 +507,7 @@ LogIssue extractPx4Signals(const DecodedLog& log, const Px4SignalOptions& option
   if (LogIssue e = extractPosition(log, out); !e.ok()) return e;
   if (LogIssue e = extractAttitude(log, out); !e.ok()) return e;
   if (LogIssue e = extractCommands(log, options, out); !e.ok()) return e;
+  extractRates(log, out);
   extractStates(log, out);
   return {};
 }

@@ -281,11 +281,37 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
                                    " (or lower " + limitFlag(c.what) + " at your own risk)"};
   }
 
-  // --- Where all three signals exist. ---
-  const double data_begin = std::max({signals.attitude.t.front(), signals.position.t.front(), signals.command.t.front()});
-  const double data_end = std::min({signals.attitude.t.back(), signals.position.t.back(), signals.command.t.back()});
+  // --- Body rates: optional (only a model on body rates reads them), so a log without them, or
+  // with them too coarse to carry a fault's first samples, is read without them, saying so. ---
+  double rates_hole_limit = 0.0;
+  if (!signals.rates.empty()) {
+    SignalReport r;
+    r.name = "body rates";
+    r.source = signals.rates.source;
+    r.samples = signals.rates.t.size();
+    r.method = "interpolated linearly";
+    r.median_interval = medianInterval(signals.rates.t);
+    r.rate_hz = r.median_interval > 0.0 ? 1.0 / r.median_interval : 0.0;
+    r.t_first = signals.rates.t.front();
+    r.t_last = signals.rates.t.back();
+    if (r.samples < 2 || r.rate_hz < o.min_rate_attitude) {
+      rep.warnings.push_back(r.source.topic + " (body rates) is logged at " + hz(r.rate_hz) + ", below the " +
+                             hz(o.min_rate_attitude) + " attitude needs: not read (a model on body rates refuses this log)");
+      signals.rates = {};
+    } else {
+      rep.signals.push_back(r);
+      rates_hole_limit = std::max(o.max_hole, o.hole_intervals * r.median_interval);
+    }
+  }
+
+  // --- Where all signals exist. ---
+  const bool rates = !signals.rates.empty();
+  const double data_begin = std::max({signals.attitude.t.front(), signals.position.t.front(), signals.command.t.front(),
+                                      rates ? signals.rates.t.front() : -std::numeric_limits<double>::infinity()});
+  const double data_end = std::min({signals.attitude.t.back(), signals.position.t.back(), signals.command.t.back(),
+                                    rates ? signals.rates.t.back() : std::numeric_limits<double>::infinity()});
   if (!(data_end > data_begin))
-    return {"", "the attitude, position and command series do not overlap in time (" + sec(data_begin) + " s … " +
+    return {"", std::string("the attitude, position") + (rates ? ", body rate" : "") + " and command series do not overlap in time (" + sec(data_begin) + " s … " +
                     sec(data_end) + " s)"};
   const double edge = 0.05;  // [s] a phase starting/ending this close to the data's edge was cut by the log, not flown
 
@@ -395,6 +421,7 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
     int holes = 0;
     cutHoles(mine, signals.attitude.t, hole_limit[0], holes);
     cutHoles(mine, signals.position.t, hole_limit[1], holes);
+    if (rates) cutHoles(mine, signals.rates.t, rates_hole_limit, holes);
     if (motor_times.empty()) cutHoles(mine, signals.command.t, hole_limit[2], holes);
     for (std::size_t i = 0; i < motor_times.size(); ++i) cutHoles(mine, motor_times[i], motor_hole_limit[i], holes);
     if (holes) notes.push_back(std::to_string(holes) + " hole" + (holes == 1 ? "" : "s") + " in the signals: not bridged");
@@ -540,12 +567,14 @@ SampleSource::Next LogSampleSource::next(TelemetrySample& sample, std::string& p
     sample.y[k + 3] = a[k];
   }
   for (std::size_t k = 0; k < kMotors; ++k) sample.u[k] = u[k] * scale_;
+  sample.rates = signals_.rates.empty() ? std::array<double, 3>{} : linear<3>(signals_.rates, t, ir_, false);
   last_t_ = t;
   // Extractors pass what the log holds; a non-finite value is dropped like a bad CSV row.
   const char* bad = nullptr;
   for (std::size_t k = 0; k < 3 && !bad; ++k) {
     if (!std::isfinite(p[k])) bad = "position";
     else if (!std::isfinite(a[k])) bad = "attitude";
+    else if (!std::isfinite(sample.rates[k])) bad = "body rate";
   }
   for (std::size_t k = 0; k < kMotors && !bad; ++k)
     if (!std::isfinite(sample.u[k])) bad = "commands";

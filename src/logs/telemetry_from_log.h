@@ -9,9 +9,10 @@
 //    on that autopilot.
 //  * Onto the clock (period dt, the model's): attitude interpolated linearly per Euler angle, each
 //    the short way round (for the small steps of a ≥ 125 Hz log this is slerp to first order);
-//    position interpolated linearly; motor commands held (zero-order hold, as the flight
-//    controller holds them). A hole in any signal longer than its own hole limit splits the
-//    stretch: nothing is interpolated across it.
+//    position and body rates (where the log has them) interpolated linearly; motor commands held
+//    (zero-order hold, as the flight controller holds them). A hole in any signal longer than its
+//    own hole limit splits the stretch: nothing is interpolated across it. Body rates are
+//    optional: read only by models on body rates, left out (with a warning) when too coarse.
 //  * Thrust. kThrustNewton as is. kThrustFraction × the motor's maximum thrust [N]: given
 //    (max_thrust), or calibrated from the log's own steady hover (mass given: the mean command
 //    over a steady airborne stretch ↔ m·g/4 per motor). Neither → × 1 for a scale-free model,
@@ -133,6 +134,7 @@ class LogSampleSource : public SampleSource {
   Next next(TelemetrySample& sample, std::string& problem) override;
   std::string where() const override;
   bool moreReady() const override { return true; }
+  bool carriesRates() const override { return !signals_.rates.empty(); }
 
   const ImportReport& report() const { return report_; }
   void setName(std::string name) { name_ = std::move(name); }  // for where(): the log file
@@ -151,7 +153,7 @@ class LogSampleSource : public SampleSource {
   std::vector<Stretch> stretches_;
   std::size_t stretch_ = 0;
   long index_ = 0;
-  std::size_t ia_ = 0, ip_ = 0, ic_ = 0;  // cursors into attitude, position, command
+  std::size_t ia_ = 0, ip_ = 0, ic_ = 0, ir_ = 0;  // cursors into attitude, position, command, rates
   double last_t_ = 0.0;
   std::string name_ = "log";
   ImportReport report_;

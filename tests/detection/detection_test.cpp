@@ -6,6 +6,7 @@
 
 #include "control/controller_factory.h"
 #include "detection/detector.h"
+#include "detection/session.h"
 #include "io/model_file.h"
 #include "networks/model.h"
 #include "simulation/closed_loop.h"
@@ -24,6 +25,7 @@ TelemetrySample linearSample(double t) {
   s.t = t;
   for (int i = 0; i < 6; ++i) s.y[static_cast<std::size_t>(i)] = 0.1 * (i + 1) * t - 0.2 * i;
   for (int i = 0; i < 4; ++i) s.u[static_cast<std::size_t>(i)] = 0.07 + 0.001 * i + t;
+  for (int i = 0; i < 3; ++i) s.rates[static_cast<std::size_t>(i)] = 2.0 * (i - 1) * t + 0.3;
   return s;
 }
 
@@ -64,6 +66,7 @@ TEST(Resampler, InterpolatesJitteredAndFasterLogsOntoTheGrid) {
       EXPECT_NEAR(out[j].t, in.front().t + 0.002 * static_cast<double>(j), 1e-12);
       const TelemetrySample exact = linearSample(out[j].t);
       for (int i = 0; i < 6; ++i) EXPECT_NEAR(out[j].y[static_cast<std::size_t>(i)], exact.y[static_cast<std::size_t>(i)], 1e-12);
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(out[j].rates[static_cast<std::size_t>(i)], exact.rates[static_cast<std::size_t>(i)], 1e-12);
       // The command is held: it is the one logged at or before the grid time.
       while (a + 1 < in.size() && in[a + 1].t <= out[j].t + 1e-12) ++a;
       EXPECT_EQ(out[j].u, in[a].u) << period << " at " << j;
@@ -359,16 +362,146 @@ TEST(Detector, RefusesNetworksItCannotRun) {
   c.stride = 4;
   model.metadata.features = FeatureSet::kModelBased;  // needs residuals the detector does not have
   EXPECT_THROW(Detector(c, model), std::invalid_argument);
-  model.metadata.features = FeatureSet::kScaleFreeRates;  // needs body rates, which telemetry does not carry yet
-  try {
-    Detector(c, model);
-    ADD_FAILURE() << "a network on body rates was accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("body rates"), std::string::npos) << e.what();
-  }
   model.metadata.features = FeatureSet::kModelFree;
   model.metadata.trained_motor = 3;  // the maps send every motor to motor 2
   EXPECT_THROW(Detector(c, model), std::invalid_argument);
+}
+
+// ---------- body rates ----------
+
+TrainedModel ratesModel(Architecture architecture) {
+  ModelMetadata m;
+  m.architecture = architecture;
+  m.window = 100;
+  m.hidden = 16;
+  m.features = FeatureSet::kScaleFreeRates;
+  m.feature_mean.assign(static_cast<std::size_t>(m.channels()), 0.1f);
+  m.feature_std.assign(static_cast<std::size_t>(m.channels()), 2.0f);
+  const FaultIdentifier net = FaultIdentifier::create(m, 3);
+  return {net.metadata(), exportWeights(net)};
+}
+
+// A flight on the model's clock with body rates, every value a float (the history's type).
+std::vector<TelemetrySample> flightWithRates(int n, double dt) {
+  std::vector<TelemetrySample> flight(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    TelemetrySample& s = flight[static_cast<std::size_t>(k)];
+    s.t = k * dt;
+    for (int i = 0; i < 6; ++i) s.y[static_cast<std::size_t>(i)] = static_cast<float>(0.2 * std::sin(0.03 * k + i));
+    for (int i = 0; i < 4; ++i) s.u[static_cast<std::size_t>(i)] = static_cast<float>(0.07 + 0.01 * std::sin(0.05 * k + 2 * i));
+    for (int i = 0; i < 3; ++i) s.rates[static_cast<std::size_t>(i)] = static_cast<float>(1.5 * std::sin(0.04 * k + 3 * i));
+  }
+  return flight;
+}
+
+// A network on body rates, windowed (an LSTM evaluated at every sample) or streaming (a TCN): the
+// detector carries each sample's rates into its history and gives exactly the windowed
+// estimator's Θ̂ on the last T samples with their rates — and not the one without them.
+class RatesDetector : public ::testing::TestWithParam<Architecture> {};
+
+TEST_P(RatesDetector, EstimatesFromEachSamplesBodyRates) {
+  const TrainedModel model = ratesModel(GetParam());
+  DetectorConfig c;
+  c.stride = 1;
+  c.rule = AlarmRule::kPersistence;
+  c.resampler.dt = model.metadata.dt;
+  Detector detector(c, model);
+  EXPECT_TRUE(detector.readsRates());
+  EXPECT_EQ(detector.streaming(), GetParam() == Architecture::kTcn);
+  const int n = 180, t_len = model.metadata.window;
+  const std::vector<TelemetrySample> flight = flightWithRates(n, model.metadata.dt);
+  std::vector<DetectorOutput> out;
+  for (const TelemetrySample& s : flight) {
+    ASSERT_EQ(detector.push(s, false), ResampleStatus::kOk);
+    for (DetectorOutput o; detector.pop(o);) out.push_back(o);
+  }
+  detector.finish();
+  for (DetectorOutput o; detector.pop(o);) out.push_back(o);
+  ASSERT_EQ(out.size(), static_cast<std::size_t>(n - t_len + 1));
+
+  MotorEstimator windows(model, SymmetryMode::kExactGroup);
+  std::vector<float> y, u, w;
+  for (const TelemetrySample& s : flight) {
+    y.insert(y.end(), s.y.begin(), s.y.end());
+    u.insert(u.end(), s.u.begin(), s.u.end());
+    w.insert(w.end(), s.rates.begin(), s.rates.end());
+  }
+  const std::vector<float> still(w.size(), 0.0f);
+  std::vector<float> features(static_cast<std::size_t>(kMotors) * windows.featuresPerWindow());
+  int moved_by_rates = 0;
+  for (std::size_t j = 0; j < out.size(); ++j) {
+    const std::size_t first = j;  // output j is sample T − 1 + j
+    EXPECT_EQ(out[j].t, flight[first + static_cast<std::size_t>(t_len) - 1].t);
+    MotorTheta with{}, without{};
+    windows.gather(&y[first * kOutputDim], &u[first * kInputDim], nullptr, &w[first * kRateDim], features.data());
+    windows.estimate(features.data(), 1, &with);
+    windows.gather(&y[first * kOutputDim], &u[first * kInputDim], nullptr, &still[first * kRateDim], features.data());
+    windows.estimate(features.data(), 1, &without);
+    EXPECT_EQ(out[j].theta, with) << "output " << j;
+    moved_by_rates += with != without;
+  }
+  EXPECT_GT(moved_by_rates, static_cast<int>(out.size()) / 2);
+}
+
+INSTANTIATE_TEST_SUITE_P(WindowedAndStreaming, RatesDetector, ::testing::Values(Architecture::kLstm, Architecture::kTcn),
+                         [](const ::testing::TestParamInfo<Architecture>& param) {
+                           return param.param == Architecture::kTcn ? std::string("Tcn") : std::string("Lstm");
+                         });
+
+class VectorSource : public SampleSource {
+ public:
+  VectorSource(std::vector<TelemetrySample> samples, bool rates) : samples_(std::move(samples)), rates_(rates) {}
+  Next next(TelemetrySample& sample, std::string&) override {
+    if (next_ == samples_.size()) return Next::kEnd;
+    sample = samples_[next_++];
+    return Next::kSample;
+  }
+  std::string where() const override { return "flight.csv:" + std::to_string(next_ + 1); }
+  bool carriesRates() const override { return rates_; }
+
+ private:
+  std::vector<TelemetrySample> samples_;
+  std::size_t next_ = 0;
+  bool rates_;
+};
+
+class CountingSink : public DetectionSink {
+ public:
+  void output(const DetectorOutput&) override { ++outputs; }
+  void warning(const std::string&) override { ++warnings; }
+  int outputs = 0, warnings = 0;
+};
+
+// A network on body rates given telemetry without them reads nothing (zeros would be a vehicle
+// at rest, whatever it did) and says where; given them, it runs. A network without rates reads
+// telemetry with them as it reads any.
+TEST(RatesDetector, RefusesASourceWithoutBodyRates) {
+  const TrainedModel model = ratesModel(Architecture::kTcn);
+  DetectorConfig c;
+  c.resampler.dt = model.metadata.dt;
+  const std::vector<TelemetrySample> flight = flightWithRates(150, model.metadata.dt);
+  for (const bool rates : {false, true}) {
+    Detector detector(c, model);
+    VectorSource source(flight, rates);
+    CountingSink sink;
+    const SessionResult r = runDetection(detector, source, sink, SessionConfig{});
+    EXPECT_EQ(r.status, rates ? SessionStatus::kDone : SessionStatus::kNoRates);
+    EXPECT_EQ(r.samples, rates ? 150 : 0);
+    EXPECT_EQ(sink.outputs, rates ? 51 : 0);
+    if (!rates) {
+      EXPECT_EQ(r.where, "flight.csv:1");
+    }
+  }
+  ModelMetadata m;
+  m.window = 20;
+  m.hidden = 8;
+  const FaultIdentifier plain = FaultIdentifier::create(m, 1);
+  Detector detector(c, TrainedModel{plain.metadata(), exportWeights(plain)});
+  EXPECT_FALSE(detector.readsRates());
+  VectorSource source(flight, true);
+  CountingSink sink;
+  EXPECT_EQ(runDetection(detector, source, sink, SessionConfig{}).status, SessionStatus::kDone);
+  EXPECT_EQ(sink.outputs, 131);
 }
 
 }  // namespace

@@ -483,5 +483,64 @@ TEST(TelemetryCsv, QuaternionColumnsAreCheckedAndNamed) {
   EXPECT_EQ(s.t, 0.002);
 }
 
+// Body rates: optional columns p, q, r, written by import for a log that records them and read
+// back bit for bit; without them the source says it carries none (a rates model then refuses it).
+TEST(TelemetryCsv, BodyRatesRoundTripAndAreOptional) {
+  TelemetrySample a;
+  a.t = 0.25;
+  a.y = {0.1, -0.2, 1.5, 0.01, -0.02, 3.0};
+  a.u = {0.07, 0.071, 1.0 / 7.0, 0.0015};
+  a.rates = {0.5, -1.0 / 3.0, 2.25};
+  std::stringstream csv;
+  writeTelemetryCsvHeader(csv, {}, true);
+  writeTelemetryCsvRow(csv, a, true);
+  EXPECT_EQ(csv.str().substr(0, csv.str().find('\n')), "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,p,q,r");
+  TelemetryReader reader(csv, "rates.csv");
+  EXPECT_TRUE(reader.carriesRates());
+  TelemetrySample b;
+  std::string problem;
+  ASSERT_EQ(reader.next(b, problem), SampleSource::Next::kSample) << problem;
+  EXPECT_EQ(b.rates, a.rates);
+  EXPECT_EQ(b.y, a.y);
+  std::istringstream plain("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,0,0,0,0,1,1,1,1\n");
+  TelemetryReader without(plain, "plain.csv");
+  EXPECT_FALSE(without.carriesRates());
+  ASSERT_EQ(without.next(b, problem), SampleSource::Next::kSample);
+  EXPECT_EQ(b.rates, (std::array<double, 3>{0, 0, 0}));
+}
+
+// FRD body rates (PX4, ArduPilot, Gazebo) turn into FLU ones as the body does (180° about x: p,
+// −q, −r); degrees per second from the header or the option; mixed units, a partial set and a rate
+// beyond any gyro's range are refused, naming the line.
+TEST(TelemetryCsv, BodyRatesInNedAndDegreesAndTheirRefusals) {
+  const std::string head = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,";
+  const std::string row = "0,0,0,0,0,0,0,1,1,1,1,0.1,0.2,-0.3\n";
+  TelemetryReaderOptions ned;
+  ned.frame = TelemetryFrame::kNed;
+  const TelemetrySample frd = readOne(head + "p,q,r\n" + row, ned);
+  EXPECT_EQ(frd.rates, (std::array<double, 3>{0.1, -0.2, 0.3}));
+  const TelemetrySample deg = readOne(head + "p [deg/s],q [deg/s],r [deg/s]\n" + row);
+  TelemetryReaderOptions told;
+  told.rates_in_degrees = true;
+  const TelemetrySample deg_told = readOne(head + "p,q,r\n" + row, told);
+  EXPECT_EQ(deg.rates, deg_told.rates);
+  EXPECT_NEAR(deg.rates[1], 0.2 * M_PI / 180.0, 1e-15);
+  EXPECT_EQ(firstRefusal(head + "p [deg/s],q [rad/s],r\n", "u.csv"),
+            "u.csv:1: column 'q [rad/s]': the header says rad/s here and another unit for another rate");
+  EXPECT_EQ(firstRefusal(head + "p [rpm],q,r\n", "u.csv"),
+            "u.csv:1: column 'p [rpm]': the unit 'rpm' is no angular rate unit read here (rad/s or deg/s)");
+  EXPECT_EQ(firstRefusal(head + "p,q\n", "u.csv"),
+            "u.csv:1: the header has body rates and lacks column 'r' (p, q, r [rad/s] come together, or not at all)");
+  EXPECT_EQ(firstRefusal(head + "p,q,r\n0,0,0,0,0,0,0,1,1,1,1,0,0,0\n0.002,0,0,0,0,0,0,1,1,1,1,0,150,0\n", "u.csv"),
+            "u.csv:3: q = 150 is no body rate in rad/s (over 100 rad/s): degrees per second? --csv-rate-unit deg/s");
+  // An empty rate cell drops its row, as any read cell's does.
+  std::istringstream hole(head + "p,q,r\n0,0,0,0,0,0,0,1,1,1,1,0,,0\n");
+  TelemetryReader reader(hole, "hole.csv");
+  TelemetrySample s;
+  std::string problem;
+  EXPECT_EQ(reader.next(s, problem), SampleSource::Next::kSkipped);
+  EXPECT_EQ(problem, "hole.csv:2: column 'q' is empty; row skipped");
+}
+
 }  // namespace
 }  // namespace quadfdi

@@ -32,7 +32,7 @@ inline constexpr double kMissionMaxThrust = 0.15;  // [N] the simulated Crazyfli
 
 inline std::uint64_t micros(double t) { return static_cast<std::uint64_t>(std::llround(t * 1e6)); }
 
-// The mission's outputs linearly interpolated at t (angles the short way), commands held.
+// The mission's outputs and body rates linearly interpolated at t (angles the short way), commands held.
 inline TelemetrySample missionAt(const Mission& m, double t) {
   const auto k = static_cast<std::size_t>(std::floor(t / m.dt + 1e-9));
   const std::size_t a = std::min(k, m.samples.size() - 1), b = std::min(a + 1, m.samples.size() - 1);
@@ -44,6 +44,7 @@ inline TelemetrySample missionAt(const Mission& m, double t) {
     if (i >= 3) d = std::remainder(d, 2.0 * kMissionPi);
     s.y[i] = m.samples[a].y[i] + w * d;
   }
+  for (std::size_t i = 0; i < 3; ++i) s.rates[i] = m.samples[a].rates[i] + w * (m.samples[b].rates[i] - m.samples[a].rates[i]);
   return s;
 }
 
@@ -70,6 +71,7 @@ struct Px4LogOptions {
   std::array<double, 3> reset_shift = {3.0, -2.0, 0.5};  // [m] NED
   double reset_yaw = 0.35;                               // [rad] about NED down
   bool log_reset_shifts = true;
+  bool with_rates = false;  // vehicle_angular_velocity.xyz [rad/s, FRD] with the attitude
 };
 
 inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogOptions& o = {}) {
@@ -85,6 +87,10 @@ inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogO
   w.subscribe(0, 2, "actuator_motors");
   w.subscribe(0, 4, "vehicle_status");
   w.subscribe(0, 5, "vehicle_land_detected");
+  if (o.with_rates) {
+    w.format("vehicle_angular_velocity:uint64_t timestamp;uint64_t timestamp_sample;float[3] xyz;");
+    w.subscribe(0, 6, "vehicle_angular_velocity");
+  }
   const std::array<int, 4> px4_index = {0, 3, 1, 2};  // PX4 motor (0-based) of quadfdi motor k
   bool armed = false, landed = true, status_written = false;
   const double takeoff_seen = m.takeoff_at + 0.3, landing_seen = m.landed_at + 0.3;
@@ -129,6 +135,9 @@ inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogO
         p.put(static_cast<std::uint8_t>(reset ? 1 : 0));
       }
       w.data(1, p);
+      if (o.with_rates)  // FLU → FRD: (p, −q, −r)
+        w.data(6, testing::UlogPayload().put(t).put(t).put(static_cast<float>(s.rates[0])).put(static_cast<float>(-s.rates[1])).put(
+                      static_cast<float>(-s.rates[2])));
     }
     if (i % static_cast<std::size_t>(o.motors_every) == 0) {
       std::array<float, 12> control;
@@ -145,14 +154,17 @@ inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogO
 }
 
 // ---------- ArduPilot ----------
-inline constexpr std::uint8_t kApAtt = 30, kApXkf1 = 31, kApRcou = 32, kApEv = 33;
+inline constexpr std::uint8_t kApAtt = 30, kApXkf1 = 31, kApRcou = 32, kApEv = 33, kApRate = 34;
 
-inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0) {
+// `rates`: RATE R, P, Y [deg/s, FRD] with ATT, as AC_AttitudeControl::Write_Rate logs them.
+inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
+                                                      bool rates = false) {
   DataflashWriter w;
   w.fmt(kApAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
   w.fmt(kApXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
   w.fmt(kApRcou, "RCOU", "QHHHHHHHHHHHHHH", "TimeUS,C1,C2,C3,C4,C5,C6,C7,C8,C9,C10,C11,C12,C13,C14");
   w.fmt(kApEv, "EV", "QB", "TimeUS,Id");
+  if (rates) w.fmt(kApRate, "RATE", "Qffffffffffff", "TimeUS,RDes,R,ROut,PDes,P,POut,YDes,Y,YOut,ADes,A,AOut");
   w.unit(0, '#', "instance");
   w.fmtu(0, kApXkf1, "s#ddhnnnnmmmkkkm", "F-BBB0000000BBBB");
   ArdupilotThrustMap map;  // MOT_PWM_MIN/MAX 1000/2000, SPIN 0.15/0.95, EXPO 0.65
@@ -186,6 +198,10 @@ inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double 
     yaw_deg = std::fmod(yaw_deg + 360.0, 360.0);
     w.write(kApAtt, {micros(t), 0, centi(s.y[3] * 180.0 / kMissionPi), 0, centi(-s.y[4] * 180.0 / kMissionPi), 0,
                      static_cast<long long>(std::llround(yaw_deg * 100.0)) % 36000, 0, 0, 3});
+    if (rates) {
+      const double deg = 180.0 / kMissionPi;
+      w.write(kApRate, {micros(t), 0.0, s.rates[0] * deg, 0.0, 0.0, -s.rates[1] * deg, 0.0, 0.0, -s.rates[2] * deg, 0.0, 0.0, 0.0, 0.0});
+    }
     std::array<int, 14> pwm{};
     for (std::size_t k = 0; k < 4; ++k)
       pwm[static_cast<std::size_t>(ap_motor[k] - 1)] =
@@ -204,14 +220,17 @@ inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double 
 // ---------- Crazyflie ----------
 // `compressed`: the firmware's compact group instead, stateEstimateZ.quat (the attitude in 32 bits)
 // and stateEstimateZ.x/y/z (int16 millimetres), as a bandwidth-minded config.txt logs them.
+// `rates`: gyro.x/y/z [deg/s, body FLU] in the fixed-frequency event.
 inline std::vector<std::uint8_t> writeCrazyflieMission(const Mission& m, int position_every = 10,
-                                                       bool compressed = false) {
+                                                       bool compressed = false, bool rates = false) {
   UsdEventType fixed;
   if (compressed)
     fixed.variables = {{"stateEstimateZ.quat", 'I'}};
   else
     fixed.variables = {{"stateEstimate.roll", 'f'}, {"stateEstimate.pitch", 'f'}, {"stateEstimate.yaw", 'f'}};
   for (const char* motor : {"motor.m1", "motor.m2", "motor.m3", "motor.m4"}) fixed.variables.push_back({motor, 'I'});
+  if (rates)
+    for (const char* gyro : {"gyro.x", "gyro.y", "gyro.z"}) fixed.variables.push_back({gyro, 'f'});
   UsdEventType pos;
   pos.id = 1;
   pos.name = "estPosition";
@@ -233,6 +252,8 @@ inline std::vector<std::uint8_t> writeCrazyflieMission(const Mission& m, int pos
       const double r = (-cf.duty_b + std::sqrt(cf.duty_b * cf.duty_b + 4.0 * cf.duty_a * f)) / (2.0 * cf.duty_a);
       row.push_back(std::round(std::clamp(r, 0.0, 1.0) * cf.command_full_scale));
     }
+    if (rates)
+      for (double rate : s.rates) row.push_back(rate * 180.0 / kMissionPi);
     w.record(0, micros(s.t), row);
     if (i % static_cast<std::size_t>(position_every) != 0) continue;
     if (compressed)

@@ -486,6 +486,57 @@ TEST(Px4Signals, RealSampleLog) {
 }
 
 
+// The body rates of a real flight (vehicle_angular_velocity, FRD) read into FLU agree with the
+// rates the attitude's own change gives through the ZYX kinematics (p = φ̇ − sin θ·ψ̇, q = cos φ·θ̇ +
+// sin φ cos θ·ψ̇, r = −sin φ·θ̇ + cos φ cos θ·ψ̇): a sign or frame slip would turn the fit around.
+TEST(Px4Signals, RealSampleLogBodyRatesAgreeWithTheAttitudesChange) {
+  std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/sample_log_small.ulg", std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.empty()) GTEST_SKIP() << "../shared/logs/px4/sample_log_small.ulg not found";
+  DecodedLog log;
+  ASSERT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok());
+  flagPositionValid(log);
+  FlightSignals s;
+  ASSERT_TRUE(extractPx4Signals(log, Px4SignalOptions{}, s).ok());
+  ASSERT_EQ(s.rates.source.topic, "vehicle_angular_velocity");
+  ASSERT_GT(s.rates.t.size(), 1000u);
+  // Per axis, over 50 ms steps of the attitude (a single step's difference is mostly noise): the
+  // rate the step gives against the mean measured rate over it.
+  std::array<double, 3> cross{}, derived_sq{}, measured_sq{};
+  std::size_t j = 0;
+  const auto& a = s.attitude;
+  for (std::size_t i0 = 0, i = 1; i < a.t.size(); ++i) {
+    const double dt = a.t[i] - a.t[i0];
+    if (dt < 0.05) continue;
+    const std::size_t from = i0;
+    i0 = i;
+    if (dt > 0.1) continue;  // a hole
+    while (j < s.rates.t.size() && s.rates.t[j] < a.t[from]) ++j;
+    std::array<double, 3> mean{};
+    int n = 0;
+    for (std::size_t r = j; r < s.rates.t.size() && s.rates.t[r] <= a.t[i]; ++r, ++n)
+      for (std::size_t k = 0; k < 3; ++k) mean[k] += s.rates.v[r][k];
+    if (n < 3) continue;
+    const double phi = 0.5 * (a.v[i][0] + a.v[from][0]), theta = 0.5 * (a.v[i][1] + a.v[from][1]);
+    const double dphi = (a.v[i][0] - a.v[from][0]) / dt, dtheta = (a.v[i][1] - a.v[from][1]) / dt,
+                 dpsi = std::remainder(a.v[i][2] - a.v[from][2], 2.0 * M_PI) / dt;
+    const std::array<double, 3> derived = {dphi - std::sin(theta) * dpsi,
+                                           std::cos(phi) * dtheta + std::sin(phi) * std::cos(theta) * dpsi,
+                                           -std::sin(phi) * dtheta + std::cos(phi) * std::cos(theta) * dpsi};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double measured = mean[k] / n;
+      cross[k] += measured * derived[k];
+      derived_sq[k] += derived[k] * derived[k];
+      measured_sq[k] += measured * measured;
+    }
+  }
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double correlation = cross[k] / std::sqrt(derived_sq[k] * measured_sq[k]);
+    std::printf("[ measured ] axis %zu: correlation %.3f, gain %.3f\n", k, correlation, cross[k] / derived_sq[k]);
+    EXPECT_GT(correlation, 0.8) << "axis " << k;
+  }
+}
+
 // PX4 SITL on the ground: EKF2 reset its heading twice (t = 1.244 s and 8.856 s, by 4.1 and 1.2 mrad),
 // and vehicle_attitude jumps there by as much: read, the attitude is continuous.
 TEST(Px4Signals, RealLogsHeadingResetsAreTakenOut) {

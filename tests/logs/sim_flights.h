@@ -1,7 +1,8 @@
 // Simulated Crazyflie missions for the log tests (header only): the vehicle sits on the ground
 // with its motors off, takes off (LQR to a hover goal), flies, and either lands (a descent in
 // steps, then the ground again) or loses a motor mid-flight and crashes. Samples every 2 ms in
-// quadfdi's conventions, with the truth the writers need (armed, take-off and landing times).
+// quadfdi's conventions (body rates the true ones), with the truth the writers need (armed,
+// take-off and landing times).
 #pragma once
 
 #include <cmath>
@@ -33,11 +34,12 @@ inline Mission simulateMission(int fault_motor, double theta, double fault_at, d
   m.armed_at = 0.5;
   m.takeoff_at = ground;
   const VehicleParams params = nominalParams();
-  auto push = [&](double t, const Output& y, const Input& u) {
+  auto push = [&](double t, const Output& y, const Input& u, const Vec3& rates = Vec3::Zero()) {
     TelemetrySample s;
     s.t = t;
     for (int i = 0; i < 6; ++i) s.y[static_cast<std::size_t>(i)] = y(i);
     for (int i = 0; i < 4; ++i) s.u[static_cast<std::size_t>(i)] = u(i);
+    for (int i = 0; i < 3; ++i) s.rates[static_cast<std::size_t>(i)] = rates(i);
     m.samples.push_back(s);
   };
   Output rest = Output::Zero();
@@ -78,7 +80,8 @@ inline Mission simulateMission(int fault_motor, double theta, double fault_at, d
     FlightLog log;
     const FlightSummary summary = sim.run(*build.controller, x, &log);
     for (int i = 0; i < log.size(); ++i, ++k)
-      push(static_cast<double>(k) * dt, log.outputs[static_cast<std::size_t>(i)], log.controls[static_cast<std::size_t>(i)].u_cmd);
+      push(static_cast<double>(k) * dt, log.outputs[static_cast<std::size_t>(i)], log.controls[static_cast<std::size_t>(i)].u_cmd,
+           log.states[static_cast<std::size_t>(i)].segment<3>(idx::kRate));
     x = summary.final_state;
     if (summary.cut()) {
       cut = true;

@@ -491,6 +491,55 @@ TEST_F(LogDetection, ALogThatNeverLeavesTheGroundIsRefused) {
 
 const std::string kReal = QUADFDI_SOURCE_DIR "/../shared/logs/";
 
+// Body rates in each autopilot's log (PX4 vehicle_angular_velocity [rad/s, FRD], ArduPilot RATE
+// [deg/s, FRD], Crazyflie gyro [deg/s, FLU]) come out on the clock in quadfdi's FLU body frame:
+// the flight's true rates, through a motor failure's tumble (several rad/s) as in hover. A log
+// without them carries none, and is read as before.
+TEST_F(LogDetection, BodyRatesComeThroughEachAutopilotsLogInQuadfdisFrame) {
+  const test::Mission m = test::simulateMission(2, 0.0, 4.0);
+  test::Px4LogOptions px4;
+  px4.with_rates = true;
+  px4.attitude_every = 1;
+  struct Case {
+    std::vector<std::uint8_t> bytes;
+    const char* topic;
+    // [rad/s] largest and RMS error. ArduPilot's 400 Hz rows are the 500 Hz flight interpolated,
+    // read back interpolated: at the failure the angular acceleration jumps by ~500 rad/s², and
+    // two linear interpolations 2.5 ms apart differ there by up to a quarter of 500 × 2.5 ms.
+    double worst, rms;
+  };
+  const Case cases[] = {{test::writePx4Mission(m, px4), "vehicle_angular_velocity", 1e-5, 1e-6},
+                        {test::writeArdupilotMission(m, 400.0, 25.0, true), "RATE", 0.35, 0.02},
+                        {test::writeCrazyflieMission(m, 10, false, true), "fixedFrequency", 1e-5, 1e-6}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.topic);
+    LogSampleSource src;
+    const ImportRefusal r = fromBytes(c.bytes, options(), src);
+    ASSERT_FALSE(r.refused()) << r.message;
+    ASSERT_TRUE(src.carriesRates()) << src.report().text();
+    EXPECT_TRUE(contains(src.report().text(), std::string("body rates: ") + c.topic)) << src.report().text();
+    double worst = 0.0, squares = 0.0, largest = 0.0;
+    long compared = 0;
+    for (const TelemetrySample& s : drain(src)) {
+      const TelemetrySample truth = test::missionAt(m, s.t);
+      for (std::size_t i = 0; i < 3; ++i) {
+        const double e = s.rates[i] - truth.rates[i];
+        worst = std::max(worst, std::abs(e));
+        squares += e * e;
+        largest = std::max(largest, std::abs(truth.rates[i]));
+      }
+      ++compared;
+    }
+    EXPECT_GT(compared, 1000);
+    EXPECT_GT(largest, 3.0);  // the tumble after the failure: every sign convention shows
+    EXPECT_LT(worst, c.worst);
+    EXPECT_LT(std::sqrt(squares / (3.0 * static_cast<double>(compared))), c.rms);
+  }
+  LogSampleSource without;
+  ASSERT_FALSE(fromBytes(test::writeCrazyflieMission(m), options(), without).refused());
+  EXPECT_FALSE(without.carriesRates());
+}
+
 bool readFile(const std::string& path, std::vector<std::uint8_t>& bytes) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
