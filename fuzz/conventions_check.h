@@ -36,6 +36,7 @@ inline void checkConventionsLayer(const FlightSignals& signals, LogFormat format
     last = s.t;
     for (double v : s.y) QUADFDI_FUZZ_CHECK(std::isfinite(v));
     for (double v : s.u) QUADFDI_FUZZ_CHECK(std::isfinite(v));
+    for (double v : s.rates) QUADFDI_FUZZ_CHECK(std::isfinite(v));
   }
 }
 

@@ -25,9 +25,10 @@ using namespace quadfdi;
 namespace {
 
 // Tiny seeded networks (T = 10), cheap enough to run per input; their untrained Θ̂ near 0.5
-// drives the alarm logic both ways: the paper's windowed LSTM, and a streaming TCN.
-const TrainedModel& model(bool streaming) {
-  static const std::unique_ptr<TrainedModel> models[2] = {
+// drives the alarm logic both ways: the paper's windowed LSTM, and a streaming TCN — on body
+// rates when the CSV has p, q, r.
+const TrainedModel& model(bool streaming, bool rates = false) {
+  static const std::unique_ptr<TrainedModel> models[3] = {
       [] {
         ModelMetadata m;
         m.window = 10;
@@ -45,8 +46,18 @@ const TrainedModel& model(bool streaming) {
         m.tcn.dilations = {1, 2, 1};  // receptive field 9 = T − 1
         const FaultIdentifier net = FaultIdentifier::create(m, 1);
         return std::make_unique<TrainedModel>(TrainedModel{net.metadata(), exportWeights(net)});
+      }(),
+      [] {
+        ModelMetadata m;
+        m.architecture = Architecture::kTcn;
+        m.features = FeatureSet::kScaleFreeRates;
+        m.window = 10;
+        m.tcn.channels = 8;
+        m.tcn.dilations = {1, 2, 1};
+        const FaultIdentifier net = FaultIdentifier::create(m, 1);
+        return std::make_unique<TrainedModel>(TrainedModel{net.metadata(), exportWeights(net)});
       }()};
-  return *models[streaming ? 1 : 0];
+  return *models[streaming ? (rates ? 2 : 1) : 0];
 }
 
 // The detector's settings, from the first byte (also the header's first character; a header
@@ -82,7 +93,7 @@ class CheckingSink : public DetectionSink {
 // The samples read before the end or the first error, replayed as a source.
 class ReplaySource : public SampleSource {
  public:
-  explicit ReplaySource(const std::vector<TelemetrySample>& samples) : samples_(samples) {}
+  ReplaySource(const std::vector<TelemetrySample>& samples, bool rates) : samples_(samples), rates_(rates) {}
   Next next(TelemetrySample& sample, std::string&) override {
     if (at_ == samples_.size()) return Next::kEnd;
     sample = samples_[at_++];
@@ -90,9 +101,11 @@ class ReplaySource : public SampleSource {
   }
   std::string where() const override { return "fuzz.csv:" + std::to_string(at_); }
   bool moreReady() const override { return at_ % 3 != 0; }  // a live pipe that sometimes runs dry
+  bool carriesRates() const override { return rates_; }
 
  private:
   const std::vector<TelemetrySample>& samples_;
+  bool rates_;
   std::size_t at_ = 0;
 };
 
@@ -101,6 +114,7 @@ class ReplaySource : public SampleSource {
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   model(false);
   model(true);
+  model(true, true);
   return 0;
 }
 
@@ -109,6 +123,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const DetectorConfig config = configFor(size > 0 ? data[0] : 0, live, tcn);
   std::istringstream in(fuzz::text(data, size));
   std::vector<TelemetrySample> samples;
+  bool rates = false;  // the header has p, q, r
   // quadfdi's frames or NED (detect --csv-frame), thrusts, rotor speeds, throttles or PWM pulses
   // (--csv-commands; the last two through the 1.5 kg quad's thrust curve), by the input's length.
   TelemetryReaderOptions reading;
@@ -125,6 +140,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   reading.angles_in_degrees = (size / 32) % 2 != 0;  // --csv-angle-unit deg
   try {
     TelemetryReader reader(in, "fuzz.csv", reading);
+    rates = reader.carriesRates();
     TelemetrySample sample;
     std::string problem;
     for (;;) {
@@ -135,6 +151,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         continue;
       }
       QUADFDI_FUZZ_CHECK(std::isfinite(sample.t) && std::abs(sample.t) <= 1e13);
+      for (double w : sample.rates) QUADFDI_FUZZ_CHECK(std::abs(w) <= 100.0);  // [rad/s] the reader's bound
       samples.push_back(sample);
     }
   } catch (const TelemetryError& e) {
@@ -148,7 +165,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FlightSignals signals;
     const MergedTelemetryCounts counts = readMergedTelemetry(reader, signals);
     QUADFDI_FUZZ_CHECK(counts.without_time + counts.without_signal <= counts.rows);
-    for (const SignalSeries<3>* s : {&signals.position, &signals.attitude})
+    for (const SignalSeries<3>* s : {&signals.position, &signals.attitude, &signals.rates})
       for (std::size_t i = 1; i < s->t.size(); ++i) QUADFDI_FUZZ_CHECK(s->t[i] > s->t[i - 1]);
     checkConventionsLayer(signals, LogFormat::kMergedCsv, false, 5000);
   } catch (const TelemetryError& e) {
@@ -169,6 +186,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       QUADFDI_FUZZ_CHECK(std::isfinite(s.t) && s.t > last_grid_t);
       for (double v : s.y) QUADFDI_FUZZ_CHECK(std::isfinite(v));
       for (double v : s.u) QUADFDI_FUZZ_CHECK(std::isfinite(v));
+      for (double v : s.rates) QUADFDI_FUZZ_CHECK(std::isfinite(v));
       last_grid_t = s.t;
       ++grid_samples;
     });
@@ -180,12 +198,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // As `quadfdi detect`: one detection session, which stops at a refused sample.
   std::unique_ptr<Detector> detector;
   try {
-    detector = std::make_unique<Detector>(config, model(tcn));
+    detector = std::make_unique<Detector>(config, model(tcn, rates));
   } catch (const std::invalid_argument& e) {  // settings the detector refuses (max_gap / dt too large)
     fuzz::report(e);
     return 0;
   }
-  ReplaySource source(samples);
+  ReplaySource source(samples, rates);
   CheckingSink sink;
   SessionConfig session;
   session.live = live;

@@ -41,6 +41,31 @@ TEST(TrainCli, TinyRunWritesModelLogAndCheckpoint) {
   EXPECT_EQ(loaded.metadata.scale, "tiny");
 }
 
+// A network trained on body rates runs in detect on telemetry that has them (simulate's full
+// state writes p, q, r; a merged export reads them too) and refuses, in one line and writing
+// nothing, telemetry without them.
+TEST(TrainCli, ABodyRatesModelDetectsOnTelemetryWithRatesAndRefusesItWithout) {
+  const std::string model = temp("rates.qfdw"), full = temp("rates_full.csv"), plain = temp("rates_plain.csv"),
+                    out = temp("rates_out.jsonl");
+  ASSERT_EQ(run("train --max-iterations 1 --features scale-free-rates --architecture tcn --scale tiny --training windows "
+                "--batch-size 64 --max-minibatches 2 --threads 2 -q -o " + model).exit_code, 0);
+  ASSERT_EQ(run("simulate --motor 2 --steps 600 --full-state -q -o " + full).exit_code, 0);
+  ASSERT_EQ(run("simulate --motor 2 --steps 600 -q -o " + plain).exit_code, 0);
+  for (const char* format : {"csv", "csv-merged"}) {
+    std::remove(out.c_str());
+    const Result r = run("detect -q --model " + model + " --format " + format + " --input " + full + " --output " + out);
+    EXPECT_EQ(r.exit_code, 0) << format << ": " << r.out;
+    EXPECT_TRUE(exists(out)) << format;
+  }
+  std::remove(out.c_str());
+  const Result refused = run("detect -q --model " + model + " --input " + plain + " --output " + out);
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_EQ(refused.out, "quadfdi: error: " + plain + ": the model " + model + " reads body rates (scale-free-rates features) and this "
+                         "telemetry has none: give columns p,q,r [rad/s] (docs/conventions.md), a log that records them, or a model "
+                         "on scale-free features\n");
+  EXPECT_FALSE(exists(out));
+}
+
 TEST(TrainCli, BadArgumentsGiveOneLineErrors) {
   const std::string model = temp("bad.qfdi");
   for (const std::string& args : {std::string("train --architecture gru -o ") + model,
