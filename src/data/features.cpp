@@ -101,8 +101,8 @@ void gatherFeatures(const float* outputs, const float* inputs, const float* resi
     for (int k = 0; k < length; ++k) {
       Output y;
       Input u;
-      for (int c = 0; c < kOutputDim; ++c) y(c) = outputs[k * kOutputDim + c];
-      for (int c = 0; c < kInputDim; ++c) u(c) = inputs[k * kInputDim + c];
+      for (int c = 0; c < kOutputDim; ++c) y(c) = static_cast<double>(outputs[k * kOutputDim + c]);
+      for (int c = 0; c < kInputDim; ++c) u(c) = static_cast<double>(inputs[k * kInputDim + c]);
       if (map) {
         y = map->applyToOutput(y, output);
         u = map->applyToInput(u);
@@ -110,8 +110,10 @@ void gatherFeatures(const float* outputs, const float* inputs, const float* resi
       // The first row has no predecessor: zero increments.
       if (k == 0) streamingFeatureRow(features, y, u, y, u, out);
       else streamingFeatureRow(features, previous_y, previous_u, y, u, out);
-      if (read_rates) rateChannels(Vec3(rates[k * kRateDim], rates[k * kRateDim + 1], rates[k * kRateDim + 2]), map,
-                                   out + rate_offset);
+      if (read_rates)
+        rateChannels(Vec3(static_cast<double>(rates[k * kRateDim]), static_cast<double>(rates[k * kRateDim + 1]),
+                          static_cast<double>(rates[k * kRateDim + 2])),
+                     map, out + rate_offset);
       previous_y = y;
       previous_u = u;
       out += channels;

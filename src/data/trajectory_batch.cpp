@@ -38,7 +38,7 @@ int faultyLength(const TrajectoryBatch& batch, const WindowRef& w) {
 Input windowLabel(const TrajectoryBatch& batch, const WindowRef& w) {
   if (faultyLength(batch, w) == 0) return Input::Ones();
   const float* t = &batch.theta[static_cast<std::size_t>(w.trajectory) * kInputDim];
-  return Input(t[0], t[1], t[2], t[3]);
+  return Input(static_cast<double>(t[0]), static_cast<double>(t[1]), static_cast<double>(t[2]), static_cast<double>(t[3]));
 }
 
 void positionLabels(const TrajectoryBatch& batch, int trajectory, int first, float* labels, float* mask) {

@@ -59,7 +59,9 @@ bool StreamingMotorEstimator::canStream(const ModelMetadata& m) {
 }
 
 StreamingMotorEstimator::StreamingMotorEstimator(const TrainedModel& model, SymmetryMode mode)
-    : metadata_(model.metadata), maps_(mapsToTrainedMotor(model.metadata, mode)) {
+    : metadata_(model.metadata),
+      reads_rates_(featuresReadRates(model.metadata.features)),
+      maps_(mapsToTrainedMotor(model.metadata, mode)) {
   if (!canStream(metadata_))
     throw std::invalid_argument(
         "only TCN networks on model-free-heading, scale-free or scale-free-rates features with Euler-angle outputs can "
@@ -76,14 +78,13 @@ void StreamingMotorEstimator::reset() {
 }
 
 bool StreamingMotorEstimator::push(const Output& y, const Input& u, MotorTheta& theta) {
-  if (featuresReadRates(metadata_.features))
+  if (reads_rates_)
     throw std::logic_error("this model reads body rates (scale-free-rates features) and none were given");
   return push(y, u, Vec3::Zero(), theta);
 }
 
 bool StreamingMotorEstimator::push(const Output& y, const Input& u, const Vec3& rates, MotorTheta& theta) {
   const auto row = static_cast<std::size_t>(metadata_.channels());
-  const bool read_rates = featuresReadRates(metadata_.features);
   const auto rate_offset = row - kRateDim;
   for (std::size_t k = 0; k < maps_.size(); ++k) {
     const Output my = maps_[k].applyToOutput(y, OutputKind::kPositionEuler);
@@ -91,7 +92,7 @@ bool StreamingMotorEstimator::push(const Output& y, const Input& u, const Vec3& 
     // The first sample has no predecessor: zero increments, as in a window's first row.
     if (samples_ == 0) streamingFeatureRow(metadata_.features, my, mu, my, mu, rows_.data() + k * row);
     else streamingFeatureRow(metadata_.features, previous_[k], previous_u_[k], my, mu, rows_.data() + k * row);
-    if (read_rates) rateChannels(rates, &maps_[k], rows_.data() + k * row + rate_offset);
+    if (reads_rates_) rateChannels(rates, &maps_[k], rows_.data() + k * row + rate_offset);
     previous_[k] = my;
     previous_u_[k] = mu;
   }

@@ -67,6 +67,7 @@ class StreamingMotorEstimator {
 
  private:
   ModelMetadata metadata_;
+  bool reads_rates_ = false;  // featuresReadRates(metadata_.features), set once
   std::array<SymmetryMap, kMotors> maps_{};
   std::unique_ptr<TcnStreamer> streamer_;
   std::array<Output, kMotors> previous_{};
