@@ -284,8 +284,12 @@ int runDetect(const DetectOptions& o) {
   const std::string& model_path = choice.path;
   const TrainedModel model = readModelFile(model_path);
   const ModelMetadata& m = model.metadata;
+  // Body rates are read only for a model that reads them: for any other, p, q, r are extra columns
+  // (whatever their unit) and a log's rates topic neither cuts nor drops a sample.
+  TelemetryReaderOptions csv_reading = reading;
+  csv_reading.read_rates = featuresReadRates(m.features);
   // Squared rotor speeds are thrust times an unknown k_f: only commands made dimensionless ignore it.
-  if (rotor_speed && m.features != FeatureSet::kScaleFree)
+  if (rotor_speed && !featuresScaleFree(m.features))
     throw ConfigError("--csv-commands rotor-speed: gives thrust only up to a constant factor, which a scale-free model ignores; " +
                       model_path + " reads commands in newtons (features " + toString(m.features) +
                       "): give u1..u4 as thrust in N, or use a scale-free model (every shipped randomised one)");
@@ -361,13 +365,14 @@ int runDetect(const DetectOptions& o) {
       file.open(o.input);
       require(file.is_open(), o.input + ": cannot open");
     }
-    reader = std::make_unique<TelemetryReader>(live ? std::cin : file, name, reading);  // throws on an empty file or a bad header
+    reader = std::make_unique<TelemetryReader>(live ? std::cin : file, name, csv_reading);  // throws on an empty file or a bad header
     source = reader.get();
     // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
     if (reader->numbering() && !renumber) numbering = *reader->numbering();
   } else {
     // throws one line naming file, byte, topic
-    log = openFlightLog(o.input, format, o.log, reading, m.dt, o.max_gap, m.features == FeatureSet::kScaleFree);
+    log = openFlightLog(o.input, format, o.log, csv_reading, m.dt, o.max_gap, featuresScaleFree(m.features),
+                        csv_reading.read_rates);
     source = log.source.get();
     // A merged CSV names its numbering only in a comment (else the description's stands); a log always.
     const MotorNumbering& logged = log.source->report().numbering;

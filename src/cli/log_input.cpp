@@ -279,7 +279,8 @@ OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const
 }  // namespace
 
 OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o,
-                        const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model) {
+                        const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model,
+                        bool read_rates) {
   if (format == "csv-merged") return openMergedCsv(path, o, csv_reading, dt, max_gap);
   if (path == "-") throw std::runtime_error("flight logs (--format " + format + ") are read from a file, not standard input");
   const std::vector<std::uint8_t> bytes = readAll(path);
@@ -297,6 +298,7 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
 
   ImportOptions io = importOptions(o, dt, max_gap);
   io.scale_free_model = scale_free_model;
+  io.read_rates = read_rates;
   double thrust_model_factor = -1.0;  // [-] the vehicle description's, < 0 without one
   if (!o.vehicle.empty()) {
     const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"

@@ -75,8 +75,11 @@ struct OpenedLog {
 // "csv-merged": a telemetry CSV whose rows each hold some of the signals (io/merged_telemetry.h),
 // read from `path` or standard input ("-") to its end as `csv_reading` says (csvReadingOptions, which
 // the caller has already checked; unread for a flight log).
-// `scale_free_model`: the model ignores a constant thrust scale (ImportOptions::scale_free_model).
+// `scale_free_model`: the model ignores a constant thrust scale (ImportOptions::scale_free_model);
+// `read_rates`: the log's body rates are read (ImportOptions::read_rates; a merged CSV's by
+// csv_reading.read_rates).
 OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o,
-                        const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model = false);
+                        const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model = false,
+                        bool read_rates = true);
 
 }  // namespace quadfdi::cli

@@ -42,6 +42,8 @@ int featureChannels(FeatureSet f) {
 
 bool featuresReadRates(FeatureSet f) { return f == FeatureSet::kScaleFreeRates; }
 
+bool featuresScaleFree(FeatureSet f) { return f == FeatureSet::kScaleFree || f == FeatureSet::kScaleFreeRates; }
+
 void gatherWindowFeatures(const TrajectoryBatch& b, const WindowRef& w, int length, FeatureSet features,
                           OutputKind output, const SymmetryMap* map, float* out) {
   const std::size_t o = b.sampleOffset(w.trajectory, w.end_sample - length + 1);  // samples are contiguous

@@ -35,6 +35,9 @@ bool parseFeatureSet(const std::string& text, FeatureSet& f);  // model-free | m
 int featureChannels(FeatureSet f);
 // Feature sets that read the measured body rates (TrajectoryBatch::rates) besides y and u.
 bool featuresReadRates(FeatureSet f);
+// Feature sets that read the commands only as shares of their mean (kScaleFree, kScaleFreeRates):
+// a constant factor on every command, a thrust scale unknown, cannot change their output.
+bool featuresScaleFree(FeatureSet f);
 
 // Writes the window's features, [T][channels] row-major, into `out` (T·channels floats).
 // Channel order: y (position relative to the window's first sample, then angles or rates),

@@ -232,6 +232,7 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   const std::array<std::string, kColumnCount> header_names = label_;  // a column named with a unit is then labelled so
   for (int c = 0; c < cells_; ++c)
     for (int r = 0; r < kColumnCount; ++r) {
+      if (r >= kP && !options_.read_rates) continue;  // extra columns then: not looked at
       const std::string& cell = cells[static_cast<std::size_t>(c)];
       const std::string& wanted = header_names[static_cast<std::size_t>(r)];
       std::string base, unit;
@@ -250,7 +251,7 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   // the quaternion, whole (an absent attitude is reported as Euler's first column).
   quaternion_ = !has(kRoll) && !has(kRoll + 1) && !has(kRoll + 2) && (has(kQw) || has(kQw + 1) || has(kQw + 2) || has(kQw + 3));
   // Body rates: all three or none (a header with one of them meant to give them).
-  rates_ = has(kP) || has(kP + 1) || has(kP + 2);
+  rates_ = has(kP) || has(kP + 1) || has(kP + 2);  // never when !read_rates: not matched
   for (int r = kP; r < kP + 3 && rates_; ++r)
     if (!has(r))
       throw TelemetryError(where() + ": the header has body rates and lacks column '" + label(r) +

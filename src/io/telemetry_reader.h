@@ -63,6 +63,9 @@ struct TelemetryReaderOptions {
   double time_unit = 1.0;  // [s] per unit of the t column: 1e-3 (ms), 1e-6 (µs), 1e-9 (ns, a ROS stamp)
   bool angles_in_degrees = false;  // roll, pitch, yaw in degrees (a quaternion has no unit)
   bool rates_in_degrees = false;   // p, q, r in degrees per second
+  // false: p, q, r are extra columns, not read (for a model that does not need them, so that a
+  // file's rate columns in another unit or with holes cost it nothing).
+  bool read_rates = true;
   // The file's motor number m (its column u_m) of quadfdi's motor k + 1: a file written in an
   // autopilot's numbering (--csv-numbering vehicle) has the vehicle description's
   // autopilot_motor_of_quadfdi_motor here, and is read in quadfdi's order. A permutation of 1..4.

@@ -295,6 +295,7 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
     if (p && q && r) {
       std::size_t rate_dropped = 0;
       for (std::size_t i : usableRows(*rate, nullptr, 0.0, rate_dropped)) {
+        if (!std::isfinite(p[i]) || !std::isfinite(q[i]) || !std::isfinite(r[i])) continue;  // a sample the reader would drop
         out.rates.t.push_back(seconds(rate->timestamp_us[i]));
         out.rates.v.push_back({p[i] * kDegToRad, -q[i] * kDegToRad, -r[i] * kDegToRad});
       }

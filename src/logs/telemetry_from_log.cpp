@@ -284,6 +284,7 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   // --- Body rates: optional (only a model on body rates reads them), so a log without them, or
   // with them too coarse to carry a fault's first samples, is read without them, saying so. ---
   double rates_hole_limit = 0.0;
+  if (!o.read_rates) signals.rates = {};
   if (!signals.rates.empty()) {
     SignalReport r;
     r.name = "body rates";

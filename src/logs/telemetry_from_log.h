@@ -57,6 +57,10 @@ struct ImportOptions {
   // features, data/features.h): a constant thrust scale cannot change its output, so fractions
   // with neither max_thrust nor mass are used as they are (× 1 N) instead of refused.
   bool scale_free_model = false;
+  // Body rates: read where the log has them (import writes them; a model on body rates needs
+  // them); false leaves them out, so a rates topic's holes or late start cost a model that does
+  // not read them no sample.
+  bool read_rates = true;
   double gravity = 9.81;         // [m/s²]
   double hover_min_duration = 1.0;    // [s] steady stretch needed for the calibration
   double hover_max_tilt = 0.1;        // [rad] |roll|, |pitch| below this while steady

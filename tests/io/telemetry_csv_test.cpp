@@ -533,6 +533,11 @@ TEST(TelemetryCsv, BodyRatesInNedAndDegreesAndTheirRefusals) {
             "u.csv:1: the header has body rates and lacks column 'r' (p, q, r [rad/s] come together, or not at all)");
   EXPECT_EQ(firstRefusal(head + "p,q,r\n0,0,0,0,0,0,0,1,1,1,1,0,0,0\n0.002,0,0,0,0,0,0,1,1,1,1,0,150,0\n", "u.csv"),
             "u.csv:3: q = 150 is no body rate in rad/s (over 100 rad/s): degrees per second? --csv-rate-unit deg/s");
+  // For a model that does not read them (read_rates false) they are extra columns, whatever they hold.
+  TelemetryReaderOptions unread;
+  unread.read_rates = false;
+  EXPECT_EQ(firstRefusal(head + "p,q,r\n0,0,0,0,0,0,0,1,1,1,1,0,150,\n", "u.csv", unread), "accepted");
+  EXPECT_EQ(firstRefusal(head + "p [rpm],q\n0,0,0,0,0,0,0,1,1,1,1,0,150\n", "u.csv", unread), "accepted");
   // An empty rate cell drops its row, as any read cell's does.
   std::istringstream hole(head + "p,q,r\n0,0,0,0,0,0,0,1,1,1,1,0,,0\n");
   TelemetryReader reader(hole, "hole.csv");

@@ -538,6 +538,19 @@ TEST_F(LogDetection, BodyRatesComeThroughEachAutopilotsLogInQuadfdisFrame) {
   LogSampleSource without;
   ASSERT_FALSE(fromBytes(test::writeCrazyflieMission(m), options(), without).refused());
   EXPECT_FALSE(without.carriesRates());
+  // Not read (a model without rates): the same samples as the log without them, bit for bit.
+  ImportOptions unread = options();
+  unread.read_rates = false;
+  LogSampleSource left_out;
+  ASSERT_FALSE(fromBytes(test::writeCrazyflieMission(m, 10, false, true), unread, left_out).refused());
+  EXPECT_FALSE(left_out.carriesRates());
+  const std::vector<TelemetrySample> a = drain(left_out), b = drain(without);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].t, b[i].t);
+    ASSERT_EQ(a[i].y, b[i].y);
+    ASSERT_EQ(a[i].u, b[i].u);
+  }
 }
 
 bool readFile(const std::string& path, std::vector<std::uint8_t>& bytes) {
