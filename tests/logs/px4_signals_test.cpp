@@ -455,6 +455,17 @@ void flagPositionValid(DecodedLog& log) {
         if (const int i = t.fieldIndex(flag); i >= 0) std::fill(t.columns[static_cast<std::size_t>(i)].begin(), t.columns[static_cast<std::size_t>(i)].end(), 1.0);
 }
 
+// A PX4 sample log from ../shared/logs/px4, decoded, with its position flagged valid; false when absent.
+bool readRealLog(const std::string& name, DecodedLog& log) {
+  std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/" + name, std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.empty()) return false;
+  const LogIssue issue = readUlog(ByteSpan{bytes.data(), bytes.size()}, log);
+  EXPECT_TRUE(issue.ok()) << name << ": " << issue.message;
+  flagPositionValid(log);
+  return issue.ok();
+}
+
 TEST(Px4Signals, RealSampleLog) {
   std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/sample_log_small.ulg", std::ios::binary);
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -490,12 +501,8 @@ TEST(Px4Signals, RealSampleLog) {
 // rates the attitude's own change gives through the ZYX kinematics (p = φ̇ − sin θ·ψ̇, q = cos φ·θ̇ +
 // sin φ cos θ·ψ̇, r = −sin φ·θ̇ + cos φ cos θ·ψ̇): a sign or frame slip would turn the fit around.
 TEST(Px4Signals, RealSampleLogBodyRatesAgreeWithTheAttitudesChange) {
-  std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/sample_log_small.ulg", std::ios::binary);
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.empty()) GTEST_SKIP() << "../shared/logs/px4/sample_log_small.ulg not found";
   DecodedLog log;
-  ASSERT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok());
-  flagPositionValid(log);
+  if (!readRealLog("sample_log_small.ulg", log)) GTEST_SKIP() << "../shared/logs/px4/sample_log_small.ulg not found";
   FlightSignals s;
   ASSERT_TRUE(extractPx4Signals(log, Px4SignalOptions{}, s).ok());
   ASSERT_EQ(s.rates.source.topic, "vehicle_angular_velocity");
@@ -540,13 +547,9 @@ TEST(Px4Signals, RealSampleLogBodyRatesAgreeWithTheAttitudesChange) {
 // PX4 SITL on the ground: EKF2 reset its heading twice (t = 1.244 s and 8.856 s, by 4.1 and 1.2 mrad),
 // and vehicle_attitude jumps there by as much: read, the attitude is continuous.
 TEST(Px4Signals, RealLogsHeadingResetsAreTakenOut) {
-  std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/sample_logging_tagged_and_default_params.ulg",
-                   std::ios::binary);
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.empty()) GTEST_SKIP() << "../shared/logs/px4/sample_logging_tagged_and_default_params.ulg not found";
   DecodedLog log;
-  ASSERT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok());
-  flagPositionValid(log);
+  if (!readRealLog("sample_logging_tagged_and_default_params.ulg", log))
+    GTEST_SKIP() << "../shared/logs/px4/sample_logging_tagged_and_default_params.ulg not found";
   FlightSignals s;
   const LogIssue issue = extractPx4Signals(log, Px4SignalOptions{}, s);
   ASSERT_TRUE(issue.ok()) << issue.topic << ": " << issue.message;
