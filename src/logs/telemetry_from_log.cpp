@@ -285,6 +285,24 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   // with them too coarse to carry a fault's first samples, is read without them, saying so. ---
   double rates_hole_limit = 0.0;
   if (!o.read_rates) signals.rates = {};
+  {
+    // A rate beyond any gyro's range (flight controllers' saturate at 2000 °/s, 35 rad/s) is a
+    // corrupt row or another unit, not flight, as the CSV reader holds: left out, counted.
+    constexpr double kMaxBodyRate = 100.0;  // [rad/s]
+    SignalSeries<3>& r = signals.rates;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < r.t.size(); ++i) {
+      const auto& v = r.v[i];
+      if (std::abs(v[0]) > kMaxBodyRate || std::abs(v[1]) > kMaxBodyRate || std::abs(v[2]) > kMaxBodyRate) continue;
+      r.t[kept] = r.t[i];
+      r.v[kept++] = v;
+    }
+    if (kept < r.t.size())
+      rep.conventions.push_back(r.source.topic + ": " + std::to_string(r.t.size() - kept) +
+                                " body-rate rows beyond 100 rad/s (no gyro measures that) left out");
+    r.t.resize(kept);
+    r.v.resize(kept);
+  }
   if (!signals.rates.empty()) {
     SignalReport r;
     r.name = "body rates";

@@ -148,6 +148,36 @@ TEST(TelemetryFromLog, ThrustFractionsNeedAScaleAndCanBeCalibratedFromHover) {
   }
 }
 
+// Body rates are optional: a rate row beyond any gyro's range is left out and counted; rates
+// coarser than the attitude needs are not read, with a warning, and the log reads as without them.
+TEST(TelemetryFromLog, BodyRatesOutOfRangeRowsAreLeftOutAndCoarseRatesAreNotRead) {
+  FlightSignals signals = synthetic(0.004, 0.01, 0.004, 3.0);
+  for (double t = 0.0; t <= 3.0 + 1e-9; t += 0.004) {
+    signals.rates.t.push_back(t);
+    signals.rates.v.push_back({0.1, std::abs(t - 1.5) < 1e-6 ? 700.0 : 0.2, 0.3});  // one corrupt row
+  }
+  signals.rates.source = {"rate_topic", "p,q,r", ""};
+  FlightSignals coarse = signals;
+  LogSampleSource src;
+  ImportOptions o;
+  ASSERT_FALSE(buildLogSampleSource(std::move(signals), LogFormat::kUlog, o, src).refused());
+  EXPECT_TRUE(src.carriesRates());
+  bool noted = false;
+  for (const std::string& c : src.report().conventions) noted = noted || c == "rate_topic: 1 body-rate rows beyond 100 rad/s (no gyro measures that) left out";
+  EXPECT_TRUE(noted) << src.report().text();
+  for (const TelemetrySample& s : drain(src)) {
+    ASSERT_NEAR(s.rates[1], 0.2, 1e-12) << s.t;
+    ASSERT_NEAR(s.rates[2], 0.3, 1e-12) << s.t;
+  }
+  for (std::size_t i = 0; i < coarse.rates.t.size(); ++i) coarse.rates.t[i] *= 3.0;  // 83 Hz, and longer than the flight
+  LogSampleSource without;
+  ASSERT_FALSE(buildLogSampleSource(std::move(coarse), LogFormat::kUlog, o, without).refused());
+  EXPECT_FALSE(without.carriesRates());
+  ASSERT_EQ(without.report().warnings.size(), 1u) << without.report().text();
+  EXPECT_EQ(without.report().warnings[0],
+            "rate_topic (body rates) is logged at 83.3 Hz, below the 125 Hz attitude needs: not read (a model on body rates refuses this log)");
+}
+
 TEST(TelemetryFromLog, PhasesFromEventsSkipMarginsAndLeaveAGapBetweenFlights) {
   FlightSignals s = synthetic(0.002, 0.02, 0.002, 20.0);
   // Two flights: 2–8 s and 11–18 s.
