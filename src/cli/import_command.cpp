@@ -14,8 +14,9 @@ CLI::App* addImportCommand(CLI::App& app, ImportCommandOptions& o) {
   CLI::App* cmd = app.add_subcommand(
       "import",
       "Convert a flight log (PX4 ULog, ArduPilot DataFlash, Crazyflie micro-SD; recognised from its content) into\n"
-      "telemetry CSV t,x,y,z,roll,pitch,yaw,u1..u4 on the model's clock, airborne phases only, and print the import\n"
-      "report: each signal's topic, rate and span, the conventions applied, the thrust scaling, the flight phases.");
+      "telemetry CSV t,x,y,z,roll,pitch,yaw,u1..u4 (then p,q,r where the log records body rates) on the model's clock,\n"
+      "airborne phases only, and print the import report: each signal's topic, rate and span, the conventions applied,\n"
+      "the thrust scaling, the flight phases.");
   cmd->add_option("input", o.input, "Flight log")->required();
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
