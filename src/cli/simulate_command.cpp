@@ -58,6 +58,9 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   t->add("--output,-o", o.output, "Telemetry CSV to write; - for standard output");
   t->add("--full-state", o.full_state,
          "Append body velocity, body rates, applied thrusts and controller status columns");
+  t->add("--rates", o.rates,
+         "Append the logged body rates p,q,r [rad/s] alone, as an autopilot's log records them "
+         "(what a model on scale-free-rates features reads; --full-state writes them too)");
   t->add("--goal", o.goal, "Override the sampled goal position: X Y Z [m]").values(3);
   t->add("--start", o.start,
          "Override the sampled initial state: 12 values x y z vx vy vz roll pitch yaw p q r "
@@ -74,6 +77,10 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
       .choices({"fixed", "velocity"});
   t->add("--position-noise", o.position_noise, "Std. dev. of additive noise on logged position [m]").atLeast(0);
   t->add("--attitude-noise", o.attitude_noise, "Std. dev. of additive noise on logged Euler angles [rad]")
+      .atLeast(0);
+  t->add("--rate-noise", o.rate_noise,
+         "Std. dev. of additive noise on the logged body rates p,q,r [rad/s] (a gyro's white noise, "
+         "docs/model.md#sensors); needs --rates or --full-state")
       .atLeast(0);
   t->add("--rotor-drag", o.rotor_drag,
          "Linear rotor drag per unit mass [1/s] (the plant's linear_drag = this × mass; 0: the parameter set's); "
@@ -137,6 +144,8 @@ int runSimulate(const SimulateOptions& o) {
   if (o.motor == 0) refuseGiven(o.given, {"theta", "fault_step"}, "needs --motor N (without it the flight is healthy)");
   require(o.motor == 0 || o.fault_step < o.steps,
           "--fault-step " + std::to_string(o.fault_step) + " is not before --steps " + std::to_string(o.steps) + ": the flight would stay healthy");
+  if (!o.rates && !o.full_state)
+    refuseGiven(o.given, {"rate_noise"}, "is noise on the body-rate columns, which only --rates or --full-state writes");
   require(!(o.gust_rate > 0.0) || o.gust_peak > 0.0, "--gust-rate: needs --gust-peak > 0 (no gusts otherwise)");
   require(!(o.gust_peak > 0.0) || o.gust_rate > 0.0, "--gust-peak: needs --gust-rate > 0 (no gusts otherwise)");
   if (o.trajectory == "hover")
@@ -149,6 +158,7 @@ int runSimulate(const SimulateOptions& o) {
   settings.integrator = o.integrator == "euler" ? Integrator::kEuler : Integrator::kRk4;
   settings.noise.position_std = o.position_noise;
   settings.noise.attitude_std = o.attitude_noise;
+  settings.noise.rate_std = o.rate_noise;
   settings.noise.seed = o.seed;
   settings.wind.mean_speed = o.wind_speed;
   settings.wind.mean_direction = o.wind_direction;
@@ -203,6 +213,7 @@ int runSimulate(const SimulateOptions& o) {
   TelemetryCsvOptions csv;
   csv.dt = settings.dt;
   csv.full_state = o.full_state;
+  csv.rates = o.rates;
   if (o.output == "-") {
     writeTelemetryCsv(std::cout, log, csv);
     std::cout.flush();

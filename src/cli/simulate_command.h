@@ -23,10 +23,12 @@ struct SimulateOptions {
   std::string integrator = "rk4";       // rk4 | euler
   std::string output = "-";             // CSV path; - = standard output
   bool full_state = false;              // append state and applied-thrust columns
+  bool rates = false;                   // append the logged body rates p,q,r alone
   std::vector<double> goal;             // override [m], 3 values; empty: sampled
   std::vector<double> start;            // override, 12 state values (SI); empty: sampled
   double position_noise = 0.0;          // std. dev. [m]
   double attitude_noise = 0.0;          // std. dev. [rad]
+  double rate_noise = 0.0;              // std. dev. [rad/s] on the logged body rates
   double rotor_drag = 0.0;              // [1/s] linear rotor drag per unit mass; 0: the parameter set's linear_drag
   double wind_speed = 0.0;              // [m/s] steady wind
   double wind_direction = 0.0;          // [rad] world heading the wind blows toward

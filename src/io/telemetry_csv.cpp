@@ -35,9 +35,12 @@ void writeTelemetryCsvRow(std::ostream& out, const TelemetrySample& s, bool rate
 void writeTelemetryCsv(std::ostream& out, const FlightLog& log, const TelemetryCsvOptions& options) {
   out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4";
   if (options.full_state) out << ",vx,vy,vz,p,q,r,f1,f2,f3,f4,status";
+  else if (options.rates) out << ",p,q,r";
   out << '\n';
+  const bool logged_rates = log.rates.size() == log.states.size();
   for (int k = 0; k < log.size(); ++k) {
     const auto ku = static_cast<std::size_t>(k);
+    const Vec3 rates = logged_rates ? log.rates[ku] : Vec3(log.states[ku].segment<3>(idx::kRate));
     put(out, k * options.dt);
     const Output& y = log.outputs[ku];
     for (int i = 0; i < kOutputDim; ++i) { out << ','; put(out, y(i)); }
@@ -46,10 +49,12 @@ void writeTelemetryCsv(std::ostream& out, const FlightLog& log, const TelemetryC
     if (options.full_state) {
       const State& x = log.states[ku];
       for (int i = idx::kVel; i < idx::kVel + 3; ++i) { out << ','; put(out, x(i)); }
-      for (int i = idx::kRate; i < idx::kRate + 3; ++i) { out << ','; put(out, x(i)); }
+      for (int i = 0; i < 3; ++i) { out << ','; put(out, rates(i)); }
       const Input& f = log.applied[ku];
       for (int i = 0; i < kInputDim; ++i) { out << ','; put(out, f(i)); }
       out << ',' << toString(log.controls[ku].status);
+    } else if (options.rates) {
+      for (int i = 0; i < 3; ++i) { out << ','; put(out, rates(i)); }
     }
     out << '\n';
   }

@@ -13,10 +13,12 @@ namespace quadfdi {
 struct TelemetryCsvOptions {
   double dt = 0.002;        // [s] sample period; t = k·dt
   bool full_state = false;  // append vx,vy,vz (body) [m/s], p,q,r [rad/s], f1..f4 applied thrust [N], status
+  bool rates = false;       // append p,q,r [rad/s] alone (implied by full_state)
 };
 
 // Writes the header and one row per logged step. Numbers use the shortest text that
-// reads back to the same double.
+// reads back to the same double. p,q,r are the logged rates (FlightLog::rates, gyro noise and
+// all, as the attitude columns carry the attitude noise), the true ones where none were logged.
 void writeTelemetryCsv(std::ostream& out, const FlightLog& log, const TelemetryCsvOptions& options);
 
 // The same columns one sample at a time (converted flight logs, `quadfdi import`): the header

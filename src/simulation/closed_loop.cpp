@@ -24,8 +24,8 @@ std::string validate(const SimulationSettings& s) {
   for (int i = 0; i < kInputDim; ++i)
     if (!(s.fault.theta(i) >= 0.0 && s.fault.theta(i) <= 1.0))
       return "theta must lie in [0, 1], got " + std::to_string(s.fault.theta(i)) + " for motor " + std::to_string(i + 1);
-  if (!(s.noise.position_std >= 0.0 && s.noise.attitude_std >= 0.0 && std::isfinite(s.noise.position_std) &&
-        std::isfinite(s.noise.attitude_std)))
+  if (!(s.noise.position_std >= 0.0 && s.noise.attitude_std >= 0.0 && s.noise.rate_std >= 0.0 &&
+        std::isfinite(s.noise.position_std) && std::isfinite(s.noise.attitude_std) && std::isfinite(s.noise.rate_std)))
     return "sensor noise standard deviations must be finite and >= 0";
   if (s.trajectory)
     if (std::string problem = validate(*s.trajectory); !problem.empty()) return problem;
@@ -43,10 +43,12 @@ FlightSummary ClosedLoopSimulator::run(Controller& controller, const State& x0, 
     log->outputs.clear();
     log->controls.clear();
     log->applied.clear();
+    log->rates.clear();
     log->states.reserve(n);
     log->outputs.reserve(n);
     log->controls.reserve(n);
     log->applied.reserve(n);
+    log->rates.reserve(n);
   }
   FlightSummary summary;
   PlantState plant;
@@ -57,6 +59,9 @@ FlightSummary ClosedLoopSimulator::run(Controller& controller, const State& x0, 
 
   const bool noisy = settings_.noise.position_std > 0.0 || settings_.noise.attitude_std > 0.0;
   Rng noise_rng(settings_.noise.seed, 0x5E45);
+  // The gyro's noise has a stream of its own, so adding it leaves the position and attitude noise
+  // of a seed as they were.
+  Rng rate_noise_rng(settings_.noise.seed, 0x6A50);
   WindModel wind(settings_.wind, settings_.dt);
   Rng wind_rng(settings_.noise.seed, 0x0A1E);
   wind.reset(wind_rng);
@@ -77,6 +82,10 @@ FlightSummary ClosedLoopSimulator::run(Controller& controller, const State& x0, 
       log->outputs.push_back(y);
       log->controls.push_back(control);
       log->applied.push_back(applied);
+      Vec3 rates = plant.x.segment<3>(idx::kRate);
+      if (settings_.noise.rate_std > 0.0)
+        for (int i = 0; i < 3; ++i) rates(i) += settings_.noise.rate_std * gaussian(rate_noise_rng);
+      log->rates.push_back(rates);
     }
     switch (control.status) {
       case ControlStatus::kSaturated: ++summary.saturated_steps; break;

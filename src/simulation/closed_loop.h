@@ -22,10 +22,11 @@ struct FaultSpec {
   bool healthy() const { return (theta.array() == 1.0).all(); }
 };
 
-// Additive white Gaussian noise on the logged output y (off by default).
+// Additive white Gaussian noise on the logged output y and the logged body rates (off by default).
 struct SensorNoise {
   double position_std = 0.0;  // [m]
   double attitude_std = 0.0;  // [rad] on Euler angles
+  double rate_std = 0.0;      // [rad/s] on the logged body rates (a gyro's white noise), own stream
   std::uint64_t seed = 0;     // noise stream, independent of the scenario stream
 };
 
@@ -54,6 +55,7 @@ struct FlightLog {
   std::vector<Output> outputs;        // y(k) = (position, Euler angles) [+ sensor noise]
   std::vector<ControlStep> controls;  // u_cmd(k), LQR command, controller status
   std::vector<Input> applied;         // diag(Θ)·u_cmd(k) once k ≥ F, else u_cmd(k)
+  std::vector<Vec3> rates;            // logged body rates p,q,r(k) [rad/s] [+ gyro noise]; empty: the true ones
   int size() const { return static_cast<int>(states.size()); }
 };
 

@@ -53,7 +53,7 @@ TEST(SimulateCli, HelpDocumentsEveryOption) {
   EXPECT_EQ(r.exit_code, 0);
   for (const char* opt : {"--controller", "--controller-config", "--params", "--controller-params", "--lqr-weights", "--motor", "--theta",
                           "--fault-step", "--steps", "--seed", "--integrator", "--output", "--full-state", "--goal",
-                          "--start", "--position-noise", "--attitude-noise", "--cbf-min-altitude", "--cbf-max-tilt",
+                          "--start", "--position-noise", "--attitude-noise", "--rate-noise", "--rates", "--cbf-min-altitude", "--cbf-max-tilt",
                           "--quiet", "--trajectory", "--speed", "--radius", "--yaw-mode", "--rotor-drag", "--wind-speed",
                           "--wind-direction", "--turbulence", "--turbulence-tau", "--gust-rate", "--gust-peak", "--gust-duration"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
@@ -240,6 +240,7 @@ TEST(SimulateCli, OptionsTheFlightWouldNotReadAreRefused) {
       {"--cbf-max-tilt 0.4", "--cbf-max-tilt: is the CBF-QP filter's"},
       {"--rotor-drag 0.2 --gust-rate 0.5", "--gust-rate: needs --gust-peak > 0"},
       {"--rotor-drag 0.2 --gust-peak 2", "--gust-peak: needs --gust-rate > 0"},
+      {"--rate-noise 0.02", "--rate-noise: is noise on the body-rate columns, which only --rates or --full-state writes"},
   };
   for (const auto& [args, message] : cases) {
     const CommandResult r = run("simulate " + args + " --output " + out);
@@ -250,6 +251,11 @@ TEST(SimulateCli, OptionsTheFlightWouldNotReadAreRefused) {
   EXPECT_FALSE(std::ifstream(out).good());
   // The same options where the flight reads them still run.
   EXPECT_EQ(run("simulate --controller cbf --cbf-max-tilt 0.4 --motor 2 --theta 0.5 --fault-step 100 --steps 150 -q --output " + out).exit_code, 0);
+  EXPECT_EQ(run("simulate --rates --rate-noise 0.02 --steps 150 -q --output " + out).exit_code, 0);
+  std::ifstream written(out);
+  std::string header;
+  std::getline(written, header);
+  EXPECT_EQ(header, "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,p,q,r");
 }
 
 // generate --randomise draws each flight's plant, controller and pre-roll: the fixed ones are refused.

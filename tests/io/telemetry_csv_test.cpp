@@ -509,6 +509,46 @@ TEST(TelemetryCsv, BodyRatesRoundTripAndAreOptional) {
   EXPECT_EQ(b.rates, (std::array<double, 3>{0, 0, 0}));
 }
 
+// A flight's logged rates (gyro noise and all), written alone or with the full state, read back
+// exactly; a log without logged rates writes the true ones.
+TEST(TelemetryCsv, AFlightsLoggedRatesAreWrittenAndReadBack) {
+  FlightLog log;
+  for (int k = 0; k < 3; ++k) {
+    State x = State::LinSpaced(0.1 * k, 1.0 / 3.0 + k);
+    log.states.push_back(x);
+    log.outputs.push_back(outputOf(x, OutputKind::kPositionEuler));
+    ControlStep c;
+    c.u_cmd = Input(0.07, 0.071, 1.0 / 7.0, 0.0015);
+    log.controls.push_back(c);
+    log.applied.push_back(c.u_cmd);
+  }
+  for (const bool full_state : {false, true}) {
+    TelemetryCsvOptions o;
+    o.rates = !full_state;
+    o.full_state = full_state;
+    for (const bool logged : {false, true}) {
+      log.rates.clear();
+      if (logged) {
+        for (int k = 0; k < 3; ++k) log.rates.push_back(Vec3(0.5 + k, -1.0 / 3.0, 0.125 * k));
+      }
+      std::stringstream csv;
+      writeTelemetryCsv(csv, log, o);
+      if (!full_state) {
+        EXPECT_EQ(csv.str().substr(0, csv.str().find('\n')), "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,p,q,r");
+      }
+      TelemetryReader reader(csv, "flight.csv");
+      ASSERT_TRUE(reader.carriesRates());
+      TelemetrySample b;
+      std::string problem;
+      for (std::size_t k = 0; k < 3; ++k) {
+        ASSERT_EQ(reader.next(b, problem), SampleSource::Next::kSample) << problem;
+        const Vec3 want = logged ? log.rates[k] : Vec3(log.states[k].segment<3>(idx::kRate));
+        for (int i = 0; i < 3; ++i) EXPECT_EQ(b.rates[static_cast<std::size_t>(i)], want(i)) << full_state << logged << k;
+      }
+    }
+  }
+}
+
 // FRD body rates (PX4, ArduPilot, Gazebo) turn into FLU ones as the body does (180° about x: p,
 // −q, −r); degrees per second from the header or the option; mixed units, a partial set and a rate
 // beyond any gyro's range are refused, naming the line.

@@ -91,6 +91,32 @@ TEST(ClosedLoop, SensorNoiseIsSeededAndOnlyOnTheOutput) {
   EXPECT_NEAR(std_est, 0.01, 0.0015);
 }
 
+TEST(ClosedLoop, GyroNoiseIsOnTheLoggedRatesOnlyAndLeavesTheOtherNoiseAsItWas) {
+  const VehicleParams p = nominalParams();
+  auto ctrl = test::makeOrDie(p, ControllerKind::kLqr);
+  ctrl->setGoal(Vec3(0, 0, 1));
+  SimulationSettings s;
+  s.steps = 400;
+  s.noise.attitude_std = 0.005;
+  s.noise.seed = 4;
+  FlightLog without, with;
+  ClosedLoopSimulator(p, s).run(*ctrl, test::hoverState(Vec3(0.3, 0, 1)), &without);
+  s.noise.rate_std = 0.02;
+  ClosedLoopSimulator(p, s).run(*ctrl, test::hoverState(Vec3(0.3, 0, 1)), &with);
+  ASSERT_EQ(without.rates.size(), 400u);
+  ASSERT_EQ(with.rates.size(), 400u);
+  double sum_sq = 0.0;
+  for (std::size_t k = 0; k < 400; ++k) {
+    EXPECT_EQ(with.states[k], without.states[k]);    // the controller flies the true state
+    EXPECT_EQ(with.outputs[k], without.outputs[k]);  // the attitude noise of the seed is unchanged
+    EXPECT_EQ(without.rates[k], Vec3(without.states[k].segment<3>(idx::kRate)));  // no gyro noise: the truth
+    sum_sq += (with.rates[k] - without.rates[k]).squaredNorm();
+  }
+  EXPECT_NEAR(std::sqrt(sum_sq / (3 * 400)), 0.02, 0.002);
+  s.noise.rate_std = -1.0;
+  EXPECT_NE(validate(s), "");
+}
+
 TEST(ClosedLoop, ValidateRejectsBadSettings) {
   SimulationSettings s;
   EXPECT_EQ(validate(s), "");
