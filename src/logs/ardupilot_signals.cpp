@@ -287,7 +287,10 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
                             "roll = Roll, pitch = −Pitch, yaw = −Yaw wrapped to (−π, π] [rad] (world x north, y west, z up; body FLU)");
 
   // Body rates (optional): RATE R, P, Y, the gyro the rate controller flies on (AC_AttitudeControl
-  // Write_Rate: degrees of ahrs.get_gyro_latest(), deg/s, FRD), logged with ATT.
+  // Write_Rate: degrees of ahrs.get_gyro_latest(), deg/s, FRD), logged with ATT. Where a log has
+  // no RATE (LOG_BITMASK without ATTITUDE_FAST/MED), the first IMU's GyrX, GyrY, GyrZ
+  // (AP_InertialSensor Write_IMU: rad/s, FRD; instance I = 0, the others' rows left out; older
+  // logs name the second and third IMU2, IMU3), which is the gyro before the rate loop's filter.
   if (const LogTopic* rate = log.find("RATE")) {
     const double* p = column(*rate, "R");
     const double* q = column(*rate, "P");
@@ -300,6 +303,23 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
         out.rates.v.push_back({p[i] * kDegToRad, -q[i] * kDegToRad, -r[i] * kDegToRad});
       }
       out.rates.source = {"RATE", "R,P,Y", "deg/s → rad/s; FRD → FLU: (R, −P, −Y)"};
+    }
+  }
+  if (out.rates.t.empty()) {
+    if (const LogTopic* imu = coreTopic(log, "IMU", 0)) {
+      const double* p = column(*imu, "GyrX");
+      const double* q = column(*imu, "GyrY");
+      const double* r = column(*imu, "GyrZ");
+      if (p && q && r) {
+        out.rates.v.clear();
+        std::size_t imu_dropped = 0;
+        for (std::size_t i : usableRows(*imu, column(*imu, "I"), 0.0, imu_dropped)) {
+          if (!std::isfinite(p[i]) || !std::isfinite(q[i]) || !std::isfinite(r[i])) continue;
+          out.rates.t.push_back(seconds(imu->timestamp_us[i]));
+          out.rates.v.push_back({p[i], -q[i], -r[i]});
+        }
+        out.rates.source = {"IMU", "GyrX,GyrY,GyrZ (I = 0)", "rad/s; FRD → FLU: (GyrX, −GyrY, −GyrZ)"};
+      }
     }
   }
 

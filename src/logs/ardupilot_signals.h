@@ -10,6 +10,8 @@
 //    north seen from above, quadfdi's counter-clockwise about z up), and position
 //    (x, y, z) = (PN, −PE, −PD).
 //  * attitude: ATT Roll, Pitch, Yaw [deg].
+//  * body rates (optional): RATE R, P, Y [deg/s]; without RATE, IMU GyrX, GyrY, GyrZ [rad/s] of
+//    instance I = 0.
 //  * position: XKF1 (EKF3) PN, PE, PD [m] of core `ekf_core`, by default of the primary core as
 //    XKF4 PI names it over time (a lane switch is a SignalBreak); else NKF1 (EKF2) likewise; else
 //    POS Lat, Lng [deg], Alt [m] on a flat earth around the first fix. Rows XKF4 SS flags without

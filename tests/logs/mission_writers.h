@@ -154,17 +154,22 @@ inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogO
 }
 
 // ---------- ArduPilot ----------
-inline constexpr std::uint8_t kApAtt = 30, kApXkf1 = 31, kApRcou = 32, kApEv = 33, kApRate = 34;
+inline constexpr std::uint8_t kApAtt = 30, kApXkf1 = 31, kApRcou = 32, kApEv = 33, kApRate = 34, kApImu = 35;
 
-// `rates`: RATE R, P, Y [deg/s, FRD] with ATT, as AC_AttitudeControl::Write_Rate logs them.
+// The body rates an ArduPilot log holds: none; RATE R, P, Y [deg/s, FRD] with ATT, as
+// AC_AttitudeControl::Write_Rate logs them; or no RATE but IMU GyrX, GyrY, GyrZ [rad/s, FRD] of two
+// IMUs (instance field I), the second's off by 5 rad/s so that reading it shows.
+enum class ApRates { kNone, kRate, kImu };
 inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
-                                                      bool rates = false) {
+                                                      ApRates rates = ApRates::kNone) {
   DataflashWriter w;
   w.fmt(kApAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
   w.fmt(kApXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
   w.fmt(kApRcou, "RCOU", "QHHHHHHHHHHHHHH", "TimeUS,C1,C2,C3,C4,C5,C6,C7,C8,C9,C10,C11,C12,C13,C14");
   w.fmt(kApEv, "EV", "QB", "TimeUS,Id");
-  if (rates) w.fmt(kApRate, "RATE", "Qffffffffffff", "TimeUS,RDes,R,ROut,PDes,P,POut,YDes,Y,YOut,ADes,A,AOut");
+  if (rates == ApRates::kRate) w.fmt(kApRate, "RATE", "Qffffffffffff", "TimeUS,RDes,R,ROut,PDes,P,POut,YDes,Y,YOut,ADes,A,AOut");
+  if (rates == ApRates::kImu)
+    w.fmt(kApImu, "IMU", "QBffffffIIfBBHH", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz");
   w.unit(0, '#', "instance");
   w.fmtu(0, kApXkf1, "s#ddhnnnnmmmkkkm", "F-BBB0000000BBBB");
   ArdupilotThrustMap map;  // MOT_PWM_MIN/MAX 1000/2000, SPIN 0.15/0.95, EXPO 0.65
@@ -198,10 +203,16 @@ inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double 
     yaw_deg = std::fmod(yaw_deg + 360.0, 360.0);
     w.write(kApAtt, {micros(t), 0, centi(s.y[3] * 180.0 / kMissionPi), 0, centi(-s.y[4] * 180.0 / kMissionPi), 0,
                      static_cast<long long>(std::llround(yaw_deg * 100.0)) % 36000, 0, 0, 3});
-    if (rates) {
+    if (rates == ApRates::kRate) {
       const double deg = 180.0 / kMissionPi;
       w.write(kApRate, {micros(t), 0.0, s.rates[0] * deg, 0.0, 0.0, -s.rates[1] * deg, 0.0, 0.0, -s.rates[2] * deg, 0.0, 0.0, 0.0, 0.0});
     }
+    if (rates == ApRates::kImu)
+      for (int instance = 0; instance < 2; ++instance) {
+        const double off = 5.0 * instance;
+        w.write(kApImu, {micros(t), instance, s.rates[0] + off, -s.rates[1] + off, -s.rates[2] + off, 0.0, 0.0, -9.81, 0, 0, 25.0,
+                         1, 1, 400, 400});
+      }
     std::array<int, 14> pwm{};
     for (std::size_t k = 0; k < 4; ++k)
       pwm[static_cast<std::size_t>(ap_motor[k] - 1)] =

@@ -522,7 +522,7 @@ TEST_F(LogDetection, ALogThatNeverLeavesTheGroundIsRefused) {
 const std::string kReal = QUADFDI_SOURCE_DIR "/../shared/logs/";
 
 // Body rates in each autopilot's log (PX4 vehicle_angular_velocity [rad/s, FRD], ArduPilot RATE
-// [deg/s, FRD], Crazyflie gyro [deg/s, FLU]) come out on the clock in quadfdi's FLU body frame:
+// [deg/s, FRD] or, without RATE, the first IMU's gyro [rad/s, FRD], Crazyflie gyro [deg/s, FLU]) come out on the clock in quadfdi's FLU body frame:
 // the flight's true rates, through a motor failure's tumble (several rad/s) as in hover. A log
 // without them carries none, and is read as before.
 TEST_F(LogDetection, BodyRatesComeThroughEachAutopilotsLogInQuadfdisFrame) {
@@ -539,7 +539,8 @@ TEST_F(LogDetection, BodyRatesComeThroughEachAutopilotsLogInQuadfdisFrame) {
     double worst, rms;
   };
   const Case cases[] = {{test::writePx4Mission(m, px4), "vehicle_angular_velocity", 1e-5, 1e-6},
-                        {test::writeArdupilotMission(m, 400.0, 25.0, true), "RATE", 0.35, 0.02},
+                        {test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kRate), "RATE", 0.35, 0.02},
+                        {test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kImu), "IMU", 0.35, 0.02},
                         {test::writeCrazyflieMission(m, 10, false, true), "fixedFrequency", 1e-5, 1e-6}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.topic);
