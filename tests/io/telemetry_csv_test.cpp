@@ -15,7 +15,8 @@
 namespace quadfdi {
 namespace {
 
-TEST(TelemetryCsv, HeaderRowsAndExactRoundTrip) {
+// Three logged steps of distinct states and a command whose text must read back exactly.
+FlightLog threeStepLog() {
   FlightLog log;
   for (int k = 0; k < 3; ++k) {
     State x = State::LinSpaced(0.1 * k, 1.0 / 3.0 + k);
@@ -26,6 +27,11 @@ TEST(TelemetryCsv, HeaderRowsAndExactRoundTrip) {
     log.controls.push_back(c);
     log.applied.push_back(c.u_cmd);
   }
+  return log;
+}
+
+TEST(TelemetryCsv, HeaderRowsAndExactRoundTrip) {
+  FlightLog log = threeStepLog();
   std::ostringstream out;
   writeTelemetryCsv(out, log, TelemetryCsvOptions{});
   std::istringstream in(out.str());
@@ -512,16 +518,7 @@ TEST(TelemetryCsv, BodyRatesRoundTripAndAreOptional) {
 // A flight's logged rates (gyro noise and all), written alone or with the full state, read back
 // exactly; a log without logged rates writes the true ones.
 TEST(TelemetryCsv, AFlightsLoggedRatesAreWrittenAndReadBack) {
-  FlightLog log;
-  for (int k = 0; k < 3; ++k) {
-    State x = State::LinSpaced(0.1 * k, 1.0 / 3.0 + k);
-    log.states.push_back(x);
-    log.outputs.push_back(outputOf(x, OutputKind::kPositionEuler));
-    ControlStep c;
-    c.u_cmd = Input(0.07, 0.071, 1.0 / 7.0, 0.0015);
-    log.controls.push_back(c);
-    log.applied.push_back(c.u_cmd);
-  }
+  FlightLog log = threeStepLog();
   for (const bool full_state : {false, true}) {
     TelemetryCsvOptions o;
     o.rates = !full_state;
