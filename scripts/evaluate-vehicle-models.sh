@@ -5,7 +5,8 @@
 #   model `detect --vehicle` runs for it — its own models/tcn-STEM.qfdw, else the general
 #   models/tcn-randomised.qfdw — and the calibration `detect --vehicle` runs with (the model's for
 #   that vehicle, MODEL.STEM.calibration.json, where one is shipped — `evaluate` with one --vehicle
-#   picks it as detect does — else the model's own), into docs/results/vehicles/STEM/; then
+#   picks it as detect does — else the model's own), into docs/results/vehicles/STEM/, and its
+#   body-rates model models/tcn-STEM-rates.qfdw where one is shipped into STEM-rates/; then
 #   the summary docs/results/vehicles/README.md (scripts/summarise-vehicle-results.py), with the
 #   general model's E7 of docs/results/randomised/e7.csv alongside when it is there.
 # held-out: each airframe of configs/vehicles/held-out/ (no shipped model trained on it) is flown
@@ -36,6 +37,9 @@ case $set_name in
       model=models/tcn-$stem.qfdw
       [[ -f $model ]] || model=$general
       evaluate "$model" "$vehicle" "docs/results/vehicles/$stem"
+      # Its body-rates model, which `detect --vehicle` runs on telemetry with p,q,r (models/README.md).
+      rates=models/tcn-$stem-rates.qfdw
+      [[ ! -f $rates ]] || evaluate "$rates" "$vehicle" "docs/results/vehicles/$stem-rates"
     done
     e7=docs/results/randomised/e7.csv
     python3 scripts/summarise-vehicle-results.py $([[ -f $e7 ]] && echo "$e7")

@@ -23,7 +23,9 @@ if held_out:
     vehicles = [d for s in stems for d in (s, s + '-calibrated') if os.path.isdir(os.path.join(root, d))]
 else:
     root = os.path.join(here, '..', 'docs', 'results', 'vehicles')
-    vehicles = ['crazyflie2', 'racer250', 'quad450']
+    # A vehicle's body-rates model (models/tcn-STEM-rates.qfdw, run by `detect --vehicle` on
+    # telemetry with p,q,r) is reported beside its other model, as STEM-rates/.
+    vehicles = [d for s in ['crazyflie2', 'racer250', 'quad450'] for d in (s, s + '-rates') if os.path.isdir(os.path.join(root, d))]
 def pct(x): return f"{100*float(x):.1f} %"
 def ms(x): return f"{1000*float(x):.0f}"
 def garwood(n, hours, confidence=0.95):
@@ -69,7 +71,8 @@ else:
     out.append("# Per-vehicle detectors: E7 and decisions (issues 13 and 14)\n")
     models = ", ".join(f"{v}: `{model_of(v)}` with `{calibration_of(v)}`" for v in vehicles)
     out.append("Each library vehicle flown and scored with the model `detect --vehicle` runs for it — its own "
-               "`models/tcn-STEM.qfdw`, else the general `models/tcn-randomised.qfdw` — and the calibration it runs with: "
+               "`models/tcn-STEM.qfdw`, else the general `models/tcn-randomised.qfdw`, and where one is shipped its body-rates model "
+               "`models/tcn-STEM-rates.qfdw` (STEM-rates/, which `detect` runs on telemetry with p,q,r) — and the calibration it runs with: "
                "the model's for that vehicle (`MODEL.STEM.calibration.json`) where one is shipped, else the model's own "
                f"({models}; `scripts/evaluate-vehicle-models.sh`: `{command}`). "
                f"Full reports: {reports}. Machine: {machine}; summarised {datetime.date.today().isoformat()}.\n")
@@ -97,7 +100,8 @@ for v in vehicles:
         met += ok; cells += 1
         gc = f" ({pct(g['complete_isolated_50ms'])})" if g else ""
         gp = f" ({pct(g['partial_isolated_300ms'])})" if g else ""
-        out.append(f"| {v if held_out else r['vehicle']} | {r['condition']} | {'yes' if r['held_out']=='1' else 'no'} | {pct(r['complete_isolated_50ms'])}{gc} | "
+        label = v if held_out else r['vehicle'] + (' (body rates)' if v.endswith('-rates') else '')
+        out.append(f"| {label} | {r['condition']} | {'yes' if r['held_out']=='1' else 'no'} | {pct(r['complete_isolated_50ms'])}{gc} | "
                    f"{pct(r['partial_isolated_300ms'])}{gp} | {ms(r['degraded_delay_median_s'])} / {ms(r['failed_delay_median_s'])} | "
                    f"{float(r['theta_mae']):.3f} | {pct(r['coverage'])} | {r['false_alarms']} | {'**met**' if ok else 'short'} |")
 out.append(f"\nTargets (issue 13): complete ≥ 99 % at +50 ms, partial ≥ 95 % at +300 ms, Θ MAE ≤ 0.05, no false alarm. **{met} of {cells} cells meet all four.**\n")
@@ -113,15 +117,17 @@ for v in vehicles:
     # Flights that raised any false alarm (reports since 2026-11-25 late evening): the independent units.
     a = re.search(r"They came from (\d+) of the \d+ flights", md)
     alarmed = int(a.group(1)) if a else None
-    A = A + alarmed if alarmed is not None and A is not None else None
+    if not v.endswith('-rates'):
+        A = A + alarmed if alarmed is not None and A is not None else None
     # The split by severity (reports since 2026-11-27): what the false alarms would have told a pilot.
     b = re.search(r"By severity: (\d+) raised as `degraded` \((\d+) of them escalated to `failed`\), (\d+) straight at `failed`", md)
     split = f"{b.group(1)} ({b.group(2)}) / {b.group(3)}" if b else "not split (older report)"
-    N += n; S += start; H += h
+    if not v.endswith('-rates'):  # the pool: one run per vehicle, its model for telemetry without rates
+        N += n; S += start; H += h
     out.append(f"| {v} | {h:.2f} | {n} | {rate} | **{bound}** | "
                + (f"{alarmed} ({garwood(alarmed, h):.3f})" if alarmed is not None else "not counted") + f" | {split} | {start} in {flights} flights |")
 if not held_out:  # runs under different calibrations do not pool
-    out.append(f"| all three | {H:.2f} | {N} | {N/H:.3f} | {garwood(N, H):.3f} | "
+    out.append(f"| all three (each one's model for telemetry without rates) | {H:.2f} | {N} | {N/H:.3f} | {garwood(N, H):.3f} | "
                + (f"{A} ({garwood(A, H):.3f})" if A is not None else "not counted") + f" | | {S} |")
 out.append("\nThe healthy flights are drawn from `configs/randomisation-default.toml`, wind included (rotor drag 0.15–0.35 /s, "
            "mean wind 0–5 m/s, turbulence σ 0–1.5 m/s, up to one 1 − cosine gust of ≤ 3 m/s every 10 s; docs/model.md#wind).\n")

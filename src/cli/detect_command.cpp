@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli/cli_util.h"
 #include "cli/detection_plot.h"
@@ -45,21 +46,40 @@ std::string vehicleModelName(const std::string& vehicle_file) {
   return "tcn-" + std::filesystem::path(vehicle_file).stem().string() + ".qfdw";
 }
 
-std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir) {
+std::string vehicleRatesModelName(const std::string& vehicle_file) {
+  return "tcn-" + std::filesystem::path(vehicle_file).stem().string() + "-rates.qfdw";
+}
+
+std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir, bool rates) {
   if (vehicle_file.empty()) return {};
-  const std::filesystem::path candidate = std::filesystem::path(models_dir) / vehicleModelName(vehicle_file);
+  const std::filesystem::path candidate =
+      std::filesystem::path(models_dir) / (rates ? vehicleRatesModelName(vehicle_file) : vehicleModelName(vehicle_file));
   std::error_code ec;  // an unreadable directory is "no vehicle model", not an error: the general model serves
   return std::filesystem::is_regular_file(candidate, ec) ? candidate.string() : std::string();
 }
 
 DetectModelChoice detectModelPath(const std::string& model_option, const std::string& vehicle_file) {
+  return detectModelPath(model_option, vehicle_file, shippedModelsDir());
+}
+
+DetectModelChoice detectModelPath(const std::string& model_option, const std::string& vehicle_file, const std::string& models_dir) {
   using Source = DetectModelChoice::Source;
-  if (!model_option.empty()) return {model_option, Source::kOption};
-  if (const std::string env = environmentModel(); !env.empty()) return {env, Source::kEnvironment};
-  const std::string models = shippedModelsDir();
-  const std::string own = vehicleModelPath(vehicle_file, models);
-  if (!own.empty()) return {own, Source::kVehicle};
-  return {(std::filesystem::path(models) / kGeneralModelName).string(), Source::kGeneral};
+  if (!model_option.empty()) return {model_option, Source::kOption, {}};
+  if (const std::string env = environmentModel(); !env.empty()) return {env, Source::kEnvironment, {}};
+  const std::string rates = vehicleModelPath(vehicle_file, models_dir, true);
+  const std::string own = vehicleModelPath(vehicle_file, models_dir);
+  if (!own.empty()) return {own, Source::kVehicle, rates};
+  return {(std::filesystem::path(models_dir) / kGeneralModelName).string(), Source::kGeneral, rates};
+}
+
+std::string ratesModelPairProblem(const ModelMetadata& model, const ModelMetadata& rates_model) {
+  if (!featuresReadRates(rates_model.features)) return std::string("it reads no body rates (features ") + toString(rates_model.features) + ")";
+  if (std::abs(model.dt - rates_model.dt) > 1e-12 * model.dt)
+    return "it runs at dt = " + std::to_string(rates_model.dt) + " s, the model for telemetry without rates at " + std::to_string(model.dt) + " s";
+  if (featuresScaleFree(model.features) != featuresScaleFree(rates_model.features))
+    return std::string("its features (") + toString(rates_model.features) + ") and those of the model for telemetry without rates (" +
+           toString(model.features) + ") read commands differently (scale-free or in newtons)";
+  return {};
 }
 
 CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
@@ -76,7 +96,8 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   t->addConfigFile(o.config);
   t->add("--model,-m", o.model,
          "Model file (default: $QUADFDI_MODEL; else, with --vehicle FILE, the shipped models/tcn-STEM.qfdw trained for that "
-         "vehicle when there is one; else the shipped general model)").defaultText("").shippedFile();
+         "vehicle when there is one, or its models/tcn-STEM-rates.qfdw where the telemetry carries body rates p,q,r; else "
+         "the shipped general model)").defaultText("").shippedFile();
   t->add("--input,-i", o.input,
          "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)");
   t->add("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
@@ -281,28 +302,79 @@ int runDetect(const DetectOptions& o) {
                    sequential ? "persistence" : "sequential", o.rule.c_str());
   }
   const DetectModelChoice choice = detectModelPath(o.model, o.log.vehicle);
-  const std::string& model_path = choice.path;
-  const TrainedModel model = readModelFile(model_path);
-  const ModelMetadata& m = model.metadata;
+  TrainedModel model = readModelFile(choice.path);
+  // A vehicle's own body-rates model is read now too, and must agree with the other on what the
+  // input is opened for: which of them runs is known once the input says whether it has rates.
+  std::optional<TrainedModel> rates_model;
+  if (!choice.rates_path.empty()) {
+    rates_model = readModelFile(choice.rates_path);
+    if (const std::string why = ratesModelPairProblem(model.metadata, rates_model->metadata); !why.empty())
+      throw ConfigError(choice.rates_path + ": cannot stand in for " + choice.path + " on telemetry with body rates: " + why);
+  }
   // Body rates are read only for a model that reads them: for any other, p, q, r are extra columns
   // (whatever their unit) and a log's rates topic neither cuts nor drops a sample.
   TelemetryReaderOptions csv_reading = reading;
-  csv_reading.read_rates = featuresReadRates(m.features);
+  csv_reading.read_rates = featuresReadRates(model.metadata.features) || rates_model.has_value();
   // Squared rotor speeds are thrust times an unknown k_f: only commands made dimensionless ignore it.
-  if (rotor_speed && !featuresScaleFree(m.features))
+  if (rotor_speed && !featuresScaleFree(model.metadata.features))
     throw ConfigError("--csv-commands rotor-speed: gives thrust only up to a constant factor, which a scale-free model ignores; " +
-                      model_path + " reads commands in newtons (features " + toString(m.features) +
+                      choice.path + " reads commands in newtons (features " + toString(model.metadata.features) +
                       "): give u1..u4 as thrust in N, or use a scale-free model (every shipped randomised one)");
+  if (!o.plot.empty()) requireGnuplot();  // before any work
+  require(o.summary != "-" || o.output != "-", "--summary -: the JSON Lines already go to standard output (--output FILE)");
+  require(o.summary.empty() || o.summary == "-" || o.summary != o.output, "--summary: the same file as --output");
+  const bool live = o.input == "-" && format == "csv";  // a merged export is read to its end first
+  std::ios::sync_with_stdio(false);  // buffered standard input: the reader asks it what is waiting
+  std::ifstream file;
+  const std::string name = o.input == "-" ? std::string("<stdin>") : o.input;
+  std::unique_ptr<TelemetryReader> reader;
+  OpenedLog log;
+  SampleSource* source = nullptr;
+  if (format == "csv") {
+    if (!live) {
+      file.open(o.input);
+      require(file.is_open(), o.input + ": cannot open");
+    }
+    reader = std::make_unique<TelemetryReader>(live ? std::cin : file, name, csv_reading);  // throws on an empty file or a bad header
+    source = reader.get();
+    // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
+    if (reader->numbering() && !renumber) numbering = *reader->numbering();
+  } else {
+    // throws one line naming file, byte, topic
+    log = openFlightLog(o.input, format, o.log, csv_reading, model.metadata.dt, o.max_gap,
+                        featuresScaleFree(model.metadata.features),
+                        csv_reading.read_rates);
+    source = log.source.get();
+    // A merged CSV names its numbering only in a comment (else the description's stands); a log always.
+    const MotorNumbering& logged = log.source->report().numbering;
+    if (format != "csv-merged" || (!logged.isQuadfdis() && !renumber)) numbering = logged;
+    if (!o.quiet)
+      for (const std::string& w : log.warnings) std::fprintf(stderr, "detect: warning: %s\n", w.c_str());
+  }
+
+  // The vehicle's body-rates model where the telemetry carries rates; its other model where not.
+  std::string model_path = choice.path;
+  if (rates_model && source->carriesRates()) {
+    model = std::move(*rates_model);
+    model_path = choice.rates_path;
+  }
+  const ModelMetadata& m = model.metadata;
   if (!o.quiet && o.model.empty() && !o.log.vehicle.empty()) {
     // Say where the model came from: the vehicle's own, the general one (so a user knows to train
     // one), or $QUADFDI_MODEL, which wins over the vehicle's own.
     using Source = DetectModelChoice::Source;
+    const bool rates = model_path == choice.rates_path;
     const std::string why = choice.source == Source::kEnvironment ? "from $QUADFDI_MODEL, which wins over the own model of"
-                            : choice.source == Source::kGeneral   ? "the general model: no " + vehicleModelName(o.log.vehicle) + " in " +
-                                                                        std::filesystem::path(model_path).parent_path().string() + " for"
-                                                                  : "for";
+                            : rates ? "the telemetry carries body rates: the body-rates model for"
+                            : choice.source == Source::kGeneral ? "the general model: no " + vehicleModelName(o.log.vehicle) + " in " +
+                                                                      std::filesystem::path(model_path).parent_path().string() + " for"
+                                                                : "for";
     std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(), why.c_str(), o.log.vehicle.c_str());
+    if (!choice.rates_path.empty() && !rates)
+      std::fprintf(stderr, "detect: the telemetry has no body rates: %s, which reads them, is not run (give columns p,q,r, or "
+                           "log them: docs/conventions.md#body-rates)\n", choice.rates_path.c_str());
   }
+
   bool vehicle_calibration = false;  // the sequential rule runs the model's calibration for --vehicle
 
   DetectorConfig config;
@@ -342,10 +414,6 @@ int runDetect(const DetectOptions& o) {
     throw std::runtime_error(model_path + ": " + e.what());
   }
 
-  if (!o.plot.empty()) requireGnuplot();  // before any work
-  require(o.summary != "-" || o.output != "-", "--summary -: the JSON Lines already go to standard output (--output FILE)");
-  require(o.summary.empty() || o.summary == "-" || o.summary != o.output, "--summary: the same file as --output");
-  const bool live = o.input == "-" && format == "csv";  // a merged export is read to its end first
   // With a telemetry CSV a vehicle description chooses the model and its calibration (and numbers the motors): say so
   // when it chose neither, rather than let it look as if the detector knew the airframe.
   if (!o.quiet && csv && !o.log.vehicle.empty() && !renumber && !through_curve &&
@@ -354,33 +422,6 @@ int runDetect(const DetectOptions& o) {
     std::fprintf(stderr, "detect: warning: --vehicle %s only names the motors in its numbering: the model is given and has no "
                          "calibration for it (%s); calibrate one (quadfdi calibrate --randomise … --vehicle)\n",
                  o.log.vehicle.c_str(), vehicleCalibrationPath(model_path, o.log.vehicle).c_str());
-  std::ios::sync_with_stdio(false);  // buffered standard input: the reader asks it what is waiting
-  std::ifstream file;
-  const std::string name = o.input == "-" ? std::string("<stdin>") : o.input;
-  std::unique_ptr<TelemetryReader> reader;
-  OpenedLog log;
-  SampleSource* source = nullptr;
-  if (format == "csv") {
-    if (!live) {
-      file.open(o.input);
-      require(file.is_open(), o.input + ": cannot open");
-    }
-    reader = std::make_unique<TelemetryReader>(live ? std::cin : file, name, csv_reading);  // throws on an empty file or a bad header
-    source = reader.get();
-    // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
-    if (reader->numbering() && !renumber) numbering = *reader->numbering();
-  } else {
-    // throws one line naming file, byte, topic
-    log = openFlightLog(o.input, format, o.log, csv_reading, m.dt, o.max_gap, featuresScaleFree(m.features),
-                        csv_reading.read_rates);
-    source = log.source.get();
-    // A merged CSV names its numbering only in a comment (else the description's stands); a log always.
-    const MotorNumbering& logged = log.source->report().numbering;
-    if (format != "csv-merged" || (!logged.isQuadfdis() && !renumber)) numbering = logged;
-    if (!o.quiet)
-      for (const std::string& w : log.warnings) std::fprintf(stderr, "detect: warning: %s\n", w.c_str());
-  }
-
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;

@@ -7,6 +7,7 @@
 
 #include "cli/log_input.h"
 #include "detection/calibration.h"
+#include "inference/model_metadata.h"
 
 namespace quadfdi::cli {
 
@@ -80,16 +81,31 @@ std::string defaultModelPath();
 // shipped per-vehicle models are named so, models/README.md).
 std::string vehicleModelName(const std::string& vehicle_file);
 
-// A vehicle's own model: MODELS_DIR/vehicleModelName(FILE), or empty when there is no such file.
-std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir);
+// The file name of a vehicle's own body-rates model: tcn-STEM-rates.qfdw (models/README.md). It
+// needs telemetry with p, q, r, so it is shipped beside a model that does not.
+std::string vehicleRatesModelName(const std::string& vehicle_file);
+
+// A vehicle's own model: MODELS_DIR/vehicleModelName(FILE) (or, with `rates`,
+// vehicleRatesModelName(FILE)), or empty when there is no such file.
+std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir, bool rates = false);
 
 // Which model detect runs, and why: --model; else $QUADFDI_MODEL; else the --vehicle's own model
-// in the shipped models folder; else the shipped general model.
+// in the models folder (the shipped one by default); else the shipped general model. Without a
+// named model, a vehicle's own body-rates model is the choice for telemetry that carries body
+// rates, known only once the input is open: `rates_path`.
 struct DetectModelChoice {
   enum class Source { kOption, kEnvironment, kVehicle, kGeneral };
-  std::string path;
+  std::string path;        // the model for telemetry without body rates (and for any, when rates_path is empty)
   Source source = Source::kGeneral;
+  std::string rates_path;  // the vehicle's body-rates model, run instead where the telemetry carries rates; empty: none
 };
 DetectModelChoice detectModelPath(const std::string& model_option, const std::string& vehicle_file);
+DetectModelChoice detectModelPath(const std::string& model_option, const std::string& vehicle_file,
+                                  const std::string& models_dir);
+
+// Why a vehicle's body-rates model cannot stand in for its other model on the same input (another
+// sample period, or one reads commands in newtons and the other scale-free: the input is opened
+// once, for both), or empty when it can.
+std::string ratesModelPairProblem(const ModelMetadata& model, const ModelMetadata& rates_model);
 
 }  // namespace quadfdi::cli

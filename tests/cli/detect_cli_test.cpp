@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "cli/cli_support.h"
+#include "cli/detect_command.h"
+#include "data/features.h"
 #include "io/calibration_file.h"
 #include "io/model_file.h"
 
@@ -863,6 +865,106 @@ TEST(DetectCli, AVehicleRunsItsOwnShippedModel) {
     EXPECT_EQ(r.out.rfind("quadfdi: error: " + vehicle, 0), 0u) << r.out;
   }
   EXPECT_EQ(readFile(out), "kept\n");
+}
+
+// A vehicle with a body-rates model of its own (tcn-STEM-rates.qfdw) besides its other model: the
+// choice holds both, and which runs is the input's to say; a rates model alone stands beside the
+// general one; --model and $QUADFDI_MODEL still win and bring no rates model. A pair that would
+// open the input differently is refused, naming why.
+TEST(DetectCli, AVehiclesBodyRatesModelIsTheChoiceBesideItsOtherModel) {
+  using quadfdi::cli::DetectModelChoice;
+  using quadfdi::cli::detectModelPath;
+  namespace fs = std::filesystem;
+  unsetenv("QUADFDI_MODEL");
+  const fs::path dir = temp("rates-models");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const auto touch = [&](const std::string& name) { std::ofstream((dir / name).string()) << "x"; };
+  const std::string quad = "configs/vehicles/quad450.toml", racer = "/somewhere/racer250.toml";
+  touch("tcn-quad450.qfdw");
+  touch("tcn-quad450-rates.qfdw");
+  touch("tcn-racer250-rates.qfdw");
+  DetectModelChoice c = detectModelPath("", quad, dir.string());
+  EXPECT_EQ(c.source, DetectModelChoice::Source::kVehicle);
+  EXPECT_EQ(c.path, (dir / "tcn-quad450.qfdw").string());
+  EXPECT_EQ(c.rates_path, (dir / "tcn-quad450-rates.qfdw").string());
+  c = detectModelPath("", racer, dir.string());  // a rates model and no other: the general model without rates
+  EXPECT_EQ(c.source, DetectModelChoice::Source::kGeneral);
+  EXPECT_EQ(c.path, (dir / "tcn-randomised.qfdw").string());
+  EXPECT_EQ(c.rates_path, (dir / "tcn-racer250-rates.qfdw").string());
+  c = detectModelPath("", "my-quad.toml", dir.string());
+  EXPECT_EQ(c.source, DetectModelChoice::Source::kGeneral);
+  EXPECT_TRUE(c.rates_path.empty());
+  c = detectModelPath("mine.qfdw", quad, dir.string());
+  EXPECT_EQ(c.source, DetectModelChoice::Source::kOption);
+  EXPECT_EQ(c.path, "mine.qfdw");
+  EXPECT_TRUE(c.rates_path.empty());
+  setenv("QUADFDI_MODEL", "env.qfdw", 1);
+  c = detectModelPath("", quad, dir.string());
+  unsetenv("QUADFDI_MODEL");
+  EXPECT_EQ(c.source, DetectModelChoice::Source::kEnvironment);
+  EXPECT_TRUE(c.rates_path.empty());
+
+  quadfdi::ModelMetadata plain, rates;
+  plain.features = quadfdi::FeatureSet::kScaleFree;
+  rates.features = quadfdi::FeatureSet::kScaleFreeRates;
+  EXPECT_EQ(quadfdi::cli::ratesModelPairProblem(plain, rates), "");
+  quadfdi::ModelMetadata slow = rates;
+  slow.dt = 0.004;
+  EXPECT_NE(quadfdi::cli::ratesModelPairProblem(plain, slow).find("it runs at dt = 0.004000 s"), std::string::npos);
+  EXPECT_NE(quadfdi::cli::ratesModelPairProblem(plain, plain).find("it reads no body rates (features scale-free)"), std::string::npos);
+  quadfdi::ModelMetadata newtons = plain;
+  newtons.features = quadfdi::FeatureSet::kModelFreeHeading;
+  EXPECT_NE(quadfdi::cli::ratesModelPairProblem(newtons, rates).find("read commands differently"), std::string::npos);
+
+  // Every shipped body-rates model pairs with the model detect runs on the same vehicle without
+  // rates (its own, else the general one): a pair that does not would refuse every input.
+  int shipped = 0;
+  const fs::path models = fs::path(QUADFDI_SOURCE_DIR) / "models";
+  for (const auto& entry : fs::directory_iterator(models)) {
+    const std::string name = entry.path().filename().string(), suffix = "-rates.qfdw";
+    if (name.size() <= suffix.size() || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+    ++shipped;
+    const std::string stem = name.substr(4, name.size() - 4 - suffix.size());  // tcn-STEM-rates.qfdw
+    const DetectModelChoice pair = detectModelPath("", stem + ".toml", models.string());
+    ASSERT_EQ(pair.rates_path, entry.path().string());
+    EXPECT_EQ(quadfdi::cli::ratesModelPairProblem(quadfdi::readModelFile(pair.path).metadata,
+                                                  quadfdi::readModelFile(pair.rates_path).metadata), "") << name;
+  }
+  EXPECT_GE(shipped, 1);  // the 1.5 kg quad's
+}
+
+// The 1.5 kg quad ships a body-rates model beside its other one (models/README.md): a flight that
+// logs p,q,r runs it, the same flight without them runs the other and says why. A mild fault
+// (motor 1 at 80 %) under the PID is named `degraded` by the rates model within 0.3 s.
+TEST(DetectCli, TheQuadRunsItsBodyRatesModelWhereTheTelemetryHasRates) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string with_rates = temp("quad-rates.csv"), without = temp("quad-no-rates.csv");
+  const std::string flight = "simulate --params " + src + "/configs/vehicles/quad450.toml --controller pid --motor 1 --theta 0.8 "
+                             "--fault-step 500 --steps 1000 --seed 2 --attitude-noise 0.002 ";
+  ASSERT_EQ(run(flight + "--rates --rate-noise 0.02 --output " + with_rates).exit_code, 0);
+  ASSERT_EQ(run(flight + "--output " + without).exit_code, 0);
+  const std::string detect = "detect --vehicle quad450 --output - --input ";
+  const CommandResult rates = run(detect + with_rates, true);
+  ASSERT_EQ(rates.exit_code, 0) << rates.out;
+  EXPECT_NE(rates.out.find("/models/tcn-quad450-rates.qfdw (the telemetry carries body rates: the body-rates model for --vehicle"),
+            std::string::npos) << rates.out.substr(0, 400);
+  EXPECT_NE(rates.out.find("detect: FAULT in motor 1 at t = 1."), std::string::npos) << rates.out.substr(rates.out.size() - 600);
+  // The first alarm: degraded, within 0.3 s of the fault at t = 1 s.
+  const std::size_t first = rates.out.find("\"alarm\": true, \"motor\": 1, \"severity\": \"degraded\"");
+  ASSERT_NE(first, std::string::npos);
+  const std::size_t line = rates.out.rfind("{\"t\": ", first);
+  EXPECT_LT(std::stod(rates.out.substr(line + 6, 12)), 1.3);
+  const CommandResult plain = run(detect + without, true);
+  ASSERT_EQ(plain.exit_code, 0) << plain.out;
+  EXPECT_NE(plain.out.find("/models/tcn-quad450.qfdw (for --vehicle"), std::string::npos) << plain.out.substr(0, 400);
+  EXPECT_NE(plain.out.find("detect: the telemetry has no body rates: " + src + "/models/tcn-quad450-rates.qfdw, which reads them, is not run"),
+            std::string::npos) << plain.out.substr(0, 600);
+  EXPECT_EQ(plain.out.find("\"severity\": \"failed\""), std::string::npos);
+  // A named model is run whatever the input: no rates model comes with it.
+  const CommandResult named = run("detect -q --model " + src + "/models/tcn-quad450.qfdw --vehicle quad450 --input " + with_rates, false);
+  EXPECT_EQ(named.exit_code, 0);
+  EXPECT_EQ(named.out, run("detect -q --vehicle quad450 --input " + without, false).out);
 }
 
 // A model's calibration for one airframe (MODEL.STEM.calibration.json beside MODEL.qfdw) is what
