@@ -134,6 +134,11 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
          "flagged motor at or above its level)").range(1, 100000);
   t->add("--max-input-period", o.max_input_period, "Refuse logs sampled coarser than this [s]").above(0.0);
   t->add("--max-gap", o.max_gap, "A longer hole in the log restarts the detector [s]").above(0.0);
+  t->add("--fault-exit-code", o.fault_exit_code,
+         "Exit with this status when an alarm was raised (the summary's verdict \"fault\"), after every output is written, "
+         "so that a script over a fleet's logs can branch on it; 1, 2 and 130 stay error, usage and interrupt")
+      .range(3, 125)
+      .defaultText("0: a fault exits 0");
   t->add("--quiet,-q", o.quiet, "No summary or warnings on stderr (errors still go there)");
   addLogInputOptions(*t, o.log);
   attachOptions(*cmd, t);
@@ -536,7 +541,7 @@ int runDetect(const DetectOptions& o) {
                           std::to_string(numbering.autopilot_motor[static_cast<std::size_t>(s.first_alarm_motor - 1)]))
                              .c_str());
   }
-  return 0;
+  return s.alarms_raised > 0 && o.fault_exit_code != 0 ? o.fault_exit_code : 0;
 }
 
 }  // namespace quadfdi::cli

@@ -35,6 +35,8 @@ struct DetectOptions {
   bool quiet = false;
   std::string plot;                 // PNG of Θ̂ against time; empty: none
   std::string summary;              // JSON summary of the run (cli/detection_summary.h); empty: none; - : stdout
+  int fault_exit_code = 0;          // exit status when an alarm was raised (3–125: 1, 2 and 130 mean error, usage and
+                                    //     interrupt); 0: a fault exits 0, as any run that read its input
   LogInputOptions log;              // flight logs (PX4, ArduPilot, Crazyflie): shared with `import`
 };
 

@@ -934,6 +934,27 @@ TEST(DetectCli, AVehiclesBodyRatesModelIsTheChoiceBesideItsOtherModel) {
   EXPECT_GE(shipped, 1);  // the 1.5 kg quad's
 }
 
+// --fault-exit-code N: a run that raised an alarm exits N once every output is written; a healthy
+// one exits 0; without the option a fault exits 0 as before. 1, 2 and 130 keep their meaning
+// (error, usage, interrupt), so the option refuses them, in one line, as any out-of-range value.
+TEST(DetectCli, AFaultExitsWithTheStatusAskedForAfterItsOutputIsWritten) {
+  const std::string healthy = temp("exit-healthy.csv"), out = temp("exit-fault.jsonl"), summary = temp("exit-fault.json");
+  ASSERT_EQ(run("simulate --steps 800 --seed 4 --output " + healthy).exit_code, 0);
+  const CommandResult fault = run("detect -q --fault-exit-code 3 --input " + faultyCsv() + " --output " + out + " --summary " + summary);
+  EXPECT_EQ(fault.exit_code, 3) << fault.out;
+  EXPECT_NE(readFile(out).find("\"alarm\": true"), std::string::npos);
+  EXPECT_NE(readFile(summary).find("\"verdict\":\"fault\""), std::string::npos) << readFile(summary).substr(0, 300);
+  EXPECT_EQ(run("detect -q --input " + faultyCsv() + " --output " + out).exit_code, 0);
+  const CommandResult quiet = run("detect -q --fault-exit-code 3 --input " + healthy + " --output " + out);
+  EXPECT_EQ(quiet.exit_code, 0) << quiet.out;
+  EXPECT_EQ(readFile(out).find("\"alarm\": true"), std::string::npos);
+  for (const std::string reserved : {"1", "2", "130"}) {
+    const CommandResult r = run("detect -q --fault-exit-code " + reserved + " --input " + healthy + " --output " + out);
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_EQ(r.out, "quadfdi: error: --fault-exit-code: must be in [3, 125], got " + reserved + "\n");
+  }
+}
+
 // The 1.5 kg quad ships a body-rates model beside its other one (models/README.md): a flight that
 // logs p,q,r runs it, the same flight without them runs the other and says why. A mild fault
 // (motor 1 at 80 %) under the PID is named `degraded` by the rates model within 0.3 s.
