@@ -33,6 +33,13 @@ std::string environmentModel() {
   const char* env = std::getenv("QUADFDI_MODEL");
   return env ? env : "";
 }
+
+// PATH when it is a regular file, else empty. An unreadable folder is "no such file", not an error:
+// the model or calibration chosen next serves.
+std::string existingFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec) ? path.string() : std::string();
+}
 }  // namespace
 
 std::string generalModelPath() { return (std::filesystem::path(shippedModelsDir()) / kGeneralModelName).string(); }
@@ -52,10 +59,7 @@ std::string vehicleRatesModelName(const std::string& vehicle_file) {
 
 std::string vehicleModelPath(const std::string& vehicle_file, const std::string& models_dir, bool rates) {
   if (vehicle_file.empty()) return {};
-  const std::filesystem::path candidate =
-      std::filesystem::path(models_dir) / (rates ? vehicleRatesModelName(vehicle_file) : vehicleModelName(vehicle_file));
-  std::error_code ec;  // an unreadable directory is "no vehicle model", not an error: the general model serves
-  return std::filesystem::is_regular_file(candidate, ec) ? candidate.string() : std::string();
+  return existingFile(std::filesystem::path(models_dir) / (rates ? vehicleRatesModelName(vehicle_file) : vehicleModelName(vehicle_file)));
 }
 
 DetectModelChoice detectModelPath(const std::string& model_option, const std::string& vehicle_file) {
@@ -69,7 +73,10 @@ DetectModelChoice detectModelPath(const std::string& model_option, const std::st
   const std::string rates = vehicleModelPath(vehicle_file, models_dir, true);
   const std::string own = vehicleModelPath(vehicle_file, models_dir);
   if (!own.empty()) return {own, Source::kVehicle, rates};
-  return {(std::filesystem::path(models_dir) / kGeneralModelName).string(), Source::kGeneral, rates};
+  // No vehicle model: the vehicle's body-rates model, else the general one on rates (a vehicle with a
+  // model of its own keeps it: it was trained and calibrated for that airframe alone).
+  return {(std::filesystem::path(models_dir) / kGeneralModelName).string(), Source::kGeneral,
+          rates.empty() ? existingFile(std::filesystem::path(models_dir) / kGeneralRatesModelName) : rates};
 }
 
 std::string ratesModelPairProblem(const ModelMetadata& model, const ModelMetadata& rates_model) {
@@ -97,7 +104,8 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   t->add("--model,-m", o.model,
          "Model file (default: $QUADFDI_MODEL; else, with --vehicle FILE, the shipped models/tcn-STEM.qfdw trained for that "
          "vehicle when there is one, or its models/tcn-STEM-rates.qfdw where the telemetry carries body rates p,q,r; else "
-         "the shipped general model)").defaultText("").shippedFile();
+         "the shipped general model, or models/tcn-randomised-rates.qfdw where the telemetry carries body rates and that "
+         "file is there)").defaultText("").shippedFile();
   t->add("--input,-i", o.input,
          "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)");
   t->add("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
@@ -239,13 +247,9 @@ std::string vehicleCalibrationPath(const std::string& model_path, const std::str
 }
 
 CalibrationChoice defaultCalibrationPath(const std::string& model_path, const std::string& vehicle_file) {
-  std::error_code ec;
-  if (!vehicle_file.empty()) {
-    const std::string own = vehicleCalibrationPath(model_path, vehicle_file);
-    if (std::filesystem::is_regular_file(own, ec)) return {own, true};
-  }
-  const std::string sidecar = calibrationSidecarPath(model_path);
-  return {std::filesystem::is_regular_file(sidecar, ec) ? sidecar : std::string(), false};
+  if (!vehicle_file.empty())
+    if (std::string own = existingFile(vehicleCalibrationPath(model_path, vehicle_file)); !own.empty()) return {own, true};
+  return {existingFile(calibrationSidecarPath(model_path)), false};
 }
 
 SequentialSetup sequentialSetup(const std::string& calibration_file, std::optional<double> degraded_below,
@@ -357,22 +361,26 @@ int runDetect(const DetectOptions& o) {
       for (const std::string& w : log.warnings) std::fprintf(stderr, "detect: warning: %s\n", w.c_str());
   }
 
-  // The vehicle's body-rates model where the telemetry carries rates; its other model where not.
+  // The body-rates model where the telemetry carries rates; the other model where not.
   std::string model_path = choice.path;
-  if (rates_model && source->carriesRates()) {
+  const bool rates = rates_model && source->carriesRates();
+  if (rates) {
     model = std::move(*rates_model);
     model_path = choice.rates_path;
   }
   const ModelMetadata& m = model.metadata;
+  if (!o.quiet && o.model.empty() && o.log.vehicle.empty() && rates)
+    std::fprintf(stderr, "detect: model %s (the telemetry carries body rates: the general body-rates model)\n", model_path.c_str());
   if (!o.quiet && o.model.empty() && !o.log.vehicle.empty()) {
     // Say where the model came from: the vehicle's own, the general one (so a user knows to train
     // one), or $QUADFDI_MODEL, which wins over the vehicle's own.
     using Source = DetectModelChoice::Source;
-    const bool rates = model_path == choice.rates_path;
+    const bool general_rates = rates && std::filesystem::path(model_path).filename() == kGeneralRatesModelName;
+    const std::string no_own = "no " + vehicleModelName(o.log.vehicle) + " in " + std::filesystem::path(model_path).parent_path().string();
     const std::string why = choice.source == Source::kEnvironment ? "from $QUADFDI_MODEL, which wins over the own model of"
+                            : general_rates ? "the telemetry carries body rates: the general body-rates model, " + no_own + " for"
                             : rates ? "the telemetry carries body rates: the body-rates model for"
-                            : choice.source == Source::kGeneral ? "the general model: no " + vehicleModelName(o.log.vehicle) + " in " +
-                                                                      std::filesystem::path(model_path).parent_path().string() + " for"
+                            : choice.source == Source::kGeneral ? "the general model: " + no_own + " for"
                                                                 : "for";
     std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(), why.c_str(), o.log.vehicle.c_str());
     if (!choice.rates_path.empty() && !rates)

@@ -93,19 +93,20 @@ std::string vehicleModelPath(const std::string& vehicle_file, const std::string&
 
 // Which model detect runs, and why: --model; else $QUADFDI_MODEL; else the --vehicle's own model
 // in the models folder (the shipped one by default); else the shipped general model. Without a
-// named model, a vehicle's own body-rates model is the choice for telemetry that carries body
-// rates, known only once the input is open: `rates_path`.
+// named model, a body-rates model is the choice for telemetry that carries body rates, known only
+// once the input is open (`rates_path`): the vehicle's own, else, where the general model runs, the
+// general one on rates (kGeneralRatesModelName) when that file is there.
 struct DetectModelChoice {
   enum class Source { kOption, kEnvironment, kVehicle, kGeneral };
   std::string path;        // the model for telemetry without body rates (and for any, when rates_path is empty)
   Source source = Source::kGeneral;
-  std::string rates_path;  // the vehicle's body-rates model, run instead where the telemetry carries rates; empty: none
+  std::string rates_path;  // the body-rates model, run instead where the telemetry carries rates; empty: none
 };
 DetectModelChoice detectModelPath(const std::string& model_option, const std::string& vehicle_file);
 DetectModelChoice detectModelPath(const std::string& model_option, const std::string& vehicle_file,
                                   const std::string& models_dir);
 
-// Why a vehicle's body-rates model cannot stand in for its other model on the same input (another
+// Why a body-rates model cannot stand in for its other model on the same input (another
 // sample period, or one reads commands in newtons and the other scale-free: the input is opened
 // once, for both), or empty when it can.
 std::string ratesModelPairProblem(const ModelMetadata& model, const ModelMetadata& rates_model);

@@ -9,6 +9,9 @@ namespace quadfdi::cli {
 
 // The shipped general model's file name (models/README.md).
 inline constexpr const char* kGeneralModelName = "tcn-randomised.qfdw";
+// The general model on body rates: run instead of kGeneralModelName where the telemetry carries
+// p, q, r and no vehicle model was chosen, when that file lies beside it (none ships: models/README.md).
+inline constexpr const char* kGeneralRatesModelName = "tcn-randomised-rates.qfdw";
 
 // This process's executable, links resolved (/proc/self/exe); ARGV0 made absolute where that
 // cannot be read (null: "" then).

@@ -15,6 +15,7 @@
 
 #include "cli/cli_support.h"
 #include "cli/detect_command.h"
+#include "cli/shipped_files.h"
 #include "data/features.h"
 #include "io/calibration_file.h"
 #include "io/model_file.h"
@@ -895,6 +896,22 @@ TEST(DetectCli, AVehiclesBodyRatesModelIsTheChoiceBesideItsOtherModel) {
   c = detectModelPath("", "my-quad.toml", dir.string());
   EXPECT_EQ(c.source, DetectModelChoice::Source::kGeneral);
   EXPECT_TRUE(c.rates_path.empty());
+  // The general model on rates stands in where the general model runs, and only there: a vehicle with
+  // a model of its own keeps it, and a vehicle's own rates model wins.
+  touch("tcn-randomised-rates.qfdw");
+  touch("tcn-crazyflie2.qfdw");
+  for (const std::string vehicle : {"", "my-quad.toml"}) {
+    c = detectModelPath("", vehicle, dir.string());
+    EXPECT_EQ(c.source, DetectModelChoice::Source::kGeneral) << vehicle;
+    EXPECT_EQ(c.path, (dir / "tcn-randomised.qfdw").string()) << vehicle;
+    EXPECT_EQ(c.rates_path, (dir / "tcn-randomised-rates.qfdw").string()) << vehicle;
+  }
+  EXPECT_EQ(detectModelPath("", racer, dir.string()).rates_path, (dir / "tcn-racer250-rates.qfdw").string());
+  EXPECT_EQ(detectModelPath("", quad, dir.string()).rates_path, (dir / "tcn-quad450-rates.qfdw").string());
+  c = detectModelPath("", "crazyflie2", dir.string());
+  EXPECT_EQ(c.source, DetectModelChoice::Source::kVehicle);
+  EXPECT_TRUE(c.rates_path.empty());
+  fs::remove(dir / "tcn-randomised-rates.qfdw");
   c = detectModelPath("mine.qfdw", quad, dir.string());
   EXPECT_EQ(c.source, DetectModelChoice::Source::kOption);
   EXPECT_EQ(c.path, "mine.qfdw");
@@ -926,7 +943,8 @@ TEST(DetectCli, AVehiclesBodyRatesModelIsTheChoiceBesideItsOtherModel) {
     if (name.size() <= suffix.size() || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
     ++shipped;
     const std::string stem = name.substr(4, name.size() - 4 - suffix.size());  // tcn-STEM-rates.qfdw
-    const DetectModelChoice pair = detectModelPath("", stem + ".toml", models.string());
+    const bool general = name == quadfdi::cli::kGeneralRatesModelName;      // beside the general model, for no vehicle
+    const DetectModelChoice pair = detectModelPath("", general ? "" : stem + ".toml", models.string());
     ASSERT_EQ(pair.rates_path, entry.path().string());
     EXPECT_EQ(quadfdi::cli::ratesModelPairProblem(quadfdi::readModelFile(pair.path).metadata,
                                                   quadfdi::readModelFile(pair.rates_path).metadata), "") << name;
