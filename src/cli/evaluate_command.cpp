@@ -55,6 +55,10 @@ CLI::App* addEvaluateCommand(CLI::App& app, EvaluateOptions& o) {
          "decisions: faulty flights per (vehicle, Θ), one motor after another (0: 4 × --flights-per-class)")
       .atLeast(0);
   t->add("--flight-hours", o.flight_hours, "decisions: healthy flight time [h] (0: from --scale)").atLeast(0.0);
+  t->add("--log-rate", o.log_rate,
+         "E7, decisions: log the flights at this rate [Hz] and resample them onto the model's dt as detect does, to measure "
+         "what a coarser log costs (0: every model sample)")
+      .atLeast(0.0);
   t->add("--scale", o.scale, "Test flights per class: tiny (3, tests), quick (25), default (200), paper (2 000)")
       .choices(scaleNames());
   t->add("--seed", o.seed, "Test-set seed");
@@ -217,6 +221,7 @@ std::string runSequentialExperiment(const std::string& id, const TrainedModel& m
   in.randomise_path = randomise;
   in.seed = o.seed;
   in.threads = o.threads;
+  in.log_period = o.log_rate > 0.0 ? 1.0 / o.log_rate : 0.0;
   in.output_dir = o.output;
   auto progress = [&](const std::string& msg) {
     if (!o.quiet) std::fprintf(stderr, "evaluate %s: %s\n", id.c_str(), msg.c_str());
@@ -235,7 +240,7 @@ int runEvaluate(const EvaluateOptions& o, const std::string& command_line) {
     return false;
   };
   if (!chosen({"e7", "decisions"}))
-    refuseGiven(o.given, {"vehicle", "calibration", "flights_per_class"}, "only -e e7 and decisions read it: add one of them to -e, or drop it");
+    refuseGiven(o.given, {"vehicle", "calibration", "flights_per_class", "log_rate"}, "only -e e7 and decisions read it: add one of them to -e, or drop it");
   if (!chosen({"decisions"}))
     refuseGiven(o.given, {"randomise", "flight_hours", "faulty_per_theta"}, "only -e decisions reads it: add decisions to -e, or drop it");
   if (!chosen({"e1", "e2", "e3", "e4", "e5", "e6"}))

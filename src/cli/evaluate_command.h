@@ -30,6 +30,7 @@ struct EvaluateOptions {
   int flights_per_class = 0;    // [flights] E7 per (motor, Θ); 0: from --scale
   double flight_hours = 0.0;    // [h] `decisions`: healthy flight time; 0: from --scale
   int faulty_per_theta = 0;     // [flights] `decisions`: faulty flights per (vehicle, Θ); 0: 4 × flights_per_class
+  double log_rate = 0.0;        // [Hz] E7, `decisions`: the telemetry logged at this rate and resampled as detect does; 0: every model sample
   bool quiet = false;           // no progress
   std::set<std::string> given;  // keys given explicitly: options the chosen experiments ignore are refused
 };

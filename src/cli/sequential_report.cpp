@@ -54,6 +54,10 @@ std::string ruleLine(const SequentialReportInputs& in) {
   s << "sequential rule: degraded below " << num(r.degraded_below, 2) << " (h = " << num(r.degraded_threshold) << "), failed below "
     << num(r.failed_below, 2) << " (h = " << num(r.failed_threshold) << "), clear after " << r.clear_after
     << " samples; calibration: " << in.calibration_path;
+  if (in.log_period > 0.0)
+    s << "; **telemetry logged at " << num(1.0 / in.log_period, 0) << " Hz** and resampled onto the model's " << num(1000.0 * in.decision.dt, 0)
+      << " ms as `detect` does (outputs and rates linear, commands held; each decision reaches a pilot up to one log period after "
+         "its time here)";
   return s.str();
 }
 
@@ -76,6 +80,7 @@ std::string transferReport(const SequentialReportInputs& in, const ReportProgres
   config.flights_per_class = in.flights_per_class;
   config.seed = in.seed + 17;
   config.threads = in.threads;
+  config.log_period = in.log_period;
   config.decision = in.decision;
   const std::vector<TransferCell> cells = runTransfer(*in.model, config, progress);
 
@@ -217,7 +222,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   std::vector<TrajectoryJob> jobs;
   for (int i = 0; i < flights; ++i) jobs.push_back({static_cast<std::uint64_t>(i), 2, 1.0});
   if (progress) progress("flying " + std::to_string(flights) + " healthy flights of " + num(kFlightSeconds, 0) + " s");
-  std::vector<FlightThetaStream> healthy_streams = simulateThetaStreams(model, healthy, jobs, in.threads, 16);
+  std::vector<FlightThetaStream> healthy_streams = simulateThetaStreams(model, healthy, jobs, in.threads, 16, nullptr, {}, in.log_period);
   // The rate is counted from kUpsetRecoverySeconds into each recording, as the calibration is; the
   // alarms of the rule run over whole recordings, in their first seconds, are reported apart.
   const long settle_samples = std::lround(kUpsetRecoverySeconds / base.dt);
@@ -238,7 +243,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   for (double theta : thetas)
     for (int i = 0; i < per_theta; ++i) fault_jobs.push_back({scenario++, 1 + i % 4, theta});
   if (progress) progress("flying " + std::to_string(fault_jobs.size()) + " faulty flights");
-  const std::vector<FlightThetaStream> fault_streams = simulateThetaStreams(model, faulty, fault_jobs, in.threads);
+  const std::vector<FlightThetaStream> fault_streams = simulateThetaStreams(model, faulty, fault_jobs, in.threads, 64, nullptr, {}, in.log_period);
 
   const SequentialEvaluation h = evaluateSequential(healthy_streams, in.decision);
   std::ostringstream md, csv;

@@ -28,6 +28,7 @@ struct SequentialReportInputs {
   double flight_hours = 10.0;   // [h] decisions: healthy flight time
   std::uint64_t seed = 7;
   int threads = 0;
+  double log_period = 0.0;  // [s] the flights logged every this long and resampled as detect does (flight_streams.h); 0: every sample
   std::string output_dir;
 };
 

@@ -1,18 +1,29 @@
 #include "evaluation/flight_streams.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <thread>
 
+#include "detection/resampler.h"
 #include "estimation/motor_estimator.h"
 
 namespace quadfdi {
 
 std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, const RolloutConfig& rollout,
                                                     const std::vector<TrajectoryJob>& jobs, int threads, int chunk,
-                                                    const std::atomic<bool>* stop, const CommandGateConfig& gate) {
+                                                    const std::atomic<bool>* stop, const CommandGateConfig& gate, double log_period) {
   if (!StreamingMotorEstimator::canStream(model.metadata))
     throw std::invalid_argument("simulated Θ̂ streams need a streaming model (a TCN on streaming features)");
+  if (!(log_period >= 0.0) || !std::isfinite(log_period))
+    throw std::invalid_argument("simulated Θ̂ streams: the log period must be finite and ≥ 0 s");
+  const double dt = rollout.dt;
+  // The resampler as detect's, its limits opened to the period asked for: this measures the
+  // period's cost, not whether detect's default accepts it.
+  ResamplerConfig resampling;
+  resampling.dt = dt;
+  resampling.max_input_period = std::max(resampling.max_input_period, log_period + dt);
+  resampling.max_gap = std::max(resampling.max_gap, 2.0 * (log_period + dt));
   const RolloutEngine engine(rollout);
   if (!engine.error().empty()) throw std::invalid_argument("rollout: " + engine.error());
   const int workers = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
@@ -41,19 +52,37 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
         s.observable.reserve(s.theta.capacity());
         estimator.reset();
         command_gate.reset();
-        for (int k = 0; k < length; ++k) {
-          const std::size_t o = batch.sampleOffset(t, k);
+        auto estimate = [&](const TelemetrySample& sample) {
           Output y;
           Input u;
-          for (int i = 0; i < kOutputDim; ++i) y(i) = batch.outputs[o * kOutputDim + static_cast<std::size_t>(i)];
-          for (int i = 0; i < kInputDim; ++i) u(i) = batch.inputs[o * kInputDim + static_cast<std::size_t>(i)];
-          const Vec3 rates(batch.rates[o * kRateDim], batch.rates[o * kRateDim + 1], batch.rates[o * kRateDim + 2]);
+          for (int i = 0; i < kOutputDim; ++i) y(i) = sample.y[static_cast<std::size_t>(i)];
+          for (int i = 0; i < kInputDim; ++i) u(i) = sample.u[static_cast<std::size_t>(i)];
           MotorTheta theta;
-          const std::uint8_t observable = command_gate.step({u(0), u(1), u(2), u(3)});
-          if (estimator.push(y, u, rates, theta)) {
+          const std::uint8_t observable = command_gate.step(sample.u);
+          if (estimator.push(y, u, Vec3(sample.rates[0], sample.rates[1], sample.rates[2]), theta)) {
             s.theta.push_back(theta);
             s.observable.push_back(observable);
           }
+        };
+        Resampler resampler(resampling);
+        long logged = 0;  // samples logged so far; the next one is the first at or after logged × log_period
+        for (int k = 0; k < length; ++k) {
+          const double time = dt * k;
+          if (log_period > 0.0 && time < static_cast<double>(logged) * log_period - 1e-6 * dt) continue;
+          const std::size_t o = batch.sampleOffset(t, k);
+          TelemetrySample sample;
+          sample.t = time;
+          for (int i = 0; i < kOutputDim; ++i) sample.y[static_cast<std::size_t>(i)] = batch.outputs[o * kOutputDim + static_cast<std::size_t>(i)];
+          for (int i = 0; i < kInputDim; ++i) sample.u[static_cast<std::size_t>(i)] = batch.inputs[o * kInputDim + static_cast<std::size_t>(i)];
+          for (int i = 0; i < kRateDim; ++i) sample.rates[static_cast<std::size_t>(i)] = batch.rates[o * kRateDim + static_cast<std::size_t>(i)];
+          if (log_period <= 0.0) {
+            estimate(sample);
+            continue;
+          }
+          ++logged;
+          // A restart (an estimator-reset step) would start the grid, and the stream's index, again:
+          // the stream ends there, as a crash ends it.
+          if (resampler.push(sample, estimate) != ResampleStatus::kOk) break;
         }
         const bool healthy = job.theta >= 1.0;
         s.truth.motor = healthy ? 0 : job.faulty_motor;

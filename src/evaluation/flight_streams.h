@@ -20,9 +20,15 @@ namespace quadfdi {
 // (StreamingMotorEstimator::canStream); throws std::invalid_argument otherwise. `threads` 0 = all
 // cores; the result does not depend on it. A flight cut by a crash keeps the samples before it.
 // Each stream also carries the command gate's mask per sample (`gate`, its hold set to T).
+// `log_period` > 0 logs the flight as an autopilot with that sample period would (the first
+// simulated sample at or after each multiple of it) and resamples the log onto the model's dt
+// as `detect` does (detection/resampler.h: outputs and rates linear, commands held), so that a
+// coarser log's cost is measured on the path it takes; Θ̂ keeps the model grid's index (a decision
+// reaches a pilot up to one log period after its grid time). 0: every simulated sample, as flown.
 std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, const RolloutConfig& rollout,
                                                     const std::vector<TrajectoryJob>& jobs, int threads = 0, int chunk = 64,
-                                                    const std::atomic<bool>* stop = nullptr, const CommandGateConfig& gate = {});
+                                                    const std::atomic<bool>* stop = nullptr, const CommandGateConfig& gate = {},
+                                                    double log_period = 0.0);
 
 // Every simulated flight starts from the scenario's random initial state (±0.3 rad, ±1 rad/s; the
 // paper's training distribution, docs/data.md) and recovers from it during its first second or so:

@@ -34,6 +34,7 @@ struct TransferConfig {
   double post_fault_seconds = 0.6;         // [s] recorded after the fault: +300 ms checks and the flown-through estimate
   std::uint64_t seed = 17;                 // test flights; disjoint from training streams
   int threads = 0;
+  double log_period = 0.0;  // [s] the flights logged every this long and resampled as detect does (flight_streams.h); 0: every sample
   SequentialEvaluationConfig decision;
 };
 

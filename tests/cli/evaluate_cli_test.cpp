@@ -84,6 +84,7 @@ TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
   EXPECT_NE(md.find("counted from 1 s into each recording"), std::string::npos) << md;
   EXPECT_NE(md.find("alarms there in 1 flights ("), std::string::npos) << md;
   EXPECT_NE(md.find(" s into the flight, after its initial upset."), std::string::npos) << md;  // faults after it too
+  EXPECT_EQ(md.find("telemetry logged at"), std::string::npos) << md;  // every model sample: no log rate to state
   const std::string csv = slurp(dir + "/decisions.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 11);  // header + Θ = 0, 0.1, …, 0.9
   EXPECT_NE(csv.find("\n0.5,2,"), std::string::npos) << csv;   // --faulty-per-theta flights at each Θ
@@ -97,6 +98,25 @@ TEST(EvaluateCli, DecisionsReportNamesItsWindAndFalseAlarmBound) {
   const long counted = std::stol(md.substr(count_at + std::string("**False alarms:** ").size()));
   EXPECT_EQ(std::count(alarms.begin(), alarms.end(), '\n'), counted + 1) << alarms;
   EXPECT_EQ(md.find("**Alarmed flights**") != std::string::npos, counted > 0) << md;
+}
+
+// --log-rate logs the flights at that rate and resamples them as detect does; the report says so
+// in its rule line, and the flights, shorter by the samples past the last logged one, still score.
+TEST(EvaluateCli, DecisionsAtALogRateSayWhichAndScore) {
+  const std::string dir = ::testing::TempDir() + "quadfdi_eval_log_rate";
+  const std::string src = QUADFDI_SOURCE_DIR;
+  int code = 0;
+  const std::string out = run("evaluate -e decisions --model-free " + src + "/models/tcn-crazyflie2.qfdw --vehicle " + src +
+                                  "/configs/vehicles/crazyflie2.toml --flights-per-class 1 --faulty-per-theta 2 --flight-hours 0.01 "
+                                  "--scale tiny --log-rate 100 -q -o " + dir,
+                              &code);
+  ASSERT_EQ(code, 0) << out;
+  const std::string md = slurp(dir + "/decisions.md");
+  EXPECT_NE(md.find("**telemetry logged at 100 Hz** and resampled onto the model's 2 ms as `detect` does"), std::string::npos) << md;
+  // Complete faults on the Crazyflie are still found through the resampler.
+  EXPECT_NE(md.find("| 0.0 | 2 | 2/2, "), std::string::npos) << md;
+  const std::string report = slurp(dir + "/REPORT.md");
+  EXPECT_NE(report.find("--log-rate 100"), std::string::npos) << report.substr(0, 600);
 }
 
 // A calibration whose degraded level is raised to 0.999 (a healthy motor's Θ̂ sits below it half
@@ -157,6 +177,7 @@ TEST(EvaluateCli, OptionsTheChosenExperimentsWouldNotReadAreRefused) {
       {"-e e7 --flight-hours 1", "--flight-hours: only -e decisions reads it"},
       {"-e e7 --average-windows 5", "--average-windows: only E1-E6 read it"},
       {"-e e7 decisions --theta-tol 0.3", "--theta-tol: only E1-E6 read it"},
+      {"-e e1 --log-rate 100", "--log-rate: only -e e7 and decisions read it"},
   };
   for (const auto& [args, message] : cases) {
     int code = 0;

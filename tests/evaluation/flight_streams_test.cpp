@@ -57,6 +57,36 @@ TEST(FlightStreams, OneEstimatePerSampleFromTheFirstFullWindowAndThreadIndepende
   EXPECT_LT(one[1].theta[static_cast<std::size_t>(one[1].truth.fault_sample + 60)][2], 0.5f);
 }
 
+// A coarser log goes through detect's resampler: logged every dt it is the flight itself, bit for
+// bit; logged at 100 Hz the grid ends at the last logged sample, a complete fault still shows, and
+// the estimates differ from the flight's (they read interpolated outputs and held commands).
+TEST(FlightStreams, ALogPeriodResamplesAsDetectDoes) {
+  RolloutConfig c;
+  c.randomisation = twoControllers();
+  c.post_fault_steps = 150;
+  c.seed = 4;
+  const std::vector<TrajectoryJob> jobs{{0, 2, 1.0}, {1, 3, 0.0}};
+  const auto flown = simulateThetaStreams(shippedTcn(), c, jobs, 1);
+  const auto every_dt = simulateThetaStreams(shippedTcn(), c, jobs, 2, 64, nullptr, {}, c.dt);
+  const auto coarse = simulateThetaStreams(shippedTcn(), c, jobs, 1, 64, nullptr, {}, 0.01);
+  const auto coarse_two = simulateThetaStreams(shippedTcn(), c, jobs, 2, 1, nullptr, {}, 0.01);
+  const int T = shippedTcn().metadata.window;
+  const int samples = c.samplesPerTrajectory();
+  const int last_logged = (samples - 1) / 5 * 5;  // 100 Hz: every fifth 2-ms sample
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    EXPECT_EQ(every_dt[i].theta, flown[i].theta);
+    EXPECT_EQ(every_dt[i].observable, flown[i].observable);
+    EXPECT_EQ(coarse[i].theta, coarse_two[i].theta);
+    ASSERT_EQ(coarse[i].theta.size(), static_cast<std::size_t>(last_logged + 1 - T + 1));
+    EXPECT_EQ(coarse[i].observable.size(), coarse[i].theta.size());
+    EXPECT_EQ(coarse[i].truth.fault_sample, flown[i].truth.fault_sample);
+  }
+  EXPECT_NE(coarse[1].theta[static_cast<std::size_t>(coarse[1].truth.fault_sample + 60)],
+            flown[1].theta[static_cast<std::size_t>(flown[1].truth.fault_sample + 60)]);
+  EXPECT_LT(coarse[1].theta[static_cast<std::size_t>(coarse[1].truth.fault_sample + 60)][2], 0.5f);
+  EXPECT_THROW(simulateThetaStreams(shippedTcn(), c, jobs, 1, 64, nullptr, {}, -0.01), std::invalid_argument);
+}
+
 // Healthy flights are counted from kUpsetRecoverySeconds on (calibrate, decisions): the estimates
 // and the gate's masks lose the same leading samples, and a fault keeps its place in the flight.
 TEST(FlightStreams, DroppingLeadingSamplesKeepsMasksAlignedAndTheFaultInPlace) {
