@@ -462,7 +462,10 @@ int runDetect(const DetectOptions& o) {
       std::snprintf(hint, sizeof hint, " (its samples are %.4g s apart: is t in milliseconds or microseconds? --csv-time-unit ms or us)",
                     mean_interval);
     throw TelemetryError(r.where + ": the log is sampled too coarsely: most of its first intervals exceed " +
-                         fmtMs(o.max_input_period) + " (--max-input-period); the model needs " + fmtMs(m.dt) + " samples" + hint);
+                         fmtMs(o.max_input_period) + " (--max-input-period); the model needs " + fmtMs(m.dt) + " samples" + hint +
+                         (mean_interval < 0.5 ? "; a 100 Hz log is read with --max-input-period 0.011, at a measured cost "
+                                                "(docs/results/log-rates/README.md)"
+                                              : ""));
   }
   const DetectorSummary& s = detector->summary();
   // Rows with empty cells throughout are the mark of an export that merges signals sampled at

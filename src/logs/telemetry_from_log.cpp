@@ -278,7 +278,9 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
                                    ms(r.median_interval) + "), too coarse for a sound detection: " + c.what + " need" +
                                    (std::string(c.what) == "position" ? "s" : "") + " ≥ " + hz(c.min_rate) + " (" +
                                    ms(1.0 / c.min_rate) + "); " + advice(format, c.what, c.source->topic) +
-                                   " (or lower " + limitFlag(c.what) + " at your own risk)"};
+                                   " (or lower " + limitFlag(c.what) +
+                                   (std::string(c.what) == "position" ? " at your own risk)"
+                                                                      : ", at a measured cost: docs/results/log-rates/README.md)")};
   }
 
   // --- Body rates: optional (only a model on body rates reads them), so a log without them, or

@@ -1156,6 +1156,8 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find("coarse.csv:11: the log is sampled too coarsely"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("milliseconds"), std::string::npos) << r.out;  // 10 ms apart: a rate, not a unit
+  EXPECT_NE(r.out.find("a 100 Hz log is read with --max-input-period 0.011, at a measured cost"), std::string::npos) << r.out;
+  EXPECT_EQ(countLines(r.out), 1) << r.out;
   EXPECT_EQ(readFile(temp("kept.jsonl")), "precious\n");
   // The same log with t in milliseconds: the refusal says what the intervals suggest.
   std::ostringstream in_ms;

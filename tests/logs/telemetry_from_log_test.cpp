@@ -254,6 +254,8 @@ TEST(TelemetryFromLog, MotorsGivenApartAreAsFastAsTheSlowestAndEachOnesHolesCoun
     ASSERT_TRUE(r.refused());
     EXPECT_TRUE(contains(r.topic, "column u")) << r.topic;
     EXPECT_TRUE(contains(r.message, "(commands) is logged at 100 Hz")) << r.message;
+    // The way out, with where its cost was measured.
+    EXPECT_TRUE(contains(r.message, "(or lower --min-rate-command, at a measured cost: docs/results/log-rates/README.md)")) << r.message;
   }
   {  // Each at 500 Hz: read; then a 50 ms hole in motor 3 alone cuts the flight there.
     FlightSignals s = motorsApart(0.002, 10.0);
