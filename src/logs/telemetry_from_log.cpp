@@ -281,6 +281,15 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
                                    " (or lower " + limitFlag(c.what) +
                                    (std::string(c.what) == "position" ? " at your own risk)"
                                                                       : ", at a measured cost: docs/results/log-rates/README.md)")};
+    // Read below the default because the limit was lowered: say what that was measured to cost.
+    const std::string what = c.what;
+    const double default_rate = what == "attitude" ? ImportOptions{}.min_rate_attitude
+                                : what == "commands" ? ImportOptions{}.min_rate_command
+                                                     : 0.0;
+    if (r.rate_hz < default_rate)
+      rep.warnings.push_back(c.source->topic + " (" + what + ") is logged at " + hz(r.rate_hz) + ", below the default " + hz(default_rate) +
+                             ", and read as " + limitFlag(what) + " allows: from a 100 Hz log complete failures were named about 10 ms "
+                             "later, and at 50 Hz false alarms appeared (docs/results/log-rates/README.md)");
   }
 
   // --- Body rates: optional (only a model on body rates reads them), so a log without them, or

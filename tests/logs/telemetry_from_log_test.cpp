@@ -87,11 +87,22 @@ TEST(TelemetryFromLog, RefusesACoarseSignalNamingTopicRateAndWhatToChange) {
     EXPECT_TRUE(contains(r.message, "≥ 20.0 Hz")) << r.message;
     EXPECT_TRUE(contains(r.message, "deck's logging frequency")) << r.message;
   }
-  // 50 Hz position passes; lowering the attitude limit lets a 100 Hz attitude through.
+  // 50 Hz position passes; lowering the attitude limit lets a 100 Hz attitude through, with a
+  // warning that says what that costs (and none for the position, whose default it meets).
   ImportOptions o;
   o.min_rate_attitude = 90;
   LogSampleSource src;
   EXPECT_FALSE(buildLogSampleSource(synthetic(0.01, 0.02, 0.002, 5.0), LogFormat::kUlog, o, src).refused());
+  const std::vector<std::string>& warnings = src.report().warnings;
+  ASSERT_EQ(std::count_if(warnings.begin(), warnings.end(), [](const std::string& w) { return contains(w, "below the default"); }), 1)
+      << ::testing::PrintToString(warnings);
+  const auto at = std::find_if(warnings.begin(), warnings.end(), [](const std::string& w) { return contains(w, "below the default"); });
+  EXPECT_TRUE(contains(*at, "att_topic (attitude) is logged at 100 Hz, below the default 125 Hz, and read as --min-rate-attitude allows"))
+      << *at;
+  // At the default rate, no such warning.
+  LogSampleSource full;
+  ASSERT_FALSE(buildLogSampleSource(synthetic(0.002, 0.02, 0.002, 5.0), LogFormat::kUlog, ImportOptions{}, full).refused());
+  for (const std::string& w : full.report().warnings) EXPECT_FALSE(contains(w, "below the default")) << w;
 }
 
 TEST(TelemetryFromLog, InterpolatesAttitudeAndPositionAndHoldsCommands) {
