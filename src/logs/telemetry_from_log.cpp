@@ -233,6 +233,7 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
     const SignalSource* source;
     double min_rate;
     const char* method;
+    double default_rate;  // [Hz] read below this (the limit lowered), a warning says what it costs; 0: none
   };
   // Motors given at times of their own: the commands are as fast as the slowest motor (the four
   // together change more often than any one does), which the checks name.
@@ -252,13 +253,14 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   }
   const Check checks[] = {
       {"attitude", &signals.attitude.t, &signals.attitude.source, o.min_rate_attitude,
-       "interpolated linearly per Euler angle, each the short way round"},
-      {"position", &signals.position.t, &signals.position.source, o.min_rate_position, "interpolated linearly"},
+       "interpolated linearly per Euler angle, each the short way round", ImportOptions{}.min_rate_attitude},
+      {"position", &signals.position.t, &signals.position.source, o.min_rate_position, "interpolated linearly", 0.0},
       {"commands", command_times, &command_source, o.min_rate_command,
-       "held from one logged command to the next (zero-order hold)"},
+       "held from one logged command to the next (zero-order hold)", ImportOptions{}.min_rate_command},
   };
   std::vector<double> hole_limit;
   for (const Check& c : checks) {
+    const std::string what = c.what;
     SignalReport r;
     r.name = c.what;
     r.source = *c.source;
@@ -276,18 +278,13 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
     if (r.rate_hz < c.min_rate)
       return {c.source->topic, c.source->topic + " (" + c.what + ") is logged at " + hz(r.rate_hz) + " (median interval " +
                                    ms(r.median_interval) + "), too coarse for a sound detection: " + c.what + " need" +
-                                   (std::string(c.what) == "position" ? "s" : "") + " ≥ " + hz(c.min_rate) + " (" +
+                                   (what == "position" ? "s" : "") + " ≥ " + hz(c.min_rate) + " (" +
                                    ms(1.0 / c.min_rate) + "); " + advice(format, c.what, c.source->topic) +
                                    " (or lower " + limitFlag(c.what) +
-                                   (std::string(c.what) == "position" ? " at your own risk)"
-                                                                      : ", at a measured cost: docs/results/log-rates/README.md)")};
+                                   (c.default_rate > 0.0 ? ", at a measured cost: docs/results/log-rates/README.md)" : " at your own risk)")};
     // Read below the default because the limit was lowered: say what that was measured to cost.
-    const std::string what = c.what;
-    const double default_rate = what == "attitude" ? ImportOptions{}.min_rate_attitude
-                                : what == "commands" ? ImportOptions{}.min_rate_command
-                                                     : 0.0;
-    if (r.rate_hz < default_rate)
-      rep.warnings.push_back(c.source->topic + " (" + what + ") is logged at " + hz(r.rate_hz) + ", below the default " + hz(default_rate) +
+    if (r.rate_hz < c.default_rate)
+      rep.warnings.push_back(c.source->topic + " (" + what + ") is logged at " + hz(r.rate_hz) + ", below the default " + hz(c.default_rate) +
                              ", and read as " + limitFlag(what) + " allows: from a 100 Hz log complete failures were named about 10 ms "
                              "later, and at 50 Hz false alarms appeared (docs/results/log-rates/README.md)");
   }
