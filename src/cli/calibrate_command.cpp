@@ -266,7 +266,9 @@ int runCalibrate(const CalibrateOptions& o) {
     rc.post_fault_steps = std::max(1, steps - T);
     std::vector<TrajectoryJob> jobs;
     for (int f = 0; f < healthy_flights; ++f) jobs.push_back({static_cast<std::uint64_t>(f), 2, 1.0});
-    for (FlightThetaStream& s : simulateThetaStreams(model, rc, jobs, 0, 16)) {
+    ThetaStreamOptions streaming;  // all cores
+    streaming.chunk = 16;          // minute-long flights: 16 at a time bound the raw samples held at once
+    for (FlightThetaStream& s : simulateThetaStreams(model, rc, jobs, streaming)) {
       dropLeadingSamples(s, settle_samples);
       samples += static_cast<long>(s.theta.size());
       healthy.push_back(std::move(s.theta));
@@ -280,13 +282,13 @@ int runCalibrate(const CalibrateOptions& o) {
     Rng draw(o.seed, kFirstStream - 2);
     for (int f = 0; f < o.faulty_flights; ++f)
       jobs.push_back({static_cast<std::uint64_t>(f), 1 + static_cast<int>(draw.next() % 4), draw.uniform(0.0, 0.9)});
-    faulty = simulateThetaStreams(model, rc, jobs, 0, 16);
+    faulty = simulateThetaStreams(model, rc, jobs, streaming);
     if (o.interval == "belt") {  // complete failures for the belt's node at Θ = 0, after the faulty flights
       jobs.clear();
       Rng motors(o.seed, kFirstStream - 3);
       for (int f = 0; f < beltBoundaryFlights(o.faulty_flights); ++f)
         jobs.push_back({static_cast<std::uint64_t>(o.faulty_flights + f), 1 + static_cast<int>(motors.next() % 4), 0.0});
-      boundary = simulateThetaStreams(model, rc, jobs, 0, 16);
+      boundary = simulateThetaStreams(model, rc, jobs, streaming);
     }
   } else {
     for (int f = 0; f < healthy_flights; ++f) {

@@ -11,12 +11,14 @@
 namespace quadfdi {
 
 std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, const RolloutConfig& rollout,
-                                                    const std::vector<TrajectoryJob>& jobs, int threads, int chunk,
-                                                    const std::atomic<bool>* stop, const CommandGateConfig& gate, double log_period) {
+                                                    const std::vector<TrajectoryJob>& jobs, const ThetaStreamOptions& options) {
+  const double log_period = options.log_period;
+  const std::atomic<bool>* stop = options.stop;
   if (!StreamingMotorEstimator::canStream(model.metadata))
     throw std::invalid_argument("simulated Θ̂ streams need a streaming model (a TCN on streaming features)");
   if (!(log_period >= 0.0) || !std::isfinite(log_period))
     throw std::invalid_argument("simulated Θ̂ streams: the log period must be finite and ≥ 0 s");
+  if (options.chunk < 1) throw std::invalid_argument("simulated Θ̂ streams: at least one flight per chunk");
   const double dt = rollout.dt;
   // The resampler as detect's, its limits opened to the period asked for: this measures the
   // period's cost, not whether detect's default accepts it.
@@ -26,20 +28,20 @@ std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, c
   resampling.max_gap = std::max(resampling.max_gap, 2.0 * (log_period + dt));
   const RolloutEngine engine(rollout);
   if (!engine.error().empty()) throw std::invalid_argument("rollout: " + engine.error());
-  const int workers = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
+  const int workers = std::max(1, options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency()));
   const int window = model.metadata.window;
   std::vector<FlightThetaStream> streams(jobs.size());
   TrajectoryBatch batch;
-  for (std::size_t first = 0; first < jobs.size(); first += static_cast<std::size_t>(chunk)) {
+  for (std::size_t first = 0; first < jobs.size(); first += static_cast<std::size_t>(options.chunk)) {
     if (stop && stop->load()) break;
-    const std::size_t last = std::min(jobs.size(), first + static_cast<std::size_t>(chunk));
+    const std::size_t last = std::min(jobs.size(), first + static_cast<std::size_t>(options.chunk));
     const std::vector<TrajectoryJob> part(jobs.begin() + static_cast<std::ptrdiff_t>(first), jobs.begin() + static_cast<std::ptrdiff_t>(last));
     engine.run(part, workers, batch, {}, stop);
     // One estimator per worker; each flight is streamed by exactly one worker.
     std::atomic<int> next{0};
     auto work = [&] {
       StreamingMotorEstimator estimator(model, model.metadata.symmetry);
-      CommandGateConfig gate_config = gate;
+      CommandGateConfig gate_config = options.gate;
       gate_config.hold = window;  // as the detector: an estimate reads the whole window
       CommandGate command_gate(gate_config);
       for (int t; (t = next.fetch_add(1)) < batch.count;) {

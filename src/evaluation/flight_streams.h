@@ -14,21 +14,27 @@
 
 namespace quadfdi {
 
-// Flies `jobs` under `rollout` (chunks of `chunk` flights, so that hours of flight never sit in
-// memory as raw samples) and returns one stream per job, in job order: Θ̂ from the first full
+// How simulateThetaStreams flies and streams; the defaults fly every simulated sample on all cores.
+struct ThetaStreamOptions {
+  int threads = 0;   // [-] worker threads, 0 = all cores; the result does not depend on it
+  int chunk = 64;    // [flights] flown at once, so that hours of flight never sit in memory as raw samples
+  const std::atomic<bool>* stop = nullptr;  // set by an interrupt: the flights not yet flown are left empty
+  CommandGateConfig gate{};  // the command gate each stream's mask comes from (its hold is set to the window T)
+  // [s] > 0: the flight is logged as an autopilot with this sample period would (the first simulated
+  // sample at or after each multiple of it) and resampled onto the model's dt as `detect` does
+  // (detection/resampler.h: outputs and rates linear, commands held), so that a coarser log's cost is
+  // measured on the path it takes; Θ̂ keeps the model grid's index (a decision reaches a pilot up to
+  // one log period after its grid time). 0: every simulated sample, as flown.
+  double log_period = 0.0;
+};
+
+// Flies `jobs` under `rollout` and returns one stream per job, in job order: Θ̂ from the first full
 // receptive field on (sample T − 1 of the flight is stream index 0). The model must stream
-// (StreamingMotorEstimator::canStream); throws std::invalid_argument otherwise. `threads` 0 = all
-// cores; the result does not depend on it. A flight cut by a crash keeps the samples before it.
-// Each stream also carries the command gate's mask per sample (`gate`, its hold set to T).
-// `log_period` > 0 logs the flight as an autopilot with that sample period would (the first
-// simulated sample at or after each multiple of it) and resamples the log onto the model's dt
-// as `detect` does (detection/resampler.h: outputs and rates linear, commands held), so that a
-// coarser log's cost is measured on the path it takes; Θ̂ keeps the model grid's index (a decision
-// reaches a pilot up to one log period after its grid time). 0: every simulated sample, as flown.
+// (StreamingMotorEstimator::canStream); throws std::invalid_argument otherwise, and for a log
+// period that is negative or not finite. A flight cut by a crash keeps the samples before it.
+// Each stream also carries the command gate's mask per sample (`gate`).
 std::vector<FlightThetaStream> simulateThetaStreams(const TrainedModel& model, const RolloutConfig& rollout,
-                                                    const std::vector<TrajectoryJob>& jobs, int threads = 0, int chunk = 64,
-                                                    const std::atomic<bool>* stop = nullptr, const CommandGateConfig& gate = {},
-                                                    double log_period = 0.0);
+                                                    const std::vector<TrajectoryJob>& jobs, const ThetaStreamOptions& options = {});
 
 // Every simulated flight starts from the scenario's random initial state (±0.3 rad, ±1 rad/s; the
 // paper's training distribution, docs/data.md) and recovers from it during its first second or so:

@@ -84,7 +84,10 @@ std::vector<TransferCell> runTransfer(const TrainedModel& model, const TransferC
       for (double theta : config.thetas)
         for (int motor = 1; motor <= 4; ++motor)
           for (int i = 0; i < config.flights_per_class; ++i) jobs.push_back({scenario++, motor, theta});
-      const std::vector<FlightThetaStream> streams = simulateThetaStreams(model, rollout, jobs, config.threads, 64, nullptr, {}, config.log_period);
+      ThetaStreamOptions streaming;
+      streaming.threads = config.threads;
+      streaming.log_period = config.log_period;
+      const std::vector<FlightThetaStream> streams = simulateThetaStreams(model, rollout, jobs, streaming);
       std::vector<FlightThetaStream> complete, partial;
       for (const FlightThetaStream& s : streams) {
         if (s.truth.motor == 0 || s.truth.theta == 0.0) complete.push_back(s);

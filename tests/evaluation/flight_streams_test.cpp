@@ -34,14 +34,22 @@ Randomisation twoControllers() {
   return r;
 }
 
+ThetaStreamOptions streamOn(int threads, int chunk = 64, double log_period = 0.0) {
+  ThetaStreamOptions o;
+  o.threads = threads;
+  o.chunk = chunk;
+  o.log_period = log_period;
+  return o;
+}
+
 TEST(FlightStreams, OneEstimatePerSampleFromTheFirstFullWindowAndThreadIndependent) {
   RolloutConfig c;
   c.randomisation = twoControllers();
   c.post_fault_steps = 150;
   c.seed = 4;
   const std::vector<TrajectoryJob> jobs{{0, 2, 1.0}, {1, 3, 0.0}, {2, 1, 0.5}};
-  const auto one = simulateThetaStreams(shippedTcn(), c, jobs, 1, 2);
-  const auto two = simulateThetaStreams(shippedTcn(), c, jobs, 2, 64);
+  const auto one = simulateThetaStreams(shippedTcn(), c, jobs, streamOn(1, 2));
+  const auto two = simulateThetaStreams(shippedTcn(), c, jobs, streamOn(2, 64));
   ASSERT_EQ(one.size(), 3u);
   const int T = shippedTcn().metadata.window;
   const int samples = c.samplesPerTrajectory();
@@ -66,10 +74,10 @@ TEST(FlightStreams, ALogPeriodResamplesAsDetectDoes) {
   c.post_fault_steps = 150;
   c.seed = 4;
   const std::vector<TrajectoryJob> jobs{{0, 2, 1.0}, {1, 3, 0.0}};
-  const auto flown = simulateThetaStreams(shippedTcn(), c, jobs, 1);
-  const auto every_dt = simulateThetaStreams(shippedTcn(), c, jobs, 2, 64, nullptr, {}, c.dt);
-  const auto coarse = simulateThetaStreams(shippedTcn(), c, jobs, 1, 64, nullptr, {}, 0.01);
-  const auto coarse_two = simulateThetaStreams(shippedTcn(), c, jobs, 2, 1, nullptr, {}, 0.01);
+  const auto flown = simulateThetaStreams(shippedTcn(), c, jobs, streamOn(1));
+  const auto every_dt = simulateThetaStreams(shippedTcn(), c, jobs, streamOn(2, 64, c.dt));
+  const auto coarse = simulateThetaStreams(shippedTcn(), c, jobs, streamOn(1, 64, 0.01));
+  const auto coarse_two = simulateThetaStreams(shippedTcn(), c, jobs, streamOn(2, 1, 0.01));
   const int T = shippedTcn().metadata.window;
   const int samples = c.samplesPerTrajectory();
   const int last_logged = (samples - 1) / 5 * 5;  // 100 Hz: every fifth 2-ms sample
@@ -84,7 +92,7 @@ TEST(FlightStreams, ALogPeriodResamplesAsDetectDoes) {
   EXPECT_NE(coarse[1].theta[static_cast<std::size_t>(coarse[1].truth.fault_sample + 60)],
             flown[1].theta[static_cast<std::size_t>(flown[1].truth.fault_sample + 60)]);
   EXPECT_LT(coarse[1].theta[static_cast<std::size_t>(coarse[1].truth.fault_sample + 60)][2], 0.5f);
-  EXPECT_THROW(simulateThetaStreams(shippedTcn(), c, jobs, 1, 64, nullptr, {}, -0.01), std::invalid_argument);
+  EXPECT_THROW(simulateThetaStreams(shippedTcn(), c, jobs, streamOn(1, 64, -0.01)), std::invalid_argument);
 }
 
 // Healthy flights are counted from kUpsetRecoverySeconds on (calibrate, decisions): the estimates
@@ -118,6 +126,11 @@ TEST(FlightStreams, RefusesAModelThatCannotStream) {
   lstm.metadata.architecture = Architecture::kLstm;
   RolloutConfig c;
   EXPECT_THROW(simulateThetaStreams(lstm, c, {{0, 2, 1.0}}), std::invalid_argument);
+}
+
+TEST(FlightStreams, RefusesChunksOfNoFlight) {
+  RolloutConfig c;
+  EXPECT_THROW(simulateThetaStreams(shippedTcn(), c, {{0, 2, 1.0}}, streamOn(1, 0)), std::invalid_argument);
 }
 
 TEST(Transfer, ConditionsPinOneControllerAndManoeuvreAndCellsCountTheirFlights) {
