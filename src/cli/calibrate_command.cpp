@@ -71,8 +71,13 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
          "no more than a mild fault's sustained one; 0: no cap)")
       .atLeast(0.0);
   t->add("--failed-cap", o.failed_cap,
-         "Most one sample adds to the failed CUSUM [effectiveness] (as --degraded-cap, for the failed level; 0: no cap)")
+         "Most one sample adds to the failed CUSUM [effectiveness] (as --degraded-cap, for the failed level; 0: no cap); given "
+         "several (e.g. 0.15 0.2 0 ), each is calibrated, the degraded level chosen again under it, and the one that names the "
+         "motor of the most faulty flights below --failed-below within --failed-delay-budget wins, a tie going to the smaller")
       .atLeast(0.0);
+  t->add("--failed-delay-budget", o.failed_delay_budget,
+         "Choosing among several --failed-cap: the delay a fault below --failed-below must be named within [s]")
+      .above(0.0, 60.0);
   t->add("--reference", o.reference,
          "What the rule reads as a motor's effectiveness: others (its Θ̂ over the median of the other three motors': a dip "
          "every motor shares cancels) or absolute (Θ̂ as the network gives it, the rule before 2026-11-26)")
@@ -203,9 +208,17 @@ double incrementCap(double option) { return option > 0.0 ? option : kNoIncrement
 
 // ", failed cap 0.15" for a capped failed statistic (the calibration's provenance), else nothing.
 std::string failedCapNote(double cap) {
-  if (!(cap > 0.0)) return "";
+  if (!(cap > 0.0) || cap == kNoIncrementCap) return "";
   char text[48];
   std::snprintf(text, sizeof text, ", failed cap %g", cap);
+  return text;
+}
+
+// A cap as the calibrate report prints it: "0.15", or "none".
+std::string capText(double cap) {
+  if (cap == kNoIncrementCap) return "none";
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", cap);
   return text;
 }
 
@@ -224,9 +237,10 @@ int runCalibrate(const CalibrateOptions& o) {
   if (!o.refit_interval.empty())
     refuseGiven(o.given,
                 {"flights", "flight_seconds", "settle", "false_alarms_per_hour", "degraded_below", "failed_below", "delay_budget",
-                 "degraded_cap", "failed_cap", "reference", "estimate_reference"},
+                 "degraded_cap", "failed_cap", "failed_delay_budget", "reference", "estimate_reference"},
                 "--refit-interval keeps the file's levels, thresholds, caps and references and flies no healthy flight: drop it");
   if (o.degraded_below.size() < 2) refuseGiven(o.given, {"delay_budget"}, "only chooses among several --degraded-below levels");
+  if (o.failed_cap.size() < 2) refuseGiven(o.given, {"failed_delay_budget"}, "only chooses among several --failed-cap values");
   if (o.faulty_flights == 0 && o.interval == "belt") refuseGiven(o.given, {"interval"}, "belt needs --faulty-flights > 0 to fit it on");
   const std::string model_path = o.model.empty() ? defaultModelPath() : o.model;
   const TrainedModel model = readModelFile(model_path);
@@ -396,13 +410,9 @@ int runCalibrate(const CalibrateOptions& o) {
 
   const double per_level = o.false_alarms_per_hour / 2.0;
   const double cap = incrementCap(o.degraded_cap);
-  const double failed_cap = incrementCap(o.failed_cap);
-  c.failed = calibrateLevel(excursionMaxima(healthy, o.failed_below, 0, failed_cap, &healthy_observable), o.failed_below, c.flight_hours,
-                            per_level, c.noise, dt, failed_cap);
   LevelChoiceConfig choose;
   choose.candidates = o.degraded_below;
   choose.cap = cap;
-  choose.failed = c.failed;
   choose.noise = c.noise;
   choose.reference = c.reference;
   choose.flight_hours = c.flight_hours;
@@ -411,8 +421,22 @@ int runCalibrate(const CalibrateOptions& o) {
   choose.delay_budget = std::lround(o.delay_budget / dt);
   // One candidate needs no faulty flight to win; several need some to be told apart.
   require(o.degraded_below.size() == 1 || !faulty.empty(), "choosing among several --degraded-below needs --faulty-flights > 0");
-  const LevelChoice choice =
-      chooseDegradedLevel(healthy, o.degraded_below.size() == 1 ? std::vector<FlightThetaStream>{} : faulty, choose, &healthy_observable);
+  require(o.failed_cap.size() == 1 || !faulty.empty(), "choosing among several --failed-cap needs --faulty-flights > 0");
+  FailedCapChoiceConfig choose_cap;
+  for (double option : o.failed_cap) choose_cap.caps.push_back(incrementCap(option));
+  choose_cap.level = o.failed_below;
+  choose_cap.degraded = choose;
+  choose_cap.delay_budget = std::lround(o.failed_delay_budget / dt);
+  // The complete failures flown for the belt count too when caps are chosen: they are the faults a 50 ms decision is
+  // owed for (the degraded level is then chosen on them as well; each names them within 300 ms, so the order holds).
+  std::vector<FlightThetaStream> scored = faulty;
+  if (o.failed_cap.size() > 1) scored.insert(scored.end(), boundary.begin(), boundary.end());
+  const FailedCapChoice cap_choice = chooseFailedCap(
+      healthy, o.degraded_below.size() == 1 && o.failed_cap.size() == 1 ? std::vector<FlightThetaStream>{} : scored, choose_cap,
+      &healthy_observable);
+  const FailedCapCandidate& chosen_cap = cap_choice.candidates[static_cast<std::size_t>(cap_choice.chosen)];
+  c.failed = chosen_cap.failed;
+  const LevelChoice& choice = chosen_cap.degraded;
   c.degraded = choice.candidates[static_cast<std::size_t>(choice.chosen)].degraded;
   std::string chosen_from;
   if (choice.candidates.size() > 1) {
@@ -424,12 +448,22 @@ int runCalibrate(const CalibrateOptions& o) {
     }
     chosen_from = "; degraded level chosen from " + chosen_from;
   }
+  if (cap_choice.candidates.size() > 1) {
+    std::string caps;
+    char part[160];
+    for (const FailedCapCandidate& f : cap_choice.candidates) {
+      std::snprintf(part, sizeof part, "%s%s (h %.3g: %d of %d within %g s)", caps.empty() ? "" : ", ", capText(f.failed.increment_cap).c_str(),
+                    f.failed.threshold, f.named, f.faults, o.failed_delay_budget);
+      caps += part;
+    }
+    chosen_from += "; failed cap chosen from " + caps;
+  }
   // Numbers formatted in a bounded buffer; the paths and the level choice appended, never cut.
   char flights[160];
   std::snprintf(flights, sizeof flights, "%d healthy flights of %g s, counted from %g s on, %d faulty flights", o.flights,
                 o.flight_seconds, o.settle, o.faulty_flights);
   c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; reference " + o.reference + ", estimate " + o.estimate_reference + (o.interval == "belt" ? ", interval belt" : "") +
-             failedCapNote(o.failed_cap) + "; " +
+             failedCapNote(c.failed.increment_cap) + "; " +
              (o.randomise.empty() ? "LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
                                         std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
                                   : "randomisation " + o.randomise + vehicleNames(o.vehicles)) +
@@ -462,6 +496,12 @@ int runCalibrate(const CalibrateOptions& o) {
       std::fprintf(stderr, "calibrate: degraded level %.3g: h = %.3f, %d of %d faults (Θ < %.3g) named within %g s%s\n", l.degraded.level,
                    l.degraded.threshold, l.isolated, l.faults, *std::max_element(o.degraded_below.begin(), o.degraded_below.end()),
                    o.delay_budget, static_cast<int>(i) == choice.chosen ? " (chosen)" : "");
+    }
+    for (std::size_t i = 0; cap_choice.candidates.size() > 1 && i < cap_choice.candidates.size(); ++i) {
+      const FailedCapCandidate& f = cap_choice.candidates[i];
+      std::fprintf(stderr, "calibrate: failed cap %s: h = %.3f, %d of %d faults (Θ < %.3g) named within %g s%s\n",
+                   capText(f.failed.increment_cap).c_str(), f.failed.threshold, f.named, f.faults, o.failed_below, o.failed_delay_budget,
+                   static_cast<int>(i) == cap_choice.chosen ? " (chosen)" : "");
     }
     std::fprintf(stderr, "calibrate: wrote %s\n", output.c_str());
   }

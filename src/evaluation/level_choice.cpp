@@ -44,4 +44,46 @@ LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& heal
   return choice;
 }
 
+FailedCapChoice chooseFailedCap(const std::vector<std::vector<MotorTheta>>& healthy, const std::vector<FlightThetaStream>& faulty,
+                                const FailedCapChoiceConfig& config, const std::vector<std::vector<std::uint8_t>>* healthy_observable) {
+  if (config.caps.empty()) throw std::invalid_argument("no failed cap to choose from");
+  for (double cap : config.caps)
+    if (!(cap > 0.0)) throw std::invalid_argument("failed cap " + std::to_string(cap) + " is not above 0");
+  if (!(config.level > 0.0 && config.level < 1.0))
+    throw std::invalid_argument("failed level " + std::to_string(config.level) + " is not in (0, 1)");
+  std::vector<FlightThetaStream> scored;  // the faults a failed decision is owed for
+  for (const FlightThetaStream& f : faulty)
+    if (f.truth.motor > 0 && f.truth.fault_sample >= 0 && f.truth.theta < config.level) scored.push_back(f);
+
+  const LevelChoiceConfig& d = config.degraded;
+  FailedCapChoice choice;
+  for (double cap : config.caps) {
+    FailedCapCandidate c;
+    c.failed = calibrateLevel(excursionMaxima(healthy, config.level, 0, cap, healthy_observable), config.level, d.flight_hours,
+                              d.rate_per_hour, d.noise, d.dt, cap);
+    LevelChoiceConfig under = d;
+    under.failed = c.failed;
+    c.degraded = chooseDegradedLevel(healthy, faulty, under, healthy_observable);
+    SequentialEvaluationConfig e;
+    e.rule = sequentialConfig(c.degraded.candidates[static_cast<std::size_t>(c.degraded.chosen)].degraded, c.failed, d.noise, d.reference);
+    e.dt = d.dt;
+    e.isolation_early = config.delay_budget;
+    const SequentialEvaluation r = evaluateSequential(scored, e);
+    c.faults = r.recorded_early;
+    c.named = r.named_early;
+    choice.candidates.push_back(c);
+  }
+  for (std::size_t i = 0; i < choice.candidates.size(); ++i) {
+    const FailedCapCandidate& c = choice.candidates[i];
+    if (choice.chosen < 0) {
+      choice.chosen = static_cast<int>(i);
+      continue;
+    }
+    const FailedCapCandidate& best = choice.candidates[static_cast<std::size_t>(choice.chosen)];
+    if (c.named > best.named || (c.named == best.named && c.failed.increment_cap < best.failed.increment_cap))
+      choice.chosen = static_cast<int>(i);
+  }
+  return choice;
+}
+
 }  // namespace quadfdi

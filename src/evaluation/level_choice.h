@@ -4,7 +4,9 @@
 // calibrated on the same healthy streams (same target rate, same cap) and scored on faulty ones:
 // the share of faults below the highest candidate whose motor the rule names (either severity)
 // `delay_budget` samples after the fault. The best score wins; a tie goes to the higher level.
-// No I/O.
+// The failed statistic's increment cap is chosen alike (chooseFailedCap): each cap calibrated on
+// the healthy streams, the degraded level chosen again under it, and scored on the faults below
+// the failed level by the share named 50 ms after the fault. No I/O.
 #pragma once
 
 #include <vector>
@@ -42,6 +44,33 @@ struct LevelChoice {
 // `healthy_observable`: the healthy streams' CommandGate masks (excursionMaxima), or null.
 LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& healthy, const std::vector<FlightThetaStream>& faulty,
                                 const LevelChoiceConfig& config,
+                                const std::vector<std::vector<std::uint8_t>>* healthy_observable = nullptr);
+
+struct FailedCapChoiceConfig {
+  std::vector<double> caps;    // [effectiveness] failed increment caps to try, each > 0 (kNoIncrementCap: none)
+  double level = 0.3;          // [-] the failed level
+  LevelChoiceConfig degraded;  // the degraded level's choice, made again under each cap (its `failed` is set here)
+  long delay_budget = 25;      // [samples] after the fault: 50 ms at 500 Hz, issue 14's bound for complete faults
+};
+
+struct FailedCapCandidate {
+  LevelCalibration failed;  // the failed level calibrated with this cap on the healthy streams
+  LevelChoice degraded;     // the degraded level chosen under it
+  int faults = 0;           // [-] faulty flights with true Θ below the failed level still recorded at the budget
+  int named = 0;            // [-] … whose motor the rule (its chosen degraded level, this failed one) names there
+};
+
+struct FailedCapChoice {
+  std::vector<FailedCapCandidate> candidates;  // in the order given
+  int chosen = -1;                             // index into candidates; −1 when there were none
+};
+
+// The cap that names the most faults below the failed level within the budget; a tie goes to the
+// smaller cap, which bounds a deep healthy dip's weight more. Throws std::invalid_argument for no
+// cap, a cap ≤ 0, or a level outside (0, 1) — and, as chooseDegradedLevel, for a degraded candidate
+// not above the level.
+FailedCapChoice chooseFailedCap(const std::vector<std::vector<MotorTheta>>& healthy, const std::vector<FlightThetaStream>& faulty,
+                                const FailedCapChoiceConfig& config,
                                 const std::vector<std::vector<std::uint8_t>>* healthy_observable = nullptr);
 
 }  // namespace quadfdi

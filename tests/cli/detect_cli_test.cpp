@@ -195,6 +195,33 @@ TEST(DetectCli, CalibrateCapsTheFailedStatisticWhenAsked) {
   EXPECT_NE(bad.out.find("--failed-cap: must be >= 0, got -1"), std::string::npos) << bad.out;
 }
 
+// Several --failed-cap values: each is calibrated and scored on the faulty flights below the failed
+// level, one is kept, its cap is the file's and the choice is in its provenance.
+TEST(DetectCli, CalibrateChoosesAFailedCap) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw", cal = temp("cap-chosen.json");
+  const CommandResult c = run("calibrate --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 6 --failed-cap 0.15 0 --output " + cal);
+  ASSERT_EQ(c.exit_code, 0) << c.out;
+  EXPECT_NE(c.out.find("calibrate: failed cap 0.15: h = "), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("calibrate: failed cap none: h = "), std::string::npos) << c.out;
+  const std::size_t mark = c.out.find(" (chosen)");
+  ASSERT_NE(mark, std::string::npos) << c.out;
+  const std::string line = c.out.substr(c.out.rfind('\n', mark) + 1, mark - c.out.rfind('\n', mark) - 1);
+  const std::string text = readFile(cal);
+  EXPECT_NE(text.find("failed cap chosen from 0.15 (h "), std::string::npos) << text;
+  // The file's failed level carries the chosen cap; an uncapped one has none.
+  const std::size_t failed = text.find("\"failed\"");
+  ASSERT_NE(failed, std::string::npos) << text;
+  const bool capped = text.find("\"increment_cap\": 0.15", failed) != std::string::npos &&
+                      text.find("\"increment_cap\": 0.15", failed) < text.find('}', failed);
+  EXPECT_EQ(capped, line.find("failed cap 0.15") != std::string::npos) << line;
+  // Several caps cannot be told apart without faulty flights; a budget with one cap chooses nothing.
+  const CommandResult none =
+      run("calibrate --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 0 --failed-cap 0.15 0.3 --output " + temp("never-written.json"));
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_EQ(countLines(none.out), 1) << none.out;
+  EXPECT_NE(none.out.find("choosing among several --failed-cap needs --faulty-flights > 0"), std::string::npos) << none.out;
+}
+
 // --reference absolute calibrates Θ̂ as the network gives it (the paper's models); the file says
 // which, detect follows it, and an unknown reference is refused in one line. --estimate-reference
 // changes what the estimate reads and nothing the statistics decide.
@@ -1206,6 +1233,7 @@ TEST(DetectCli, CalibrateRefusesOptionsItsModeWouldNotRead) {
       {"--refit-interval " + shipped + " --degraded-below 0.9", "--degraded-below: --refit-interval keeps the file's levels"},
       {"--refit-interval " + shipped + " --flights 10", "--flights: --refit-interval keeps the file's levels"},
       {"--delay-budget 0.2", "--delay-budget: only chooses among several --degraded-below levels"},
+      {"--failed-delay-budget 0.04", "--failed-delay-budget: only chooses among several --failed-cap values"},
       {"--faulty-flights 0 --interval belt", "--interval: belt needs --faulty-flights > 0"},
   };
   for (const auto& [args, message] : cases) {
