@@ -5,6 +5,18 @@
 #include <string>
 
 namespace quadfdi {
+namespace {
+
+// Index of the candidate no later one is `better` than (the first among equals); −1 for none.
+template <class Candidate, class Better>
+int bestIndex(const std::vector<Candidate>& candidates, Better better) {
+  int chosen = -1;
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (chosen < 0 || better(candidates[i], candidates[static_cast<std::size_t>(chosen)])) chosen = static_cast<int>(i);
+  return chosen;
+}
+
+}  // namespace
 
 LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& healthy, const std::vector<FlightThetaStream>& faulty,
                                 const LevelChoiceConfig& config, const std::vector<std::vector<std::uint8_t>>* healthy_observable) {
@@ -31,16 +43,9 @@ LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& heal
     c.isolated = r.named_late;
     choice.candidates.push_back(c);
   }
-  for (std::size_t i = 0; i < choice.candidates.size(); ++i) {
-    if (choice.chosen < 0) {
-      choice.chosen = static_cast<int>(i);
-      continue;
-    }
-    const LevelCandidate& best = choice.candidates[static_cast<std::size_t>(choice.chosen)];
-    const LevelCandidate& c = choice.candidates[i];
-    if (c.isolated > best.isolated || (c.isolated == best.isolated && c.degraded.level > best.degraded.level))
-      choice.chosen = static_cast<int>(i);
-  }
+  choice.chosen = bestIndex(choice.candidates, [](const LevelCandidate& c, const LevelCandidate& best) {
+    return c.isolated > best.isolated || (c.isolated == best.isolated && c.degraded.level > best.degraded.level);
+  });
   return choice;
 }
 
@@ -73,16 +78,9 @@ FailedCapChoice chooseFailedCap(const std::vector<std::vector<MotorTheta>>& heal
     c.named = r.named_early;
     choice.candidates.push_back(c);
   }
-  for (std::size_t i = 0; i < choice.candidates.size(); ++i) {
-    const FailedCapCandidate& c = choice.candidates[i];
-    if (choice.chosen < 0) {
-      choice.chosen = static_cast<int>(i);
-      continue;
-    }
-    const FailedCapCandidate& best = choice.candidates[static_cast<std::size_t>(choice.chosen)];
-    if (c.named > best.named || (c.named == best.named && c.failed.increment_cap < best.failed.increment_cap))
-      choice.chosen = static_cast<int>(i);
-  }
+  choice.chosen = bestIndex(choice.candidates, [](const FailedCapCandidate& c, const FailedCapCandidate& best) {
+    return c.named > best.named || (c.named == best.named && c.failed.increment_cap < best.failed.increment_cap);
+  });
   return choice;
 }
 
