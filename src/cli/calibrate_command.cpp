@@ -8,6 +8,7 @@
 #include <limits>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 
 #include "cli/cli_util.h"
@@ -206,14 +207,6 @@ int beltBoundaryFlights(int faulty_flights) { return faulty_flights > 0 ? std::m
 // A --degraded-cap / --failed-cap value as the CUSUM's cap: 0 means none.
 double incrementCap(double option) { return option > 0.0 ? option : kNoIncrementCap; }
 
-// ", failed cap 0.15" for a capped failed statistic (the calibration's provenance), else nothing.
-std::string failedCapNote(double cap) {
-  if (!(cap > 0.0) || cap == kNoIncrementCap) return "";
-  char text[48];
-  std::snprintf(text, sizeof text, ", failed cap %g", cap);
-  return text;
-}
-
 // A cap as the calibrate report prints it: "0.15", or "none".
 std::string capText(double cap) {
   if (cap == kNoIncrementCap) return "none";
@@ -221,6 +214,9 @@ std::string capText(double cap) {
   std::snprintf(text, sizeof text, "%g", cap);
   return text;
 }
+
+// ", failed cap 0.15" for a capped failed statistic (the calibration's provenance), else nothing.
+std::string failedCapNote(double cap) { return cap == kNoIncrementCap ? "" : ", failed cap " + capText(cap); }
 
 }  // namespace
 
@@ -429,11 +425,11 @@ int runCalibrate(const CalibrateOptions& o) {
   choose_cap.delay_budget = std::lround(o.failed_delay_budget / dt);
   // The complete failures flown for the belt count too when caps are chosen: they are the faults a 50 ms decision is
   // owed for (the degraded level is then chosen on them as well; each names them within 300 ms, so the order holds).
-  std::vector<FlightThetaStream> scored = faulty;
-  if (o.failed_cap.size() > 1) scored.insert(scored.end(), boundary.begin(), boundary.end());
-  const FailedCapChoice cap_choice = chooseFailedCap(
-      healthy, o.degraded_below.size() == 1 && o.failed_cap.size() == 1 ? std::vector<FlightThetaStream>{} : scored, choose_cap,
-      &healthy_observable);
+  // Moved, not copied: neither list is read after the choice.
+  if (o.failed_cap.size() > 1) faulty.insert(faulty.end(), std::make_move_iterator(boundary.begin()), std::make_move_iterator(boundary.end()));
+  const std::vector<FlightThetaStream> no_flights;  // one level and one cap: nothing to choose, nothing to score
+  const std::vector<FlightThetaStream>& scored = o.degraded_below.size() == 1 && o.failed_cap.size() == 1 ? no_flights : faulty;
+  const FailedCapChoice cap_choice = chooseFailedCap(healthy, scored, choose_cap, &healthy_observable);
   const FailedCapCandidate& chosen_cap = cap_choice.candidates[static_cast<std::size_t>(cap_choice.chosen)];
   c.failed = chosen_cap.failed;
   const LevelChoice& choice = chosen_cap.degraded;

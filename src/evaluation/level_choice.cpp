@@ -16,6 +16,14 @@ int bestIndex(const std::vector<Candidate>& candidates, Better better) {
   return chosen;
 }
 
+// The faulty flights whose true Θ is below `bound`: the faults a choice is scored on.
+std::vector<FlightThetaStream> faultsBelow(const std::vector<FlightThetaStream>& faulty, double bound) {
+  std::vector<FlightThetaStream> below;
+  for (const FlightThetaStream& f : faulty)
+    if (f.truth.motor > 0 && f.truth.fault_sample >= 0 && f.truth.theta < bound) below.push_back(f);
+  return below;
+}
+
 }  // namespace
 
 LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& healthy, const std::vector<FlightThetaStream>& faulty,
@@ -25,9 +33,7 @@ LevelChoice chooseDegradedLevel(const std::vector<std::vector<MotorTheta>>& heal
     if (!(level > config.failed.level && level <= 1.0))
       throw std::invalid_argument("degraded level " + std::to_string(level) + " is not in (failed level, 1]");
   const double highest = *std::max_element(config.candidates.begin(), config.candidates.end());
-  std::vector<FlightThetaStream> scored;  // the faults every candidate is asked to report
-  for (const FlightThetaStream& f : faulty)
-    if (f.truth.motor > 0 && f.truth.fault_sample >= 0 && f.truth.theta < highest) scored.push_back(f);
+  const std::vector<FlightThetaStream> scored = faultsBelow(faulty, highest);  // the faults every candidate is asked to report
 
   LevelChoice choice;
   for (double level : config.candidates) {
@@ -56,9 +62,7 @@ FailedCapChoice chooseFailedCap(const std::vector<std::vector<MotorTheta>>& heal
     if (!(cap > 0.0)) throw std::invalid_argument("failed cap " + std::to_string(cap) + " is not above 0");
   if (!(config.level > 0.0 && config.level < 1.0))
     throw std::invalid_argument("failed level " + std::to_string(config.level) + " is not in (0, 1)");
-  std::vector<FlightThetaStream> scored;  // the faults a failed decision is owed for
-  for (const FlightThetaStream& f : faulty)
-    if (f.truth.motor > 0 && f.truth.fault_sample >= 0 && f.truth.theta < config.level) scored.push_back(f);
+  const std::vector<FlightThetaStream> scored = faultsBelow(faulty, config.level);  // the faults a failed decision is owed for
 
   const LevelChoiceConfig& d = config.degraded;
   FailedCapChoice choice;
