@@ -271,8 +271,13 @@ SequentialSetup sequentialSetup(const std::string& calibration_file, std::option
     // A level other than the calibrated one has no excursion data: Siegmund on the calibrated noise model.
     for (auto [level, below] : {std::pair<LevelCalibration*, double>{&c.degraded, degraded_below.value_or(c.degraded.level)},
                                 {&c.failed, failed_below.value_or(c.failed.level)}}) {
-      if (std::abs(level->level - below) > 1e-9) *level = calibrateLevel({}, below, 0.0, per_level, c.noise, dt, level->increment_cap);
-      else retarget(*level, c.flight_hours, per_level, c.noise, dt);
+      if (std::abs(level->level - below) > 1e-9) {
+        const double share = level->min_command_share;  // the gate stays the calibration's
+        *level = calibrateLevel({}, below, 0.0, per_level, c.noise, dt, level->increment_cap);
+        level->min_command_share = share;
+      } else {
+        retarget(*level, c.flight_hours, per_level, c.noise, dt);
+      }
     }
     c.target_rate = rate;
   }

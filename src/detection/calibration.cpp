@@ -90,6 +90,7 @@ SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelC
   c.failed_threshold = failed.threshold;
   c.degraded_cap = degraded.increment_cap;
   c.failed_cap = failed.increment_cap;
+  c.failed_min_share = failed.min_command_share;
   c.noise = noise;
   return c;
 }
@@ -102,7 +103,7 @@ SequentialConfig sequentialConfig(const DecisionCalibration& c) {
 }
 
 std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip, double cap,
-                                    const std::vector<std::vector<std::uint8_t>>* observable) {
+                                    const std::vector<std::vector<std::uint8_t>>* observable, EvidenceLevel of) {
   std::vector<double> maxima;
   for (std::size_t f = 0; f < streams.size(); ++f)
     for (int k = 0; k < kMotors; ++k) {
@@ -111,7 +112,8 @@ std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& 
       double S = 0.0, peak = 0.0;
       for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i) {
         double increment = cusumIncrement(level, static_cast<double>(s[i][static_cast<std::size_t>(k)]), cap);
-        if (mask && !(((*mask)[i] >> k) & 1u)) increment = std::min(increment, 0.0);  // as SequentialRule::update
+        const bool gains = !mask || (of == EvidenceLevel::kFailed ? takesFailedEvidence((*mask)[i], k) : (((*mask)[i] >> k) & 1u) != 0u);
+        if (!gains) increment = std::min(increment, 0.0);  // as SequentialRule::update
         S = std::max(0.0, S + increment);
         if (S > 0.0) {
           peak = std::max(peak, S);

@@ -33,6 +33,8 @@ namespace quadfdi {
 struct LevelCalibration {
   double level = 0.9;               // [-] the CUSUM's reference (degraded_below or failed_below)
   double increment_cap = kNoIncrementCap;  // [effectiveness] the CUSUM's cap per sample (SequentialConfig::degraded_cap)
+  double min_command_share = 0.0;   // [-] failed level only: the CommandGate's failed_min_share the excursions were taken
+                                    //     under, which the detector must gate with (0: none; absent from older files)
   double threshold = 3.0;           // [effectiveness·samples] h for the target rate
   std::string method = "siegmund";  // "tail" (fitted on excursions) | "siegmund" (noise model)
   long excursions = 0;              // [-] CUSUM excursions above zero in the data, all motors
@@ -95,13 +97,18 @@ DecisionCalibration defaultCalibration(double degraded_below, double failed_belo
 ThetaNoiseModel fitNoiseModel(const std::vector<std::vector<MotorTheta>>& streams, long skip = 0,
                               ThetaReference of = ThetaReference::kAbsolute);
 
+// Which of the rule's two statistics an excursion is of: the masks withhold more at the failed level
+// (CommandGate's failed_min_share).
+enum class EvidenceLevel { kDegraded, kFailed };
+
 // Every excursion maximum of the CUSUM S_k = max(0, S_{k−1} + min(level − Θ̂_k, cap)) of every
 // motor of every stream (unsorted). With `observable` (per stream, per sample, CommandGate masks;
-// an empty stream entry: all observable), a motor's statistic gains nothing while it is hidden, as
-// in the rule.
+// an empty stream entry: all observable), a motor's statistic gains nothing while it is hidden (at
+// the failed level: or withheld), as in the rule.
 std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip = 0,
                                     double cap = kNoIncrementCap,
-                                    const std::vector<std::vector<std::uint8_t>>* observable = nullptr);
+                                    const std::vector<std::vector<std::uint8_t>>* observable = nullptr,
+                                    EvidenceLevel of = EvidenceLevel::kDegraded);
 
 // Siegmund's ARL approximation for the AR(1) noise model: the CUSUM threshold h at `level` for
 // `rate_per_hour` false alarms per flight hour over kMotors motors at period dt. At least h_min.

@@ -184,12 +184,14 @@ SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int sam
     // by at most the cap per sample. A held x adds the same increment n times, and max(0, ·) of a
     // constant-sign sum is the same whether applied once or per sample.
     // An unobservable motor (CommandGate) gains no evidence; what it has may still decay.
+    // At the failed level a motor the controller is not commanding up gains none either (CommandGate).
     const double gain_limit = (observable >> k) & 1u ? kNoIncrementCap : 0.0;
+    const double failed_gain_limit = takesFailedEvidence(observable, k) ? kNoIncrementCap : 0.0;
     const double before = degraded_[static_cast<std::size_t>(k)];
     degraded_[static_cast<std::size_t>(k)] =
         std::max(0.0, before + dn * std::min(gain_limit, cusumIncrement(config_.degraded_below, x, config_.degraded_cap)));
     failed_[static_cast<std::size_t>(k)] = std::max(
-        0.0, failed_[static_cast<std::size_t>(k)] + dn * std::min(gain_limit, cusumIncrement(config_.failed_below, x, config_.failed_cap)));
+        0.0, failed_[static_cast<std::size_t>(k)] + dn * std::min(failed_gain_limit, cusumIncrement(config_.failed_below, x, config_.failed_cap)));
     long& since = since_change_[static_cast<std::size_t>(k)];
     if (degraded_[static_cast<std::size_t>(k)] <= 0.0) since = 0;
     else since = (before <= 0.0) ? n : since + n;

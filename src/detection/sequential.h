@@ -127,6 +127,9 @@ struct SequentialConfig {
   int estimate_window = 50;         // [samples] Θ̂ estimate: mean of the last this many samples since the
                                     //     change point (100 ms at 500 Hz: long against φ, short against the fault)
   double interval_level = 0.9;      // [-] two-sided coverage of [theta_lo, theta_hi]
+  double failed_min_share = 0.0;    // [-] the CommandGate share the failed evidence is gated at (CommandGateConfig::
+                                    //     failed_min_share; 0: none). The rule reads it through the masks it is given;
+                                    //     whoever computes them (the detector, the evaluation's streams) sets the gate from it
   ThetaReference reference = ThetaReference::kAbsolute;           // what the statistics and the recovery read (ruleInput)
   ThetaReference estimate_reference = ThetaReference::kAbsolute;  // what the estimate and its interval read: the network's
                                                                    //     own Θ̂ keeps the siblings' errors out of the estimate

@@ -68,7 +68,7 @@ FailedCapChoice chooseFailedCap(const std::vector<std::vector<MotorTheta>>& heal
   FailedCapChoice choice;
   for (double cap : config.caps) {
     FailedCapCandidate c;
-    c.failed = calibrateLevel(excursionMaxima(healthy, config.level, 0, cap, healthy_observable), config.level, d.flight_hours,
+    c.failed = calibrateLevel(excursionMaxima(healthy, config.level, 0, cap, healthy_observable, EvidenceLevel::kFailed), config.level, d.flight_hours,
                               d.rate_per_hour, d.noise, d.dt, cap);
     LevelChoiceConfig under = d;
     under.failed = c.failed;

@@ -26,6 +26,7 @@ nlohmann::json levelToJson(const LevelCalibration& c) {
           {"rate_at_threshold", c.rate_at_threshold},
           {"rate_upper_bound", c.rate_upper_bound}};
   if (std::isfinite(c.increment_cap)) j["increment_cap"] = c.increment_cap;  // absent: no cap (files before the cap)
+  if (c.min_command_share > 0.0) j["min_command_share"] = c.min_command_share;  // absent: no gate (files before 2026-12-04)
   return j;
 }
 
@@ -51,6 +52,7 @@ LevelCalibration levelFromJson(const nlohmann::json& j) {
   c.rate_at_threshold = j.at("rate_at_threshold").get<double>();
   c.rate_upper_bound = j.at("rate_upper_bound").get<double>();
   if (j.contains("increment_cap")) c.increment_cap = j.at("increment_cap").get<double>();
+  if (j.contains("min_command_share")) c.min_command_share = j.at("min_command_share").get<double>();
   return c;
 }
 
@@ -158,6 +160,9 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
   if (ownEstimateNoise(c))  // the same config as above otherwise; only its noise model differs
     if (std::string p = validate(sequentialConfig(c)); !p.empty()) throw fail("bad calibration: estimate_" + p);
   if (!(c.target_rate > 0.0) || !(c.dt > 0.0) || !(c.flight_hours >= 0.0)) throw fail("bad calibration: target_rate, dt or flight_hours out of range");
+  // 4: the most a share of the mean can be (the other three motors at zero).
+  if (!(c.failed.min_command_share >= 0.0 && c.failed.min_command_share <= 4.0) || c.degraded.min_command_share != 0.0)
+    throw fail("bad calibration: failed min_command_share must lie in [0, 4] (the degraded level has none)");
   return c;
 }
 

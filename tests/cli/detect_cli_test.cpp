@@ -222,6 +222,41 @@ TEST(DetectCli, CalibrateChoosesAFailedCap) {
   EXPECT_NE(none.out.find("choosing among several --failed-cap needs --faulty-flights > 0"), std::string::npos) << none.out;
 }
 
+// --failed-min-share: the calibration records the command share its failed excursions were gated
+// at, and detect gates with it. A share no motor's command reaches (4: four times the mean, the
+// other three at zero; this flight's failed motor peaks near 3.9) withholds every failed sample, so
+// the complete failure that the same thresholds call `failed` without the share stays `degraded`.
+TEST(DetectCli, TheFailedShareTravelsFromCalibrateToDetect) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw", cal = temp("failed-share.json");
+  const CommandResult c = run("calibrate -q --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 3 --failed-min-share 1 --output " + cal);
+  ASSERT_EQ(c.exit_code, 0) << c.out;
+  const std::string file = readFile(cal);
+  EXPECT_NE(file.find("\"min_command_share\": 1.0"), std::string::npos) << file;
+  EXPECT_NE(file.find(", failed evidence at command shares from 1;"), std::string::npos) << file;  // and in `source`
+  // The same thresholds with no share, and with one of 4.
+  const std::string key = "\"min_command_share\": 1.0";
+  const std::size_t at = file.find(key);
+  ASSERT_NE(at, std::string::npos);
+  std::string open = file, never = file;
+  open.replace(at, key.size(), "\"min_command_share\": 0.0");
+  never.replace(at, key.size(), "\"min_command_share\": 4.0");
+  const std::string open_cal = temp("failed-share-0.json"), never_cal = temp("failed-share-4.json");
+  std::ofstream(open_cal) << open;
+  std::ofstream(never_cal) << never;
+  const CommandResult a = run("detect -q --model " + model + " --calibration " + open_cal + " --input " + faultyCsv() + " --output -", false);
+  const CommandResult b = run("detect -q --model " + model + " --calibration " + never_cal + " --input " + faultyCsv() + " --output -", false);
+  ASSERT_EQ(a.exit_code, 0) << a.out.substr(0, 400);
+  ASSERT_EQ(b.exit_code, 0) << b.out.substr(0, 400);
+  EXPECT_NE(a.out.find("\"motor\": 3, \"severity\": \"failed\""), std::string::npos);
+  EXPECT_EQ(b.out.find("\"severity\": \"failed\""), std::string::npos);
+  EXPECT_NE(b.out.find("\"motor\": 3, \"severity\": \"degraded\""), std::string::npos);
+  // Out of range: refused in one line, nothing written.
+  const CommandResult bad = run("calibrate --model " + model + " --flights 2 --failed-min-share 5 --output " + temp("never-written-share.json"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(countLines(bad.out), 1) << bad.out;
+  EXPECT_NE(bad.out.find("--failed-min-share"), std::string::npos) << bad.out;
+}
+
 // --reference absolute calibrates Θ̂ as the network gives it (the paper's models); the file says
 // which, detect follows it, and an unknown reference is refused in one line. --estimate-reference
 // changes what the estimate reads and nothing the statistics decide.

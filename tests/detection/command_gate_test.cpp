@@ -128,5 +128,68 @@ TEST(CommandGate, TheCalibrationCountsNoExcursionOfAHiddenMotor) {
   EXPECT_NEAR(gated[0], 5 * 0.3, 1e-5);
 }
 
+TEST(CommandGate, AFailedShareWithholdsFailedEvidenceFromAMotorCommandedBelowIt) {
+  CommandGateConfig c = gateConfig(5);
+  c.failed_min_share = 1.0;
+  CommandGate gate(c);
+  // Mean 1.0: motors 2 and 3 below it are withheld at the failed level (bits 5 and 6), every motor
+  // observable; at the mean exactly, not withheld.
+  EXPECT_EQ(gate.step({1.3, 0.8, 0.9, 1.0}), kAllMotorsObservable | 0x60);
+  EXPECT_TRUE(takesFailedEvidence(kAllMotorsObservable | 0x60, 0));
+  EXPECT_FALSE(takesFailedEvidence(kAllMotorsObservable | 0x60, 1));
+  EXPECT_TRUE(takesFailedEvidence(kAllMotorsObservable | 0x60, 3));
+  // Instantaneous: the next sample's commands decide alone (the failed motor is commanded up at once
+  // when the controller sees the loss); observability keeps its hold.
+  EXPECT_EQ(gate.step({0.8, 1.3, 1.0, 0.9}), kAllMotorsObservable | 0x90);
+  EXPECT_EQ(gate.step({1.0, 1.0, 0.2, 1.0}), 0x0B | 0x40);
+  EXPECT_FALSE(takesFailedEvidence(0x0B, 2));  // hidden: no evidence at either level
+  // No thrust at all: nothing observable, everything withheld.
+  EXPECT_EQ(gate.step({0.0, 0.0, 0.0, 0.0}), 0xF0);
+  // Observability off, the failed share on: every motor observable, the low one withheld.
+  c.min_share = 0.0;
+  CommandGate failed_only(c);
+  EXPECT_EQ(failed_only.step({0.0, 1.0, 1.0, 1.0}), kAllMotorsObservable | 0x10);
+  // The share off (every calibration before it): nothing withheld, as before.
+  CommandGate plain(gateConfig(5));
+  EXPECT_EQ(plain.step({1.3, 0.8, 0.9, 1.0}), kAllMotorsObservable);
+}
+
+TEST(CommandGate, AWithheldMotorGainsDegradedButNotFailedEvidence) {
+  SequentialConfig c;
+  c.degraded_below = 0.8;
+  c.degraded_threshold = 100.0;  // out of reach: only the statistics are watched
+  c.failed_threshold = 100.0;
+  SequentialRule rule(c);
+  const MotorTheta dip{0.0f, 0.97f, 0.97f, 0.97f};
+  const auto withheld1 = static_cast<std::uint8_t>(kAllMotorsObservable | (1u << kFailedWithheldShift));
+  for (int i = 0; i < 5; ++i) rule.update(dip, 1, withheld1);
+  EXPECT_NEAR(rule.degradedStatistic(0), 5 * 0.8, 1e-6);
+  EXPECT_EQ(rule.failedStatistic(0), 0.0);
+  // Commanded up again: the failed statistic grows from where it was.
+  for (int i = 0; i < 3; ++i) rule.update(dip, 1, kAllMotorsObservable);
+  EXPECT_NEAR(rule.failedStatistic(0), 3 * 0.3, 1e-6);
+  EXPECT_NEAR(rule.degradedStatistic(0), 8 * 0.8, 1e-6);
+  // Withheld again with a healthy reading: the failed statistic still drains.
+  rule.update({0.97f, 0.97f, 0.97f, 0.97f}, 1, withheld1);
+  EXPECT_NEAR(rule.failedStatistic(0), 0.9 - 0.67, 1e-6);
+  // Read against the siblings, the withheld bits pass through evidenceMask untouched.
+  EXPECT_EQ(evidenceMask(withheld1, MotorTheta{0.1f, 0.97f, 0.97f, 0.97f}, ThetaReference::kOthers), withheld1);
+}
+
+TEST(CommandGate, TheFailedCalibrationCountsNoWithheldSample) {
+  // Motor 2 dips to 0.1 for 20 samples, withheld at the failed level for the first 15: the failed
+  // excursion holds the last 5 samples' deficits only; the degraded one all 20.
+  std::vector<std::vector<MotorTheta>> streams(1, std::vector<MotorTheta>(200, MotorTheta{0.97f, 0.97f, 0.97f, 0.97f}));
+  std::vector<std::vector<std::uint8_t>> masks(1, std::vector<std::uint8_t>(200, kAllMotorsObservable));
+  for (int i = 100; i < 120; ++i) streams[0][static_cast<std::size_t>(i)][1] = 0.1f;
+  for (int i = 100; i < 115; ++i) masks[0][static_cast<std::size_t>(i)] = kAllMotorsObservable | (1u << (kFailedWithheldShift + 1));
+  const std::vector<double> failed = excursionMaxima(streams, 0.3, 0, kNoIncrementCap, &masks, EvidenceLevel::kFailed);
+  const std::vector<double> degraded = excursionMaxima(streams, 0.8, 0, kNoIncrementCap, &masks, EvidenceLevel::kDegraded);
+  ASSERT_EQ(failed.size(), 1U);
+  ASSERT_EQ(degraded.size(), 1U);
+  EXPECT_NEAR(failed[0], 5 * 0.2, 1e-5);
+  EXPECT_NEAR(degraded[0], 20 * 0.7, 1e-5);
+}
+
 }  // namespace
 }  // namespace quadfdi

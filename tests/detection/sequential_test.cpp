@@ -811,6 +811,20 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
     const std::string not_text = rejectionAfterEdit(json, "\"0x0badf00d\"", "195948557");
     EXPECT_EQ(not_text.rfind("cal.json: bad calibration: ", 0), 0u) << not_text;
   }
+  {  // the failed level's command share round-trips into the rule; absent (files before 2026-12-04): none; out of range: refused
+    DecisionCalibration gated = c;
+    gated.failed.min_command_share = 0.9;
+    const std::string json = calibrationToJson(gated);
+    EXPECT_NE(json.find("\"min_command_share\": 0.9"), std::string::npos) << json;
+    const DecisionCalibration gated_back = calibrationFromJson(json, "x.json");
+    EXPECT_EQ(gated_back.failed.min_command_share, 0.9);
+    EXPECT_EQ(sequentialConfig(gated_back).failed_min_share, 0.9);
+    EXPECT_EQ(calibrationToJson(gated_back), json);
+    EXPECT_EQ(calibrationToJson(c).find("min_command_share"), std::string::npos);
+    EXPECT_EQ(sequentialConfig(calibrationFromJson(calibrationToJson(c), "x.json")).failed_min_share, 0.0);
+    const std::string error = rejectionAfterEdit(json, "\"min_command_share\": 0.9", "\"min_command_share\": 4.5");
+    EXPECT_NE(error.find("cal.json: bad calibration: failed min_command_share must lie in [0, 4]"), std::string::npos) << error;
+  }
   {  // the reference round-trips; absent (every file before 2026-11-26): absolute; unknown: refused
     DecisionCalibration relative = c;
     relative.reference = ThetaReference::kOthers;
