@@ -52,7 +52,7 @@ class CommandGate {
   explicit CommandGate(const CommandGateConfig& config = {}) : config_(config) { reset(); }
   // A new flight or a restart: every motor observable (nothing seen yet against it).
   void reset() { since_low_.fill(config_.hold); }
-  // One model sample's commands [N]; returns the observable mask after it.
+  // One model sample's commands [N]; returns the mask after it (observable bits, and the failed level's withheld bits).
   std::uint8_t step(const std::array<double, kMotors>& u) {
     const double mean = 0.25 * (u[0] + u[1] + u[2] + u[3]);
     std::uint8_t mask = 0;

@@ -167,7 +167,8 @@ class SequentialRule {
   // One Θ̂ (the network's output; the statistics take ruleInput of it by `reference`, the estimate by
   // `estimate_reference`) that stands for `samples` ≥ 1 model samples (the detector's stride holds an
   // estimate until the next evaluation). `gate_mask` is the CommandGate's: a motor whose bit is clear in
-  // evidenceMask(gate_mask, ruleInput(theta, reference), reference) takes no evidence: its statistics may fall, not rise. No allocation.
+  // evidenceMask(gate_mask, ruleInput(theta, reference), reference) takes no evidence: its statistics may fall, not rise;
+  // one whose failed-level bit is set (takesFailedEvidence false) takes none at the failed level. No allocation.
   SequentialStatus update(const MotorTheta& theta, int samples, std::uint8_t gate_mask = kAllMotorsObservable);
   const SequentialState& state() const { return state_; }
   bool active() const { return state_.severity != Severity::kHealthy; }
