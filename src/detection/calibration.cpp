@@ -112,7 +112,7 @@ std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& 
       double S = 0.0, peak = 0.0;
       for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i) {
         double increment = cusumIncrement(level, static_cast<double>(s[i][static_cast<std::size_t>(k)]), cap);
-        const bool gains = !mask || (of == EvidenceLevel::kFailed ? takesFailedEvidence((*mask)[i], k) : (((*mask)[i] >> k) & 1u) != 0u);
+        const bool gains = !mask || (of == EvidenceLevel::kFailed ? takesFailedEvidence((*mask)[i], k) : takesEvidence((*mask)[i], k));
         if (!gains) increment = std::min(increment, 0.0);  // as SequentialRule::update
         S = std::max(0.0, S + increment);
         if (S > 0.0) {

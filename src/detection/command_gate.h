@@ -32,9 +32,12 @@ namespace quadfdi {
 inline constexpr std::uint8_t kAllMotorsObservable = 0x0F;
 inline constexpr int kFailedWithheldShift = 4;
 
+// Whether motor k (0-based) may gain evidence at the degraded level under `mask` (observable).
+inline bool takesEvidence(std::uint8_t mask, int k) { return ((mask >> k) & 1u) != 0u; }
+
 // Whether motor k (0-based) may gain evidence at the failed level under `mask` (observable, not withheld).
 inline bool takesFailedEvidence(std::uint8_t mask, int k) {
-  return ((mask >> k) & 1u) != 0u && ((mask >> (kFailedWithheldShift + k)) & 1u) == 0u;
+  return takesEvidence(mask, k) && ((mask >> (kFailedWithheldShift + k)) & 1u) == 0u;
 }
 
 struct CommandGateConfig {

@@ -162,7 +162,7 @@ std::uint8_t evidenceMask(std::uint8_t observable, const MotorTheta& rule_input,
   int seen = 0;
   bool a_seen_motor_reads_strong = false;
   for (int k = 0; k < kMotors; ++k) {
-    if (!((observable >> k) & 1u)) continue;
+    if (!takesEvidence(observable, k)) continue;
     ++seen;
     a_seen_motor_reads_strong = a_seen_motor_reads_strong || !(rule_input[static_cast<std::size_t>(k)] < kMinOthersMedian);
   }
@@ -185,7 +185,7 @@ SequentialStatus SequentialRule::update(const MotorTheta& network_theta, int sam
     // constant-sign sum is the same whether applied once or per sample.
     // An unobservable motor (CommandGate) gains no evidence; what it has may still decay.
     // At the failed level a motor the controller is not commanding up gains none either (CommandGate).
-    const double gain_limit = (observable >> k) & 1u ? kNoIncrementCap : 0.0;
+    const double gain_limit = takesEvidence(observable, k) ? kNoIncrementCap : 0.0;
     const double failed_gain_limit = takesFailedEvidence(observable, k) ? kNoIncrementCap : 0.0;
     const double before = degraded_[static_cast<std::size_t>(k)];
     degraded_[static_cast<std::size_t>(k)] =
