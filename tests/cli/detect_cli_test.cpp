@@ -1068,6 +1068,33 @@ TEST(DetectCli, TheQuadRunsItsBodyRatesModelWhereTheTelemetryHasRates) {
   EXPECT_EQ(named.out, run("detect -q --vehicle quad450 --input " + without, false).out);
 }
 
+// The general body-rates model ships beside the general model (models/README.md, 2026-12-05): on
+// an airframe no model was trained on (the held-out X500), telemetry with p,q,r runs it and says
+// so, and a complete failure of motor 2 under the PID is named `failed` on motor 2 within 0.1 s;
+// the same flight without rates runs the general model and names the same motor.
+TEST(DetectCli, TelemetryWithRatesRunsTheGeneralBodyRatesModelWithoutAVehicle) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string with_rates = temp("x500-rates.csv"), without = temp("x500-no-rates.csv");
+  const std::string flight = "simulate --params " + src + "/configs/vehicles/held-out/x500.toml --controller pid --motor 2 --theta 0 "
+                             "--fault-step 500 --steps 1000 --seed 2 --attitude-noise 0.002 ";
+  ASSERT_EQ(run(flight + "--rates --rate-noise 0.02 --output " + with_rates).exit_code, 0);
+  ASSERT_EQ(run(flight + "--output " + without).exit_code, 0);
+  const CommandResult rates = run("detect --output - --input " + with_rates, true);
+  ASSERT_EQ(rates.exit_code, 0) << rates.out;
+  EXPECT_NE(rates.out.find("detect: model " + src + "/models/tcn-randomised-rates.qfdw (the telemetry carries body rates: the general "
+                           "body-rates model)"),
+            std::string::npos) << rates.out.substr(0, 400);
+  const std::size_t first = rates.out.find("\"alarm\": true, \"motor\": 2, \"severity\": \"failed\"");
+  ASSERT_NE(first, std::string::npos) << rates.out.substr(rates.out.size() - 600);
+  const std::size_t line = rates.out.rfind("{\"t\": ", first);
+  EXPECT_LT(std::stod(rates.out.substr(line + 6, 12)), 1.1);
+  EXPECT_EQ(rates.out.find("\"alarm\": true, \"motor\": 1"), std::string::npos);
+  const CommandResult plain = run("detect --output - --input " + without, true);
+  ASSERT_EQ(plain.exit_code, 0) << plain.out;
+  EXPECT_EQ(plain.out.find("general body-rates model"), std::string::npos) << plain.out.substr(0, 400);
+  EXPECT_NE(plain.out.find("detect: FAULT in motor 2 at t = 1.0"), std::string::npos) << plain.out.substr(plain.out.size() - 600);
+}
+
 // A model's calibration for one airframe (MODEL.STEM.calibration.json beside MODEL.qfdw) is what
 // detect --vehicle STEM.toml runs with, and says so; without such a file, the model's own sidecar.
 TEST(DetectCli, AVehicleRunsTheModelsCalibrationForIt) {
