@@ -80,6 +80,10 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateOptions& o) {
          "The failed statistic gains evidence against a motor only while its command is at least this share of the mean "
          "command (a motor that has lost its thrust is commanded up by any stabilising controller; 0: always)")
       .range(0.0, 4.0);
+  t->add("--degraded-min-share", o.degraded_min_share,
+         "Both statistics gain evidence against a motor only while its command is at least this share of the mean command "
+         "(a motor at effectiveness Θ is commanded about 4 / (3Θ + 1) of the mean in steady flight; 0: always)")
+      .range(0.0, 4.0);
   t->add("--failed-delay-budget", o.failed_delay_budget,
          "Choosing among several --failed-cap: the delay a fault below --failed-below must be named within [s]")
       .above(0.0, 60.0);
@@ -191,10 +195,12 @@ std::vector<MotorTheta> thetaStream(const TrainedModel& model, const std::vector
 
 // The command gate's mask for each Θ̂ of thetaStream (stream index i is flight sample i + T − 1;
 // the simulated flights are at the model rate, so the detector's resampler passes them through).
-std::vector<std::uint8_t> observableMasks(const std::vector<TelemetrySample>& flight, int window, double failed_min_share) {
+std::vector<std::uint8_t> observableMasks(const std::vector<TelemetrySample>& flight, int window, double failed_min_share,
+                                          double degraded_min_share) {
   CommandGateConfig config;
   config.hold = window;
   config.failed_min_share = failed_min_share;
+  config.degraded_min_share = degraded_min_share;
   CommandGate gate(config);
   std::vector<std::uint8_t> masks;
   for (std::size_t k = 0; k < flight.size(); ++k) {
@@ -238,7 +244,7 @@ int runCalibrate(const CalibrateOptions& o) {
   if (!o.refit_interval.empty())
     refuseGiven(o.given,
                 {"flights", "flight_seconds", "settle", "false_alarms_per_hour", "degraded_below", "failed_below", "delay_budget",
-                 "degraded_cap", "failed_cap", "failed_delay_budget", "failed_min_share", "reference", "estimate_reference"},
+                 "degraded_cap", "failed_cap", "failed_delay_budget", "failed_min_share", "degraded_min_share", "reference", "estimate_reference"},
                 "--refit-interval keeps the file's levels, thresholds, caps and references and flies no healthy flight: drop it");
   if (o.degraded_below.size() < 2) refuseGiven(o.given, {"delay_budget"}, "only chooses among several --degraded-below levels");
   if (o.failed_cap.size() < 2) refuseGiven(o.given, {"failed_delay_budget"}, "only chooses among several --failed-cap values");
@@ -265,6 +271,7 @@ int runCalibrate(const CalibrateOptions& o) {
   require(settle_samples < steps - T, "--settle must leave some of each --flight-seconds flight");
   // The command gate's failed share: a refit's faulty flights are gated as the file's detector gates them.
   const double failed_min_share = refit ? c.failed.min_command_share : o.failed_min_share;
+  const double degraded_min_share = refit ? c.degraded.min_command_share : o.degraded_min_share;
   constexpr std::uint64_t kFirstStream = std::uint64_t{1} << 42;  // disjoint from training (0 …), held-out (2⁴⁰), test (2⁴¹)
 
   std::vector<std::vector<MotorTheta>> healthy;
@@ -285,6 +292,7 @@ int runCalibrate(const CalibrateOptions& o) {
     for (int f = 0; f < healthy_flights; ++f) jobs.push_back({static_cast<std::uint64_t>(f), 2, 1.0});
     ThetaStreamOptions streaming;  // all cores
     streaming.gate.failed_min_share = failed_min_share;
+    streaming.gate.degraded_min_share = degraded_min_share;
     streaming.chunk = 16;          // minute-long flights: 16 at a time bound the raw samples held at once
     for (FlightThetaStream& s : simulateThetaStreams(model, rc, jobs, streaming)) {
       dropLeadingSamples(s, settle_samples);
@@ -313,7 +321,7 @@ int runCalibrate(const CalibrateOptions& o) {
       const std::vector<TelemetrySample> flight = simulateFlight(o.seed, kFirstStream + static_cast<std::uint64_t>(f), steps, goal_steps, 0, 1.0, 0, o);
       FlightThetaStream s;
       s.theta = thetaStream(model, flight);
-      s.observable = observableMasks(flight, T, failed_min_share);
+      s.observable = observableMasks(flight, T, failed_min_share, degraded_min_share);
       dropLeadingSamples(s, settle_samples);
       samples += static_cast<long>(s.theta.size());
       healthy.push_back(std::move(s.theta));
@@ -354,7 +362,7 @@ int runCalibrate(const CalibrateOptions& o) {
     const std::vector<TelemetrySample> flight = simulateFlight(o.seed, kFirstStream + (std::uint64_t{1} << 30) + static_cast<std::uint64_t>(index),
                                                                flight_steps, flight_steps, motor, theta, fault_step, o);
     s.theta = thetaStream(model, flight);
-    s.observable = observableMasks(flight, T, failed_min_share);
+    s.observable = observableMasks(flight, T, failed_min_share, degraded_min_share);
     s.truth.fault_sample = fault_step - (T - 1);  // stream index of the fault's sample
     return s;
   };
@@ -443,6 +451,7 @@ int runCalibrate(const CalibrateOptions& o) {
   c.failed.min_command_share = failed_min_share;
   const LevelChoice& choice = chosen_cap.degraded;
   c.degraded = choice.candidates[static_cast<std::size_t>(choice.chosen)].degraded;
+  c.degraded.min_command_share = degraded_min_share;
   std::string chosen_from;
   if (choice.candidates.size() > 1) {
     char part[160];
@@ -469,7 +478,8 @@ int runCalibrate(const CalibrateOptions& o) {
                 o.flight_seconds, o.settle, o.faulty_flights);
   c.source = "quadfdi calibrate: model " + model_path + "; " + flights + "; reference " + o.reference + ", estimate " + o.estimate_reference + (o.interval == "belt" ? ", interval belt" : "") +
              failedCapNote(c.failed.increment_cap) +
-             (failed_min_share > 0.0 ? ", failed evidence at command shares from " + capText(failed_min_share) : std::string()) + "; " +
+             (failed_min_share > 0.0 ? ", failed evidence at command shares from " + capText(failed_min_share) : std::string()) +
+             (degraded_min_share > 0.0 ? ", all evidence at command shares from " + capText(degraded_min_share) : std::string()) + "; " +
              (o.randomise.empty() ? "LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
                                         std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
                                   : "randomisation " + o.randomise + vehicleNames(o.vehicles)) +

@@ -36,6 +36,8 @@ struct CalibrateOptions {
                                         //     CUSUM); with several, the one chosen on the faulty flights (level_choice.h)
   double failed_min_share = 0.0;        // [-] of the mean command: below it a motor takes no failed evidence (CommandGateConfig::
                                         //     failed_min_share; 0: off)
+  double degraded_min_share = 0.0;      // [-] of the mean command: below it a motor takes no evidence at either level
+                                        //     (CommandGateConfig::degraded_min_share; 0: off)
   double failed_delay_budget = 0.05;    // [s] cap choice: a fault below the failed level counts when its motor is named this
                                         //     long after it (issue 14's 50 ms)
   std::string reference = "others";  // the rule's input (detection/sequential.h ThetaReference): "others" calibrated the

@@ -91,6 +91,7 @@ SequentialConfig sequentialConfig(const LevelCalibration& degraded, const LevelC
   c.degraded_cap = degraded.increment_cap;
   c.failed_cap = failed.increment_cap;
   c.failed_min_share = failed.min_command_share;
+  c.degraded_min_share = degraded.min_command_share;
   c.noise = noise;
   return c;
 }

@@ -33,7 +33,7 @@ namespace quadfdi {
 struct LevelCalibration {
   double level = 0.9;               // [-] the CUSUM's reference (degraded_below or failed_below)
   double increment_cap = kNoIncrementCap;  // [effectiveness] the CUSUM's cap per sample (SequentialConfig::degraded_cap)
-  double min_command_share = 0.0;   // [-] failed level only: the CommandGate's failed_min_share the excursions were taken
+  double min_command_share = 0.0;   // [-] the CommandGate's failed_min_share (failed level) or degraded_min_share (degraded) the excursions were taken
                                     //     under, which the detector must gate with (0: none; absent from older files)
   double threshold = 3.0;           // [effectiveness·samples] h for the target rate
   std::string method = "siegmund";  // "tail" (fitted on excursions) | "siegmund" (noise model)

@@ -16,6 +16,11 @@
 // Evidence at the failed level is taken only on samples where the motor's command is at least
 // `failed_min_share` of the mean; a dip of Θ̂ on a motor the controller is commanding down (a hard
 // manoeuvre, a recovery) then adds nothing to its failed statistic.
+//
+// The degraded share (`degraded_min_share`, docs/decisions.md "Degraded evidence needs a raised
+// command") asks the same of all evidence, at a lower share: in steady flight a motor at
+// effectiveness Θ is commanded 4 / (3Θ + 1) of the mean (1.08 at Θ = 0.9), so a motor commanded
+// below that share now is, to that extent, not the one that lost thrust.
 // Pure: no I/O, no allocation.
 #pragma once
 
@@ -48,6 +53,10 @@ struct CommandGateConfig {
   double failed_min_share = 0.0;  // [-] of the mean command, at the current sample: below it a motor takes no evidence at
                                   //     the failed level (0: off, every calibration before 2026-12-04). Chosen per model by
                                   //     `calibrate --failed-min-share` (docs/decisions.md "Failed evidence needs a raised command")
+  double degraded_min_share = 0.0;  // [-] of the mean command, at the current sample: below it a motor takes no evidence at
+                                    //     either level (it is not observable then; 0: off, every calibration before
+                                    //     2026-12-05). Chosen per model by `calibrate --degraded-min-share`
+                                    //     (docs/decisions.md "Degraded evidence needs a raised command")
 };
 
 class CommandGate {
@@ -69,6 +78,10 @@ class CommandGate {
       } else {
         mask = static_cast<std::uint8_t>(mask | (1u << k));  // observability gating off
       }
+      // Evidence of any loss needs a motor commanded up to the degraded share now: a degraded motor is commanded
+      // up by 1/Θ against the others in steady flight, so a dip of Θ̂ on one commanded below them is not its own.
+      if (config_.degraded_min_share > 0.0 && (!(mean > 0.0) || command < config_.degraded_min_share * mean))
+        mask = static_cast<std::uint8_t>(mask & ~(1u << k));
       if (config_.failed_min_share > 0.0 && (!(mean > 0.0) || command < config_.failed_min_share * mean))
         mask = static_cast<std::uint8_t>(mask | (1u << (kFailedWithheldShift + k)));
     }

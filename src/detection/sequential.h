@@ -130,6 +130,8 @@ struct SequentialConfig {
   double failed_min_share = 0.0;    // [-] the CommandGate share the failed evidence is gated at (CommandGateConfig::
                                     //     failed_min_share; 0: none). The rule reads it through the masks it is given;
                                     //     whoever computes them (the detector, the evaluation's streams) sets the gate from it
+  double degraded_min_share = 0.0;  // [-] the CommandGate share all evidence is gated at (CommandGateConfig::degraded_min_share;
+                                    //     0: none), read the same way
   ThetaReference reference = ThetaReference::kAbsolute;           // what the statistics and the recovery read (ruleInput)
   ThetaReference estimate_reference = ThetaReference::kAbsolute;  // what the estimate and its interval read: the network's
                                                                    //     own Θ̂ keeps the siblings' errors out of the estimate

@@ -161,8 +161,9 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
     if (std::string p = validate(sequentialConfig(c)); !p.empty()) throw fail("bad calibration: estimate_" + p);
   if (!(c.target_rate > 0.0) || !(c.dt > 0.0) || !(c.flight_hours >= 0.0)) throw fail("bad calibration: target_rate, dt or flight_hours out of range");
   // 4: the most a share of the mean can be (the other three motors at zero).
-  if (!(c.failed.min_command_share >= 0.0 && c.failed.min_command_share <= 4.0) || c.degraded.min_command_share != 0.0)
-    throw fail("bad calibration: failed min_command_share must lie in [0, 4] (the degraded level has none)");
+  for (const LevelCalibration* l : {&c.degraded, &c.failed})
+    if (!(l->min_command_share >= 0.0 && l->min_command_share <= 4.0))
+      throw fail(std::string("bad calibration: ") + (l == &c.failed ? "failed" : "degraded") + " min_command_share must lie in [0, 4]");
   return c;
 }
 

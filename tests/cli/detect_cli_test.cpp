@@ -222,6 +222,24 @@ TEST(DetectCli, CalibrateChoosesAFailedCap) {
   EXPECT_NE(none.out.find("choosing among several --failed-cap needs --faulty-flights > 0"), std::string::npos) << none.out;
 }
 
+// A calibration file's command share of 1 (at byte `at`) replaced by 0 (no gate) and by 4 (a share no
+// motor reaches while the others fly), each written beside the tests and run by detect on the faulty
+// flight: {with 0, with 4}.
+const std::string kShareOfOne = "\"min_command_share\": 1.0";
+std::pair<CommandResult, CommandResult> detectWithShareAt(const std::string& model, const std::string& file, std::size_t at,
+                                                          const std::string& stem) {
+  CommandResult results[2];
+  const char* shares[2] = {"0.0", "4.0"};
+  for (int i = 0; i < 2; ++i) {
+    std::string edited = file;
+    edited.replace(at, kShareOfOne.size(), std::string("\"min_command_share\": ") + shares[i]);
+    const std::string cal = temp(stem + "-" + shares[i] + ".json");
+    std::ofstream(cal) << edited;
+    results[i] = run("detect -q --model " + model + " --calibration " + cal + " --input " + faultyCsv() + " --output -", false);
+  }
+  return {results[0], results[1]};
+}
+
 // --failed-min-share: the calibration records the command share its failed excursions were gated
 // at, and detect gates with it. A share no motor's command reaches (4: four times the mean, the
 // other three at zero; this flight's failed motor peaks near 3.9) withholds every failed sample, so
@@ -234,17 +252,9 @@ TEST(DetectCli, TheFailedShareTravelsFromCalibrateToDetect) {
   EXPECT_NE(file.find("\"min_command_share\": 1.0"), std::string::npos) << file;
   EXPECT_NE(file.find(", failed evidence at command shares from 1;"), std::string::npos) << file;  // and in `source`
   // The same thresholds with no share, and with one of 4.
-  const std::string key = "\"min_command_share\": 1.0";
-  const std::size_t at = file.find(key);
+  const std::size_t at = file.find(kShareOfOne);
   ASSERT_NE(at, std::string::npos);
-  std::string open = file, never = file;
-  open.replace(at, key.size(), "\"min_command_share\": 0.0");
-  never.replace(at, key.size(), "\"min_command_share\": 4.0");
-  const std::string open_cal = temp("failed-share-0.json"), never_cal = temp("failed-share-4.json");
-  std::ofstream(open_cal) << open;
-  std::ofstream(never_cal) << never;
-  const CommandResult a = run("detect -q --model " + model + " --calibration " + open_cal + " --input " + faultyCsv() + " --output -", false);
-  const CommandResult b = run("detect -q --model " + model + " --calibration " + never_cal + " --input " + faultyCsv() + " --output -", false);
+  const auto [a, b] = detectWithShareAt(model, file, at, "failed-share");
   ASSERT_EQ(a.exit_code, 0) << a.out.substr(0, 400);
   ASSERT_EQ(b.exit_code, 0) << b.out.substr(0, 400);
   EXPECT_NE(a.out.find("\"motor\": 3, \"severity\": \"failed\""), std::string::npos);
@@ -255,6 +265,30 @@ TEST(DetectCli, TheFailedShareTravelsFromCalibrateToDetect) {
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_EQ(countLines(bad.out), 1) << bad.out;
   EXPECT_NE(bad.out.find("--failed-min-share"), std::string::npos) << bad.out;
+}
+
+// --degraded-min-share: the calibration's degraded level records it and detect gates all evidence
+// with it. A share of 4 leaves no motor observable, so the complete failure raises nothing.
+TEST(DetectCli, TheDegradedShareTravelsFromCalibrateToDetect) {
+  const std::string model = std::string(QUADFDI_SOURCE_DIR) + "/models/tcn-model-free.qfdw", cal = temp("degraded-share.json");
+  const CommandResult c = run("calibrate -q --model " + model + " --flights 2 --flight-seconds 4 --faulty-flights 3 --degraded-min-share 1 --output " + cal);
+  ASSERT_EQ(c.exit_code, 0) << c.out;
+  const std::string file = readFile(cal);
+  const std::size_t at = file.find(kShareOfOne), degraded = file.find("\"degraded\""), failed = file.find("\"failed\"");
+  ASSERT_NE(at, std::string::npos) << file;
+  EXPECT_TRUE(degraded < at && at < failed) << file;  // the degraded level's, the only one
+  EXPECT_EQ(file.find(kShareOfOne, at + 1), std::string::npos) << file;
+  EXPECT_NE(file.find(", all evidence at command shares from 1;"), std::string::npos) << file;  // and in `source`
+  const auto [a, b] = detectWithShareAt(model, file, at, "degraded-share");
+  ASSERT_EQ(a.exit_code, 0) << a.out.substr(0, 400);
+  ASSERT_EQ(b.exit_code, 0) << b.out.substr(0, 400);
+  EXPECT_NE(a.out.find("\"motor\": 3, \"severity\": \"failed\""), std::string::npos);
+  EXPECT_EQ(b.out.find("\"severity\": \"degraded\""), std::string::npos);
+  EXPECT_EQ(b.out.find("\"severity\": \"failed\""), std::string::npos);
+  const CommandResult bad = run("calibrate --model " + model + " --flights 2 --degraded-min-share 5 --output " + temp("never-written-dshare.json"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(countLines(bad.out), 1) << bad.out;
+  EXPECT_NE(bad.out.find("--degraded-min-share"), std::string::npos) << bad.out;
 }
 
 // --reference absolute calibrates Θ̂ as the network gives it (the paper's models); the file says

@@ -154,6 +154,30 @@ TEST(CommandGate, AFailedShareWithholdsFailedEvidenceFromAMotorCommandedBelowIt)
   EXPECT_EQ(plain.step({1.3, 0.8, 0.9, 1.0}), kAllMotorsObservable);
 }
 
+TEST(CommandGate, ADegradedShareHidesAMotorCommandedBelowItFromBothLevels) {
+  CommandGateConfig c = gateConfig(5);
+  c.degraded_min_share = 1.0;
+  CommandGate gate(c);
+  // Mean 1.0: motors 2 and 3 below it are not observable now; at the mean exactly, observable.
+  EXPECT_EQ(gate.step({1.3, 0.8, 0.9, 1.0}), 0x09);
+  EXPECT_FALSE(takesEvidence(0x09, 1));
+  EXPECT_FALSE(takesFailedEvidence(0x09, 2));
+  // Instantaneous, unlike the observability hold: commanded up again, observable at once.
+  EXPECT_EQ(gate.step({0.8, 1.3, 1.0, 0.9}), 0x06);
+  // With the failed share too: the failed bits are set as without the degraded share.
+  c.failed_min_share = 1.1;
+  CommandGate both(c);
+  EXPECT_EQ(both.step({1.3, 0.8, 0.9, 1.0}), 0x09 | 0xE0);
+  EXPECT_TRUE(takesFailedEvidence(0x09 | 0xE0, 0));
+  // A steady fault at Θ = 0.9, the others at 1.0: commanded 1/0.9 of them, 1.08 of the mean: observable.
+  c.failed_min_share = 1.0;
+  CommandGate steady(c);
+  EXPECT_EQ(steady.step({1.0 / 0.9, 1.0, 1.0, 1.0}), 0x01 | 0xE0);
+  // The share off: as before.
+  CommandGate plain(gateConfig(5));
+  EXPECT_EQ(plain.step({1.3, 0.8, 0.9, 1.0}), kAllMotorsObservable);
+}
+
 TEST(CommandGate, AWithheldMotorGainsDegradedButNotFailedEvidence) {
   SequentialConfig c;
   c.degraded_below = 0.8;

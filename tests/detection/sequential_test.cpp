@@ -825,6 +825,19 @@ TEST(CalibrationFile, RoundTripsAndNamesTheFileOnBadInput) {
     const std::string error = rejectionAfterEdit(json, "\"min_command_share\": 0.9", "\"min_command_share\": 4.5");
     EXPECT_NE(error.find("cal.json: bad calibration: failed min_command_share must lie in [0, 4]"), std::string::npos) << error;
   }
+  {  // the degraded level's command share (since 2026-12-05) round-trips into the rule; out of range: refused
+    DecisionCalibration gated = c;
+    gated.degraded.min_command_share = 0.95;
+    const std::string json = calibrationToJson(gated);
+    const DecisionCalibration gated_back = calibrationFromJson(json, "x.json");
+    EXPECT_EQ(gated_back.degraded.min_command_share, 0.95);
+    EXPECT_EQ(gated_back.failed.min_command_share, 0.0);
+    EXPECT_EQ(sequentialConfig(gated_back).degraded_min_share, 0.95);
+    EXPECT_EQ(sequentialConfig(gated_back).failed_min_share, 0.0);
+    EXPECT_EQ(calibrationToJson(gated_back), json);
+    const std::string error = rejectionAfterEdit(json, "\"min_command_share\": 0.95", "\"min_command_share\": -0.5");
+    EXPECT_NE(error.find("cal.json: bad calibration: degraded min_command_share must lie in [0, 4]"), std::string::npos) << error;
+  }
   {  // the reference round-trips; absent (every file before 2026-11-26): absolute; unknown: refused
     DecisionCalibration relative = c;
     relative.reference = ThetaReference::kOthers;
