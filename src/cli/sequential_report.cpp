@@ -223,8 +223,7 @@ std::string decisionsReport(const SequentialReportInputs& in, const ReportProgre
   for (int i = 0; i < flights; ++i) jobs.push_back({static_cast<std::uint64_t>(i), 2, 1.0});
   if (progress) progress("flying " + std::to_string(flights) + " healthy flights of " + num(kFlightSeconds, 0) + " s");
   ThetaStreamOptions streaming;
-  streaming.gate.failed_min_share = in.decision.rule.failed_min_share;  // the calibration's gate, as detect runs it
-  streaming.gate.degraded_min_share = in.decision.rule.degraded_min_share;
+  applyGateShares(in.decision.rule, streaming.gate);  // the calibration's gate, as detect runs it
   streaming.threads = in.threads;
   streaming.log_period = in.log_period;
   streaming.chunk = 16;  // minute-long flights: 16 at a time bound the raw samples held at once

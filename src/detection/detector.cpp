@@ -44,8 +44,7 @@ Detector::Detector(const DetectorConfig& config, const TrainedModel& model)
   observable_.assign(static_cast<std::size_t>(capacity_), kAllMotorsObservable);
   CommandGateConfig gate = config.command_gate;
   gate.hold = window_;  // an estimate reads the whole window
-  gate.failed_min_share = config.sequential.failed_min_share;  // the calibration's, as its excursions were gated
-  gate.degraded_min_share = config.sequential.degraded_min_share;
+  applyGateShares(config.sequential, gate);  // the calibration's, as its excursions were gated
   gate_ = CommandGate(gate);
   if (windowed_) {
     features_.assign(static_cast<std::size_t>(kMaxPoints) * kMotors * windowed_->featuresPerWindow(), 0.0f);

@@ -139,6 +139,13 @@ struct SequentialConfig {
   ThetaNoiseModel noise;  // of the estimate_reference quantity: the interval is its only use here
 };
 
+// Sets on `gate` the command shares the rule's evidence is gated at: whoever computes the masks the
+// rule reads (the detector, the evaluation's streams) gates as the calibration did.
+inline void applyGateShares(const SequentialConfig& rule, CommandGateConfig& gate) {
+  gate.failed_min_share = rule.failed_min_share;
+  gate.degraded_min_share = rule.degraded_min_share;
+}
+
 // Empty when valid, else a one-line description of the first problem.
 std::string validate(const SequentialConfig& config);
 

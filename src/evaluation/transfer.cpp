@@ -85,8 +85,7 @@ std::vector<TransferCell> runTransfer(const TrainedModel& model, const TransferC
         for (int motor = 1; motor <= 4; ++motor)
           for (int i = 0; i < config.flights_per_class; ++i) jobs.push_back({scenario++, motor, theta});
       ThetaStreamOptions streaming;
-      streaming.gate.failed_min_share = config.decision.rule.failed_min_share;
-      streaming.gate.degraded_min_share = config.decision.rule.degraded_min_share;
+      applyGateShares(config.decision.rule, streaming.gate);
       streaming.threads = config.threads;
       streaming.log_period = config.log_period;
       const std::vector<FlightThetaStream> streams = simulateThetaStreams(model, rollout, jobs, streaming);
