@@ -66,6 +66,9 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
       .atLeast(0)
       .defaultText("from --scale");
   t->add("--max-iterations", o.max_iterations, "N_M: outer iterations at most").atLeast(1).defaultText("from --scale");
+  t->add("--average-last", o.average_last,
+         "Write the mean of the weights after each of the last N outer iterations (Polyak averaging, docs/networks.md#weight-averaging) instead of the last weights; 0 = none")
+      .atLeast(0);
   t->add("--preroll", o.preroll, "Random healthy pre-roll before each flight, up to this many seconds").atLeast(0);
   t->add("--randomise", o.randomise,
          "Randomisation FILE: vehicles, plant errors, estimator noise/lag/delay, controller mix and gains, manoeuvres "
@@ -158,6 +161,9 @@ TrainConfig makeTrainConfig(const TrainOptions& o, const std::string& command_li
   c.max_minibatches = o.max_minibatches.value_or(s.max_minibatches);
   c.max_iterations = o.max_iterations.value_or(s.max_iterations);
   c.min_iterations = std::min(o.min_iterations.value_or(s.min_iterations), c.max_iterations);
+  c.average_last = o.average_last;
+  require(c.average_last <= c.max_iterations, "--average-last " + std::to_string(c.average_last) +
+                                                  ": more iterations than the run has (" + std::to_string(c.max_iterations) + ")");
   c.heldout_initial_conditions = s.heldout_initial_conditions;
   c.seed = o.seed;
   c.device = o.device;
@@ -202,6 +208,13 @@ int trainAndSave(const TrainOptions& o, const std::string& command_line) {
       [&](int done, int total) { bar.update(done, total, last); });
   bar.finish();
   writeModelFile(o.output, r.model.metadata(), exportWeights(r.model));
+  if (!o.quiet && r.averaged_iterations > 1)
+    std::fprintf(stderr, "train: the weights of the last %d iterations averaged: held-out accuracy %.3f (the last "
+                         "iteration's own: %.3f)\n", r.averaged_iterations, r.model.metadata().heldout_accuracy,
+                 r.last_heldout_accuracy);
+  if (c.average_last > 1 && r.averaged_iterations < c.average_last)
+    std::fprintf(stderr, "quadfdi train: warning: %d of the %d iterations asked were averaged (the run %s)\n",
+                 r.averaged_iterations, c.average_last, r.converged ? "converged early" : "resumed inside the window");
   if (r.optimizer_state_reset)
     std::fprintf(stderr, "quadfdi train: warning: %s.optim was missing or did not match the checkpoint; "
                          "Adam restarted from fresh moments\n", c.checkpoint_path.c_str());

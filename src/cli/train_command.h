@@ -34,6 +34,7 @@ struct TrainOptions {
   std::optional<int> max_minibatches;           // per outer iteration; 0 = no cap
   std::optional<int> min_iterations;            // N_m
   std::optional<int> max_iterations;            // N_M
+  int average_last = 0;                         // [outer iterations] Polyak averaging of the weights; 0 = none
   double preroll = 0.0;                         // max random pre-roll [s]
   std::string randomise;                        // randomisation FILE (docs/data.md#randomisation); empty: none
   std::vector<std::string> vehicles;            // vehicle description FILEs; replace the randomisation's vehicles

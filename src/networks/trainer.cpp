@@ -163,6 +163,8 @@ std::string validate(const TrainConfig& c) {
   if (c.max_minibatches < 0) return "max minibatches must be >= 0";
   if (c.min_iterations < 0 || c.max_iterations < 1 || c.min_iterations > c.max_iterations)
     return "need 0 <= min iterations <= max iterations, max >= 1";
+  if (c.average_last < 0 || c.average_last > c.max_iterations)
+    return "the iterations averaged must lie in 0 … max iterations";
   if (!(c.learning_rate > 0.0) || !std::isfinite(c.learning_rate) || !(c.weight_decay >= 0.0) ||
       !std::isfinite(c.weight_decay) || !(c.epsilon >= 0.0) || !std::isfinite(c.epsilon) ||
       !(c.learning_rate_decay > 0.0 && c.learning_rate_decay <= 1.0))
@@ -532,6 +534,7 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
   }
   std::int64_t windows_trained = 0;
   int iteration = start_iteration;
+  std::vector<torch::Tensor> weight_sum;  // Polyak averaging: the sum of the window's weights so far
   while (iteration < config.max_iterations) {
     // This outer iteration's fresh data; the first one also fixes the feature normalisation.
     IterationReport report;
@@ -554,6 +557,15 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
     windows_trained += passes.windows;
     ++iteration;
     report.train_seconds = secondsSince(phase);
+    if (iteration > config.max_iterations - config.average_last) {
+      torch::NoGradGuard no_grad;
+      const std::vector<torch::Tensor> weights = impl.net->parameters();
+      if (weight_sum.empty())
+        for (const torch::Tensor& w : weights) weight_sum.push_back(w.detach().clone());
+      else
+        for (std::size_t i = 0; i < weights.size(); ++i) weight_sum[i].add_(weights[i].detach());
+      ++result.averaged_iterations;
+    }
 
     phase = std::chrono::steady_clock::now();
     const HeldoutScore heldout_score = scoreHeldout();
@@ -577,6 +589,18 @@ TrainResult train(const TrainConfig& config, const std::function<void(const Iter
       result.converged = true;
       break;
     }
+  }
+  result.last_heldout_accuracy = impl.metadata.heldout_accuracy;
+  if (result.averaged_iterations > 1) {  // the written model is the mean; its held-out score is its own
+    {
+      torch::NoGradGuard no_grad;
+      const std::vector<torch::Tensor> weights = impl.net->parameters();
+      for (std::size_t i = 0; i < weights.size(); ++i)
+        weights[i].copy_(weight_sum[i] / static_cast<double>(result.averaged_iterations));
+    }
+    const HeldoutScore averaged = scoreHeldout();
+    impl.metadata.heldout_loss = averaged.loss;
+    impl.metadata.heldout_accuracy = averaged.accuracy;
   }
   impl.net->to(torch::kCPU);
   impl.metadata.iterations = iteration;

@@ -40,6 +40,11 @@ struct TrainConfig {
   int max_minibatches = 0;       // cap per outer iteration (0 = no cap): keeps CPU scales bounded
   int min_iterations = 2;        // N_m: no stop before this many outer iterations
   int max_iterations = 10;       // N_M
+  // Polyak averaging (Polyak & Juditsky 1992; "SWA", Izmailov et al. 2018): the model written is the
+  // mean of the weights after each of the last this many outer iterations (0 = the last weights).
+  // It removes the minibatch noise the final weights carry. The average lives in memory: a run
+  // resumed inside the window averages the iterations it ran (TrainResult::averaged_iterations).
+  int average_last = 0;          // [outer iterations]
   double stop_loss = 1e-3;       // stop when the iteration's mean loss is below this (after N_m)
   int heldout_initial_conditions = 20;  // held-out set: fresh scenarios, same Θ values
   std::uint64_t seed = 1;        // weights, shuffling; data uses data.rollout.seed
@@ -83,6 +88,8 @@ struct TrainResult {
   bool resumed = false;
   bool converged = false;  // stopped by the loss rule rather than N_M
   bool optimizer_state_reset = false;  // resumed, but the Adam state was missing or newer than the model
+  int averaged_iterations = 0;   // iterations whose weights were averaged (0 or 1: the last weights as trained)
+  double last_heldout_accuracy = 0.0;  // [-] the last iteration's own weights, before averaging
 };
 
 // Empty when valid, else a one-line description.

@@ -77,6 +77,11 @@ TEST(TrainCli, BadArgumentsGiveOneLineErrors) {
     EXPECT_NE(r.exit_code, 0) << args;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << "\n" << r.out;
   }
+  // A weight-averaging window longer than the run: named, before any flight is flown.
+  const Result longer = run("train --scale tiny --max-iterations 2 --average-last 3 -o " + model);
+  EXPECT_NE(longer.exit_code, 0);
+  EXPECT_EQ(longer.out, "quadfdi: error: --average-last 3: more iterations than the run has (2)\n");
+  EXPECT_FALSE(std::ifstream(model).good());
 }
 
 TEST(TrainCli, KilledRunResumesFromItsCheckpoint) {
