@@ -113,7 +113,7 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
   t->add("--summary", o.summary,
          "Also write the run's verdict as one JSON object to this file (- for standard output): \"verdict\" (fault, no "
          "fault, no decision), every alarm with the times it rose and cleared, the motor (quadfdi's and the autopilot's "
-         "number, its position), its worst severity and Θ̂ interval, the model, the calibration and the decided flight time");
+         "number, its position), its worst severity, its latest and its lowest Θ̂ estimate with their intervals, the model, the calibration and the decided flight time");
   t->add("--rule", o.rule,
          "Alarm rule: sequential (per-motor CUSUM, severity levels, thresholds from --false-alarms-per-hour) or "
          "persistence (--raise-below for --raise-after evaluations: the earlier rule, output unchanged)")
@@ -537,7 +537,13 @@ int runDetect(const DetectOptions& o) {
                    s.input_samples, m.window * m.dt);
     else if (s.alarms_raised == 0)
       std::fprintf(stderr, "detect: no fault: %ld samples, %ld decisions, no alarm\n", s.input_samples, s.outputs);
-    else if (sequential)
+    else if (sequential && !episodes.episodes().empty() && episodes.episodes().front().t_cleared) {
+      // The first alarm ended: its latest estimate is the one at clearing (back at its level), so
+      // state the lowest it reached, and when it ended.
+      std::fputs(endedFirstAlarmLine(episodes.episodes().front(), config.sequential.interval_level, s.alarms_raised, s.input_samples)
+                     .c_str(),
+                 stderr);
+    } else if (sequential)
       std::fprintf(stderr,
                    "detect: FAULT in motor %d at t = %.3f s: %s, Θ̂ = %.2f (%.0f %% interval %.2f … %.2f); %ld alarm%s over %ld samples\n",
                    s.first_alarm_motor, s.first_alarm_t, toString(s.first_alarm_severity), s.first_alarm_estimate,

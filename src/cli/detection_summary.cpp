@@ -1,6 +1,7 @@
 #include "cli/detection_summary.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include <nlohmann/json.hpp>
 
@@ -16,7 +17,8 @@ void AlarmEpisodes::add(const DetectorOutput& d) {
     open_ = false;
   }
   if (!d.alarm) return;
-  if (!open_) {
+  const bool opened = !open_;
+  if (opened) {
     AlarmEpisode e;
     e.t_raised = d.t;
     e.motor = d.motor;
@@ -30,6 +32,22 @@ void AlarmEpisodes::add(const DetectorOutput& d) {
   e.theta_est = d.theta_est;
   e.theta_lo = d.theta_lo;
   e.theta_hi = d.theta_hi;
+  if (opened || d.theta_est < e.theta_est_lowest) {
+    e.theta_est_lowest = d.theta_est;
+    e.theta_lo_lowest = d.theta_lo;
+    e.theta_hi_lowest = d.theta_hi;
+  }
+}
+
+std::string endedFirstAlarmLine(const AlarmEpisode& first, double interval_level, long alarms, long samples) {
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "detect: FAULT in motor %d at t = %.3f s: %s, Θ̂ as low as %.2f (%.0f %% interval %.2f … %.2f), until t = %.3f s; "
+                "%ld alarm%s over %ld samples\n",
+                first.motor, first.t_raised, toString(first.severity_worst), first.theta_est_lowest, 100.0 * interval_level,
+                first.theta_lo_lowest, first.theta_hi_lowest, first.t_cleared.value_or(first.t_raised), alarms,
+                alarms == 1 ? "" : "s", samples);
+  return line;
 }
 
 std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
@@ -50,12 +68,18 @@ std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
       a["theta_est"] = e.theta_est;
       a["theta_lo"] = e.theta_lo;
       a["theta_hi"] = e.theta_hi;
+      a["theta_est_lowest"] = e.theta_est_lowest;
+      a["theta_lo_lowest"] = e.theta_lo_lowest;
+      a["theta_hi_lowest"] = e.theta_hi_lowest;
     } else {  // the persistence rule has no severity, estimate or interval
       a["severity_raised"] = nullptr;
       a["severity"] = nullptr;
       a["theta_est"] = nullptr;
       a["theta_lo"] = nullptr;
       a["theta_hi"] = nullptr;
+      a["theta_est_lowest"] = nullptr;
+      a["theta_lo_lowest"] = nullptr;
+      a["theta_hi_lowest"] = nullptr;
     }
     a["theta_lowest"] = e.theta_lowest;
     alarms.push_back(std::move(a));

@@ -21,6 +21,9 @@ struct AlarmEpisode {
   Severity severity_raised = Severity::kHealthy;  // sequential rule; persistence: kHealthy
   Severity severity_worst = Severity::kHealthy;   // the worst it reached while held
   double theta_est = 1.0, theta_lo = 1.0, theta_hi = 1.0;  // [-] sequential rule: the latest while held
+  // [-] sequential rule: the lowest estimate stated while held, with its interval. For an alarm that
+  // cleared, the latest is the estimate at clearing (back at its level), not what was found.
+  double theta_est_lowest = 1.0, theta_lo_lowest = 1.0, theta_hi_lowest = 1.0;
   double theta_lowest = 1.0;           // [-] the network's lowest Θ̂ of the motor while held (either rule)
 };
 
@@ -54,5 +57,10 @@ struct DetectionSummaryInputs {
 
 // The JSON object, one line: {"verdict": "fault" | "no fault" | "no decision", …} (README, detect).
 std::string detectionSummaryJson(const DetectionSummaryInputs& in);
+
+// detect's last line for a run whose first alarm (sequential rule) ended before the log did: its
+// motor, time, worst severity, the lowest estimate it stated with its interval (interval_level
+// two-sided), and when it ended; `alarms` raised over `samples`. Ends with a newline.
+std::string endedFirstAlarmLine(const AlarmEpisode& first, double interval_level, long alarms, long samples);
 
 }  // namespace quadfdi::cli

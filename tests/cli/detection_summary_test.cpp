@@ -57,6 +57,10 @@ TEST(AlarmEpisodes, RiseEscalateMoveClearAndHoldToTheEnd) {
   EXPECT_EQ(e[0].severity_worst, Severity::kFailed);
   EXPECT_NEAR(e[0].theta_est, 0.2, 1e-6);
   EXPECT_NEAR(e[0].theta_lowest, 0.1, 1e-6);
+  EXPECT_NEAR(e[0].theta_est_lowest, 0.1, 1e-6);  // the lowest estimate stated, with its own interval
+  EXPECT_NEAR(e[0].theta_lo_lowest, 0.0, 1e-6);
+  EXPECT_NEAR(e[0].theta_hi_lowest, 0.2, 1e-6);
+  EXPECT_NEAR(e[1].theta_est_lowest, 0.7, 1e-6);  // an episode of one output: its own estimate
   EXPECT_EQ(e[1].motor, 3);
   EXPECT_DOUBLE_EQ(*e[1].t_cleared, 1.010);
   EXPECT_EQ(e[2].motor, 1);
@@ -97,12 +101,30 @@ TEST(AlarmEpisodes, TheJsonNamesTheVerdictAndEveryAlarm) {
   EXPECT_EQ(alarm["motor_position"], "back-left");
   EXPECT_EQ(alarm["severity"], "failed");
   EXPECT_TRUE(alarm["t_cleared"].is_null());
+  EXPECT_NEAR(alarm["theta_est_lowest"].get<double>(), 0.05, 1e-6);
+  EXPECT_NEAR(alarm["theta_hi_lowest"].get<double>(), 0.15, 1e-6);
   EXPECT_EQ(j["evaluated_phases"], json::parse("[[0.4, 0.6]]"));
   in.rule = "persistence";  // no severity, estimate or interval; the lowest Θ̂ still
   const json p = json::parse(detectionSummaryJson(in))["alarms"][0];
   EXPECT_TRUE(p["severity"].is_null());
   EXPECT_TRUE(p["theta_est"].is_null());
+  EXPECT_TRUE(p["theta_est_lowest"].is_null());
   EXPECT_NEAR(p["theta_lowest"].get<double>(), 0.05, 1e-6);
+}
+
+// An alarm that ended: the estimate at its end is back at the level, so detect's last line states
+// the lowest one and when it ended, not "degraded, Θ̂ = 1.00".
+TEST(AlarmEpisodes, AnEndedFirstAlarmIsReportedByItsLowestEstimate) {
+  AlarmEpisodes a(0.02);
+  a.add(output(0.412, 0));
+  a.add(output(0.414, 1, Severity::kDegraded, 0.66f));
+  a.add(output(0.416, 1, Severity::kDegraded, 0.64f));
+  a.add(output(0.782, 1, Severity::kDegraded, 0.95f));  // recovered, about to clear
+  a.add(output(0.784, 0));
+  ASSERT_EQ(a.episodes().size(), 1u);
+  EXPECT_EQ(endedFirstAlarmLine(a.episodes().front(), 0.9, 1, 2500),
+            "detect: FAULT in motor 1 at t = 0.414 s: degraded, Θ̂ as low as 0.64 (90 % interval 0.54 … 0.74), until t = 0.784 s; "
+            "1 alarm over 2500 samples\n");
 }
 
 TEST(DetectSummaryCli, AgreesWithTheJsonLinesAndIsWrittenWithThemOrNotAtAll) {
