@@ -537,18 +537,10 @@ int runDetect(const DetectOptions& o) {
                    s.input_samples, m.window * m.dt);
     else if (s.alarms_raised == 0)
       std::fprintf(stderr, "detect: no fault: %ld samples, %ld decisions, no alarm\n", s.input_samples, s.outputs);
-    else if (sequential && !episodes.episodes().empty() && episodes.episodes().front().t_cleared) {
-      // The first alarm ended: its latest estimate is the one at clearing (back at its level), so
-      // state the lowest it reached, and when it ended.
-      std::fputs(endedFirstAlarmLine(episodes.episodes().front(), config.sequential.interval_level, s.alarms_raised, s.input_samples)
+    else if (sequential && !episodes.episodes().empty())  // every raised alarm opens an episode
+      std::fputs(sequentialFirstAlarmLine(episodes.episodes().front(), config.sequential.interval_level, s.alarms_raised, s.input_samples)
                      .c_str(),
                  stderr);
-    } else if (sequential)
-      std::fprintf(stderr,
-                   "detect: FAULT in motor %d at t = %.3f s: %s, Θ̂ = %.2f (%.0f %% interval %.2f … %.2f); %ld alarm%s over %ld samples\n",
-                   s.first_alarm_motor, s.first_alarm_t, toString(s.first_alarm_severity), s.first_alarm_estimate,
-                   100.0 * config.sequential.interval_level, s.first_alarm_lo, s.first_alarm_hi, s.alarms_raised,
-                   s.alarms_raised == 1 ? "" : "s", s.input_samples);
     else
       std::fprintf(stderr,
                    "detect: FAULT in motor %d at t = %.3f s (Θ̂ = %.2f when raised, lowest %.2f while it held); %ld alarm%s "

@@ -39,14 +39,17 @@ void AlarmEpisodes::add(const DetectorOutput& d) {
   }
 }
 
-std::string endedFirstAlarmLine(const AlarmEpisode& first, double interval_level, long alarms, long samples) {
+std::string sequentialFirstAlarmLine(const AlarmEpisode& first, double interval_level, long alarms, long samples) {
+  char estimate[160];
+  if (first.t_cleared)
+    std::snprintf(estimate, sizeof estimate, "Θ̂ as low as %.2f (%.0f %% interval %.2f … %.2f), until t = %.3f s",
+                  first.theta_est_lowest, 100.0 * interval_level, first.theta_lo_lowest, first.theta_hi_lowest, *first.t_cleared);
+  else
+    std::snprintf(estimate, sizeof estimate, "Θ̂ = %.2f (%.0f %% interval %.2f … %.2f)", first.theta_est, 100.0 * interval_level,
+                  first.theta_lo, first.theta_hi);
   char line[320];
-  std::snprintf(line, sizeof line,
-                "detect: FAULT in motor %d at t = %.3f s: %s, Θ̂ as low as %.2f (%.0f %% interval %.2f … %.2f), until t = %.3f s; "
-                "%ld alarm%s over %ld samples\n",
-                first.motor, first.t_raised, toString(first.severity_worst), first.theta_est_lowest, 100.0 * interval_level,
-                first.theta_lo_lowest, first.theta_hi_lowest, first.t_cleared.value_or(first.t_raised), alarms,
-                alarms == 1 ? "" : "s", samples);
+  std::snprintf(line, sizeof line, "detect: FAULT in motor %d at t = %.3f s: %s, %s; %ld alarm%s over %ld samples\n", first.motor,
+                first.t_raised, toString(first.severity_worst), estimate, alarms, alarms == 1 ? "" : "s", samples);
   return line;
 }
 

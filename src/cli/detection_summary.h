@@ -58,9 +58,11 @@ struct DetectionSummaryInputs {
 // The JSON object, one line: {"verdict": "fault" | "no fault" | "no decision", …} (README, detect).
 std::string detectionSummaryJson(const DetectionSummaryInputs& in);
 
-// detect's last line for a run whose first alarm (sequential rule) ended before the log did: its
-// motor, time, worst severity, the lowest estimate it stated with its interval (interval_level
-// two-sided), and when it ended; `alarms` raised over `samples`. Ends with a newline.
-std::string endedFirstAlarmLine(const AlarmEpisode& first, double interval_level, long alarms, long samples);
+// detect's verdict line for a run whose first alarm is `first` (sequential rule): its motor, time
+// and worst severity; if it was held to the end, its latest estimate with the interval
+// (interval_level two-sided); if it ended, the lowest estimate it stated with that estimate's
+// interval and when it ended (the latest is then back at its level). `alarms` raised over
+// `samples`. Ends with a newline.
+std::string sequentialFirstAlarmLine(const AlarmEpisode& first, double interval_level, long alarms, long samples);
 
 }  // namespace quadfdi::cli

@@ -189,10 +189,6 @@ void Detector::apply(long index, const MotorTheta& theta) {
   if (tracking_first_alarm_) {
     if (e.active && e.motor == summary_.first_alarm_motor) {
       summary_.lowest_theta = std::min(summary_.lowest_theta, e.theta[static_cast<std::size_t>(e.motor - 1)]);
-      summary_.first_alarm_severity = std::max(summary_.first_alarm_severity, e.severity);
-      summary_.first_alarm_estimate = e.estimate;
-      summary_.first_alarm_lo = e.lo;
-      summary_.first_alarm_hi = e.hi;
     } else {
       tracking_first_alarm_ = false;
     }

@@ -70,9 +70,8 @@ struct DetectorSummary {
   int first_alarm_motor = 0;
   float first_alarm_theta = 1.0f;  // Θ̂ of that motor when raised
   float lowest_theta = 1.0f;       // lowest Θ̂ of that motor while the first alarm was up
-  // Sequential rule: the worst severity the first alarm reached and its latest estimate while it held.
-  Severity first_alarm_severity = Severity::kHealthy;
-  double first_alarm_estimate = 1.0, first_alarm_lo = 1.0, first_alarm_hi = 1.0;  // [-]
+  // The sequential rule's severities and estimates per alarm are in the outputs (DetectorOutput);
+  // the CLI's alarm episodes (cli/detection_summary.h) collect them.
 };
 
 class Detector {

@@ -122,9 +122,16 @@ TEST(AlarmEpisodes, AnEndedFirstAlarmIsReportedByItsLowestEstimate) {
   a.add(output(0.782, 1, Severity::kDegraded, 0.95f));  // recovered, about to clear
   a.add(output(0.784, 0));
   ASSERT_EQ(a.episodes().size(), 1u);
-  EXPECT_EQ(endedFirstAlarmLine(a.episodes().front(), 0.9, 1, 2500),
+  EXPECT_EQ(sequentialFirstAlarmLine(a.episodes().front(), 0.9, 1, 2500),
             "detect: FAULT in motor 1 at t = 0.414 s: degraded, Θ̂ as low as 0.64 (90 % interval 0.54 … 0.74), until t = 0.784 s; "
             "1 alarm over 2500 samples\n");
+  // Held to the end, the line states the latest estimate (the quick start's form).
+  AlarmEpisodes held(0.02);
+  held.add(output(1.046, 1, Severity::kDegraded, 0.2f));
+  held.add(output(1.048, 1, Severity::kFailed, 0.0f));
+  held.add(output(1.050, 1, Severity::kFailed, 0.15f));
+  EXPECT_EQ(sequentialFirstAlarmLine(held.episodes().front(), 0.9, 2, 820),
+            "detect: FAULT in motor 1 at t = 1.046 s: failed, Θ̂ = 0.15 (90 % interval 0.05 … 0.25); 2 alarms over 820 samples\n");
 }
 
 TEST(DetectSummaryCli, AgreesWithTheJsonLinesAndIsWrittenWithThemOrNotAtAll) {
