@@ -229,6 +229,14 @@ std::string capText(double cap) {
 // ", failed cap 0.15" for a capped failed statistic (the calibration's provenance), else nothing.
 std::string failedCapNote(double cap) { return cap == kNoIncrementCap ? "" : ", failed cap " + capText(cap); }
 
+// What the flights were (the calibration's provenance): the nominal Crazyflie's goals and noise, or
+// the randomisation and the vehicles flown instead of its own.
+std::string flownNote(const CalibrateOptions& o) {
+  return o.randomise.empty() ? "LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
+                                   std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
+                             : "randomisation " + o.randomise + vehicleNames(o.vehicles);
+}
+
 }  // namespace
 
 int runCalibrate(const CalibrateOptions& o) {
@@ -411,7 +419,8 @@ int runCalibrate(const CalibrateOptions& o) {
     char what[160];
     std::snprintf(what, sizeof what, "; interval refitted (%s) on %d faulty flights%s", o.interval.c_str(), o.faulty_flights,
                   boundary.empty() ? "" : (" and " + std::to_string(boundary.size()) + " complete failures").c_str());
-    c.source += what + std::string(", seed ") + std::to_string(o.seed);
+    // The refit's own flights, which need not be the file's (an interval fitted on other airframes).
+    c.source += what + std::string(", ") + flownNote(o) + ", seed " + std::to_string(o.seed);
     const std::string output = o.output.empty() ? o.refit_interval : o.output;
     writeCalibrationFile(output, c);
     if (!o.quiet)
@@ -480,10 +489,7 @@ int runCalibrate(const CalibrateOptions& o) {
              failedCapNote(c.failed.increment_cap) +
              (failed_min_share > 0.0 ? ", failed evidence at command shares from " + capText(failed_min_share) : std::string()) +
              (degraded_min_share > 0.0 ? ", all evidence at command shares from " + capText(degraded_min_share) : std::string()) + "; " +
-             (o.randomise.empty() ? "LQR, nominal Crazyflie, goal every " + std::to_string(o.goal_period) + " s, sensor noise " +
-                                        std::to_string(o.position_noise) + " m, " + std::to_string(o.attitude_noise) + " rad"
-                                  : "randomisation " + o.randomise + vehicleNames(o.vehicles)) +
-             "; seed " + std::to_string(o.seed) + chosen_from;
+             flownNote(o) + "; seed " + std::to_string(o.seed) + chosen_from;
   c.model_crc32 = model.file_crc32;
   const std::string output = o.output.empty() ? calibrationSidecarPath(model_path) : o.output;
   writeCalibrationFile(output, c);

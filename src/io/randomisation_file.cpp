@@ -60,16 +60,47 @@ std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
           {"airframes.share", &r.airframes.share}};
 }
 
+
 std::string vehicleName(const std::string& spec) { return std::filesystem::path(spec).stem().string(); }
 
-}  // namespace
+// [-] Most files one `base` chain may read: a chain this long is a cycle (a → b → a) or a mistake.
+constexpr int kMaxBaseDepth = 8;
+// [bytes] Largest base read: the shipped files are ~5 kB; a larger one is some other file, read whole otherwise.
+constexpr std::uintmax_t kMaxBaseBytes = 1u << 20;
 
-Randomisation randomisationFromText(const std::string& text, const std::string& source) {
+Randomisation parseRandomisation(const std::string& text, const std::string& source, int depth);
+
+// `base = "FILE"` (the file's first key): the randomisation this file starts from. Relative paths
+// are relative to the file's folder, so a recipe beside the file it extends names it alone.
+Randomisation loadBase(const KeyValueDocument& doc, const KeyValueEntry& e, int depth) {
+  if (depth >= kMaxBaseDepth)
+    doc.fail(e, "base: more than " + std::to_string(kMaxBaseDepth) + " files deep (does a base name this file again?)");
+  std::filesystem::path path = doc.string(e);
+  if (path.empty()) doc.fail(e, "base must name a randomisation file");
+  if (path.is_relative()) path = std::filesystem::path(doc.source).parent_path() / path;
+  // Only a regular file: a device or a pipe named here would be read without end.
+  std::error_code ignored;
+  if (!std::filesystem::is_regular_file(path, ignored)) doc.fail(e, "base: " + path.string() + " is not a readable file");
+  if (std::filesystem::file_size(path, ignored) > kMaxBaseBytes)
+    doc.fail(e, "base: " + path.string() + " is larger than " + std::to_string(kMaxBaseBytes) + " bytes: not a randomisation file");
+  try {
+    return parseRandomisation(readTextFile(path.string()), path.string(), depth + 1);
+  } catch (const std::exception& ex) {
+    doc.fail(e, std::string("base: ") + ex.what());
+  }
+}
+
+Randomisation parseRandomisation(const std::string& text, const std::string& source, int depth) {
   const KeyValueDocument doc = parseKeyValue(text, source);
   Randomisation r;
+  if (!doc.entries.empty() && doc.entries.front().key == "base") r = loadBase(doc, doc.entries.front(), depth);
   const auto intervals = intervalFields(r);
   const auto numbers = numberFields(r);
   for (const KeyValueEntry& e : doc.entries) {
+    if (e.key == "base") {
+      if (&e != &doc.entries.front()) doc.fail(e, "base must be the file's first key (before every section)");
+      continue;
+    }
     bool known = false;
     for (const auto& [key, field] : intervals)
       if (e.key == key) {
@@ -99,6 +130,9 @@ Randomisation randomisationFromText(const std::string& text, const std::string& 
       known = true;
     }
     if (e.key == "vehicles") {
+      // This file's vehicles replace its base's, never add to them (a key appears once a file).
+      r.vehicles.clear();
+      r.vehicle_names.clear();
       // A list of quoted paths: the key-value reader's lists hold numbers, so split here.
       std::string list = e.value;
       if (list.size() < 2 || list.front() != '[' || list.back() != ']') doc.fail(e, "vehicles must be a list of \"paths\"");
@@ -136,6 +170,10 @@ Randomisation randomisationFromText(const std::string& text, const std::string& 
   if (const std::string problem = validate(r); !problem.empty()) throw ConfigError(source + ": " + problem);
   return r;
 }
+
+}  // namespace
+
+Randomisation randomisationFromText(const std::string& text, const std::string& source) { return parseRandomisation(text, source, 0); }
 
 Randomisation loadRandomisation(const std::string& path) { return randomisationFromText(readTextFile(path), path); }
 

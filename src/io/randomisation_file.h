@@ -10,8 +10,11 @@
 namespace quadfdi {
 
 // `vehicles = ["configs/vehicles/crazyflie2.toml", …]` are resolved relative to the file's folder
-// when relative and not found from the working directory. Throws ConfigError("FILE:LINE: problem")
-// on unknown keys, bad values or a vehicle that cannot be loaded.
+// when relative and not found from the working directory. `base = "FILE"`, if given as the first
+// key, starts from that randomisation (relative to this file's folder; it must be valid on its own)
+// and every key of this file overrides it — `vehicles` replaces the base's list. Throws
+// ConfigError("FILE:LINE: problem") on unknown keys, bad values, a vehicle or a base that cannot be
+// loaded (a base's own error follows "FILE:LINE: base: ").
 Randomisation randomisationFromText(const std::string& text, const std::string& source);
 Randomisation loadRandomisation(const std::string& path);
 

@@ -2,12 +2,14 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "config_refusal.h"
 #include "data/rollout.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
 #include "io/randomisation_file.h"
+#include "scratch_path.h"
 
 namespace quadfdi {
 namespace {
@@ -138,6 +140,55 @@ TEST(RandomisationFile, RefusesBadInputWithFileAndLine) {
   EXPECT_NE(message("vehicles = [\"" + std::string(300, 'x') + "\"]\n").find("r.toml:1: vehicle:"), std::string::npos);
     EXPECT_EQ(message(""), "r.toml: no 'vehicles = [\"FILE\", …]': a randomisation needs at least one vehicle");
   EXPECT_EQ(message("[sensors]\ndelay_steps_max = 2\n"), "r.toml: no 'vehicles = [\"FILE\", …]': a randomisation needs at least one vehicle");
+}
+
+// `base = "FILE"`: a recipe names the randomisation it extends and only what it changes. The
+// shipped slow-motors recipe is the airframe randomisation with both motor ranges widened, nothing else.
+TEST(RandomisationFile, ABaseIsExtendedKeyByKey) {
+  const std::string slow = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-slow-motors.toml";
+  Randomisation expected = loadRandomisation(kAirframes);
+  expected.parameters.motor_time_constant = {0.005, 0.060};
+  expected.airframes.motor_time_constant = {0.005, 0.060};
+  const Randomisation r = loadRandomisation(slow);
+  EXPECT_EQ(randomisationToText(r), randomisationToText(expected));
+  EXPECT_EQ(r.vehicle_names, expected.vehicle_names);  // the base's, resolved beside the base
+  ASSERT_EQ(describedVehicles(r).size(), describedVehicles(expected).size());
+  EXPECT_EQ(describedVehicles(r).back().mass, describedVehicles(expected).back().mass);
+
+  // Relative to the including file's folder; chains; this file's vehicles replace the base's.
+  const std::filesystem::path folder = test::scratchPath("RandomisationFile", "base");
+  std::filesystem::create_directories(folder / "recipes");
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(folder / name) << text;
+    return (folder / name).string();
+  };
+  const std::string vehicles = std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/";
+  write("root.toml", "vehicles = [\"" + vehicles + "crazyflie2.toml\", \"" + vehicles + "racer250.toml\"]\n[parameters]\nmass = [0.9, 1.1]\n");
+  write("recipes/middle.toml", "base = \"../root.toml\"\n[sensors]\ndelay_steps_max = 3\n");
+  const std::string leaf = write("recipes/leaf.toml", "base = \"middle.toml\"\nvehicles = [\"nominal\"]\n[parameters]\nmass = [0.95, 1.05]\n");
+  const Randomisation chained = loadRandomisation(leaf);
+  EXPECT_EQ(chained.vehicle_names, std::vector<std::string>{"nominal"});
+  EXPECT_EQ(chained.parameters.mass.lo, 0.95);
+  EXPECT_EQ(chained.sensors.delay_steps_max, 3);
+  EXPECT_EQ(loadRandomisation(folder.string() + "/recipes/middle.toml").vehicle_names,
+            (std::vector<std::string>{"crazyflie2", "racer250"}));
+
+  // Refusals: one line naming the including file and line, then the base's own message.
+  const std::string broken = write("broken.toml", "vehicles = [\"nominal\"]\nspeed = 3\n");
+  EXPECT_EQ(test::configRefusal([&] { randomisationFromText("base = \"" + broken + "\"\n", "r.toml"); }),
+            "r.toml:1: base: " + broken + ":2: unknown key 'speed'");
+  EXPECT_EQ(refusalOf("vehicles = [\"nominal\"]\nbase = \"x.toml\"\n"), "r.toml:2: base must be the file's first key (before every section)");
+  EXPECT_EQ(refusalOf("base = \"no-such-base.toml\"\n"), "r.toml:1: base: no-such-base.toml is not a readable file");
+  EXPECT_EQ(refusalOf("base = \"/dev/zero\"\n"), "r.toml:1: base: /dev/zero is not a readable file");
+  EXPECT_EQ(refusalOf("base = \"" + folder.string() + "\"\n"), "r.toml:1: base: " + folder.string() + " is not a readable file");
+  EXPECT_EQ(refusalOf("base = \"\"\n"), "r.toml:1: base must name a randomisation file");
+  const std::string large = write("large.toml", std::string((1u << 20) + 1, '#'));
+  EXPECT_EQ(refusalOf("base = \"" + large + "\"\n"), "r.toml:1: base: " + large + " is larger than 1048576 bytes: not a randomisation file");
+  const std::string loop = write("loop.toml", "base = \"loop.toml\"\n");
+  const std::string loop_message = test::configRefusal([&] { loadRandomisation(loop); });
+  EXPECT_EQ(loop_message.rfind(loop + ":1: base: " + loop + ":1: base: ", 0), 0u) << loop_message;
+  EXPECT_NE(loop_message.find("more than 8 files deep"), std::string::npos) << loop_message;
+  std::filesystem::remove_all(folder);
 }
 
 TEST(RandomisationFile, WindKeysParseAndWindWithoutDragIsRefusedAtTheFile) {
