@@ -16,6 +16,7 @@ namespace {
 
 const std::string kDefault = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-default.toml";
 const std::string kAirframes = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-airframes.toml";
+const std::string kGeometric = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-geometric.toml";
 
 // The one-line error randomisationFromText gives for `text` (read as "r.toml"), or test::kAccepted.
 std::string refusalOf(const std::string& text) {
@@ -189,6 +190,28 @@ TEST(RandomisationFile, ABaseIsExtendedKeyByKey) {
   EXPECT_EQ(loop_message.rfind(loop + ":1: base: " + loop + ":1: base: ", 0), 0u) << loop_message;
   EXPECT_NE(loop_message.find("more than 8 files deep"), std::string::npos) << loop_message;
   std::filesystem::remove_all(folder);
+}
+
+// Each shipped recipe is the default randomisation but for what its comment says it changes: the
+// airframe randomisation adds synthetic airframes, the geometric one flies the geometric controller
+// alone. (Written as `base` recipes, so the test holds them to it.)
+TEST(RandomisationFile, TheShippedRecipesDifferFromTheDefaultOnlyWhereTheySay) {
+  const Randomisation fallback = loadRandomisation(kDefault);
+  Randomisation airframes = loadRandomisation(kAirframes);
+  EXPECT_TRUE(airframes.airframes.enabled());
+  airframes.airframes = fallback.airframes;
+  EXPECT_EQ(randomisationToText(airframes), randomisationToText(fallback));
+  Randomisation geometric = loadRandomisation(kGeometric);
+  EXPECT_EQ(geometric.controllers.geometric, 1.0);
+  EXPECT_EQ(geometric.controllers.lqr + geometric.controllers.pid + geometric.controllers.cbf, 0.0);
+  EXPECT_EQ(geometric.controllers.gain_scale.lo, fallback.controllers.gain_scale.lo);
+  EXPECT_EQ(geometric.controllers.gain_scale.hi, fallback.controllers.gain_scale.hi);
+  geometric.controllers = fallback.controllers;
+  EXPECT_EQ(randomisationToText(geometric), randomisationToText(fallback));
+  Randomisation synthetic = loadRandomisation(std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-synthetic-airframes.toml");
+  EXPECT_EQ(synthetic.airframes.share, 1.0);
+  synthetic.airframes.share = loadRandomisation(kAirframes).airframes.share;
+  EXPECT_EQ(randomisationToText(synthetic), randomisationToText(loadRandomisation(kAirframes)));
 }
 
 TEST(RandomisationFile, WindKeysParseAndWindWithoutDragIsRefusedAtTheFile) {
