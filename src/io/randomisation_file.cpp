@@ -1,5 +1,6 @@
 #include "io/randomisation_file.h"
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 
@@ -59,7 +60,6 @@ std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
           {"controllers.geometric", &r.controllers.geometric},
           {"airframes.share", &r.airframes.share}};
 }
-
 
 std::string vehicleName(const std::string& spec) { return std::filesystem::path(spec).stem().string(); }
 
