@@ -26,8 +26,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Ranges that validate give synthetic airframes that do.
   for (const VehicleParams& p : drawAirframes(r.airframes)) QUADFDI_FUZZ_CHECK(validate(p).empty());
   // Its file form (vehicles by name, as recorded in model files) reads back to the same ranges.
+  // The vehicles line names files by their stem, which resolve only where the files are (a base
+  // or a working directory can bring vehicles from files): read it back with a named set instead.
   const std::string written = randomisationToText(r);
-  const Randomisation back = randomisationFromText(written, "written");  // must not throw
-  QUADFDI_FUZZ_CHECK(randomisationToText(back) == written);
+  const std::string ranges = written.substr(written.find('\n') + 1);
+  const Randomisation back = randomisationFromText("vehicles = [\"nominal\"]\n" + ranges, "written");  // must not throw
+  const std::string back_text = randomisationToText(back);
+  QUADFDI_FUZZ_CHECK(back_text.substr(back_text.find('\n') + 1) == ranges);
   return 0;
 }
