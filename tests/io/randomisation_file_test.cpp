@@ -197,7 +197,8 @@ TEST(RandomisationFile, ABaseIsExtendedKeyByKey) {
 // alone. (Written as `base` recipes, so the test holds them to it.)
 TEST(RandomisationFile, TheShippedRecipesDifferFromTheDefaultOnlyWhereTheySay) {
   const Randomisation fallback = loadRandomisation(kDefault);
-  Randomisation airframes = loadRandomisation(kAirframes);
+  const Randomisation airframe_recipe = loadRandomisation(kAirframes);
+  Randomisation airframes = airframe_recipe;
   EXPECT_TRUE(airframes.airframes.enabled());
   airframes.airframes = fallback.airframes;
   EXPECT_EQ(randomisationToText(airframes), randomisationToText(fallback));
@@ -210,8 +211,8 @@ TEST(RandomisationFile, TheShippedRecipesDifferFromTheDefaultOnlyWhereTheySay) {
   EXPECT_EQ(randomisationToText(geometric), randomisationToText(fallback));
   Randomisation synthetic = loadRandomisation(std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-synthetic-airframes.toml");
   EXPECT_EQ(synthetic.airframes.share, 1.0);
-  synthetic.airframes.share = loadRandomisation(kAirframes).airframes.share;
-  EXPECT_EQ(randomisationToText(synthetic), randomisationToText(loadRandomisation(kAirframes)));
+  synthetic.airframes.share = airframe_recipe.airframes.share;
+  EXPECT_EQ(randomisationToText(synthetic), randomisationToText(airframe_recipe));
 }
 
 TEST(RandomisationFile, WindKeysParseAndWindWithoutDragIsRefusedAtTheFile) {
