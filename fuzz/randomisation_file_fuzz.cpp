@@ -1,7 +1,7 @@
 // Randomisation files (io/randomisation_file.h): any bytes give a randomisation that validates or
 // one ConfigError naming the file. Inputs naming a path (a '/') are skipped: loading the vehicles
-// they name is the vehicle file's target, and a fuzzer must not open /dev/zero; the named
-// parameter sets ("nominal", …) still exercise the vehicle list.
+// they name is the vehicle file's target, and a fuzzer must not open the machine's files (a named
+// pipe waits for a writer); the named parameter sets ("nominal", …) still exercise the vehicle list.
 #include <cstdint>
 #include <string>
 

@@ -1,10 +1,11 @@
 #include "cli/log_input.h"
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <iterator>
 #include <stdexcept>
 
+#include "io/file_bytes.h"
 #include "io/key_value.h"
 #include "io/merged_telemetry.h"
 #include "io/vehicle_file.h"
@@ -185,14 +186,6 @@ bool csvInVehicleNumbering(const LogInputOptions& o) {
 
 namespace {
 
-std::vector<std::uint8_t> readAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in.is_open()) throw std::runtime_error(path + ": cannot open");
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw std::runtime_error(path + ": read failed");
-  return bytes;
-}
-
 std::string where(const std::string& path, const LogIssue& issue, bool with_offset) {
   std::string s = path + ": ";
   if (with_offset) s += "byte " + std::to_string(issue.offset) + (issue.topic.empty() ? ": " : ", ");
@@ -205,6 +198,15 @@ std::string where(const std::string& path, const LogIssue& issue, bool with_offs
 std::string resolveInputFormat(const std::string& path, const std::string& format) {
   if (format != "auto" && format != "csv" && format != "csv-merged") return format;
   if (path == "-") return format == "auto" ? "csv" : format;
+  std::error_code ignored;  // a folder opens, and reads as an empty file: say what it is
+  const std::filesystem::file_status status = std::filesystem::status(path, ignored);
+  if (std::filesystem::is_directory(status)) throw std::runtime_error(path + ": is a folder, not a flight log or telemetry CSV");
+  // A pipe (`<(zcat log.ulg.gz)`) gives its bytes once: the magic read here would be missing from the read that follows.
+  if (std::filesystem::is_fifo(status)) {
+    if (format != "auto") return format;
+    throw std::runtime_error(path + ": a pipe: its format cannot be told from its first bytes without losing them; "
+                             "name it with --format (ulog, dataflash, crazyflie, csv or csv-merged)");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in.is_open()) throw std::runtime_error(path + ": cannot open");
   std::vector<std::uint8_t> head(512);
@@ -283,8 +285,8 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
                         bool read_rates) {
   if (format == "csv-merged") return openMergedCsv(path, o, csv_reading, dt, max_gap);
   if (path == "-") throw std::runtime_error("flight logs (--format " + format + ") are read from a file, not standard input");
-  const std::vector<std::uint8_t> bytes = readAll(path);
-  const ByteSpan span{bytes.data(), bytes.size()};
+  const std::string bytes = readFileBounded(path, kMaxLogFileBytes, "a flight log", PipeReading::kRead);
+  const ByteSpan span{reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()};
   DecodedLog log;
   LogIssue issue;
   if (format == "ulog") issue = readUlog(span, log);

@@ -2,9 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -168,11 +166,7 @@ DecisionCalibration calibrationFromJson(const std::string& text, const std::stri
 }
 
 DecisionCalibration readCalibrationFile(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw ConfigError(path + ": cannot open");
-  std::stringstream s;
-  s << f.rdbuf();
-  return calibrationFromJson(s.str(), path);
+  return calibrationFromJson(readTextFile(path, "a calibration file"), path);
 }
 
 void writeCalibrationFile(const std::string& path, const DecisionCalibration& c) {

@@ -151,7 +151,7 @@ ControllerConfig controllerConfigFromText(const std::string& text, const std::st
 }
 
 ControllerConfig loadControllerConfig(const std::string& path, const ControllerConfig& base) {
-  return controllerConfigFromText(readTextFile(path), path, base);
+  return controllerConfigFromText(readTextFile(path, "a controller file"), path, base);
 }
 
 }  // namespace quadfdi

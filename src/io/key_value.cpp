@@ -5,9 +5,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <set>
 #include <sstream>
+
+#include "io/file_bytes.h"
 
 namespace quadfdi {
 namespace {
@@ -144,13 +145,12 @@ KeyValueDocument parseKeyValue(const std::string& text, const std::string& sourc
   return doc;
 }
 
-std::string readTextFile(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw ConfigError(path + ": cannot open for reading");
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
-  if (file.bad()) throw ConfigError(path + ": read error");
-  return buffer.str();
+std::string readTextFile(const std::string& path, const std::string& kind) {
+  try {
+    return readFileBounded(path, kMaxConfigFileBytes, kind, PipeReading::kRefuse);
+  } catch (const FileReadError& e) {
+    throw ConfigError(e.what());
+  }
 }
 
 KeyValueDocument readKeyValueFile(const std::string& path) { return parseKeyValue(readTextFile(path), path); }

@@ -38,8 +38,10 @@ struct KeyValueDocument {
 
 // Parses text; throws ConfigError("SOURCE:LINE: problem") on malformed lines or duplicate keys.
 KeyValueDocument parseKeyValue(const std::string& text, const std::string& source);
-// Whole file as text; throws ConfigError("PATH: cannot open …") when it cannot be read.
-std::string readTextFile(const std::string& path);
+// Whole file as text, at most io/file_bytes.h's kMaxConfigFileBytes; throws ConfigError("PATH:
+// problem") when it cannot be read, is a folder, a device or a pipe, or is larger. `kind` names what the
+// file should be in that message ("a vehicle file").
+std::string readTextFile(const std::string& path, const std::string& kind = "a configuration file");
 // Reads and parses a file; throws ConfigError naming the file when it cannot be read.
 KeyValueDocument readKeyValueFile(const std::string& path);
 

@@ -1,28 +1,23 @@
 #include "io/model_file.h"
 
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/file_bytes.h"
 
 namespace quadfdi {
 
 namespace {
-constexpr std::streamoff kMaxModelBytes = std::streamoff{1} << 31;  // 2 GiB: far beyond any identifier
+constexpr std::uintmax_t kMaxModelBytes = std::uintmax_t{1} << 31;  // 2 GiB: far beyond any identifier
 }
 
 TrainedModel readModelFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ModelError(path + ": cannot open for reading");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  if (size < 0) throw ModelError(path + ": cannot read");
-  if (size > kMaxModelBytes) throw ModelError(path + ": " + std::to_string(size) + " bytes is too large for a model file");
-  in.seekg(0);
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  in.read(bytes.data(), size);
-  if (in.gcount() != size) throw ModelError(path + ": read failed");
+  std::string bytes;
+  try {
+    bytes = readFileBounded(path, kMaxModelBytes, "a model file", PipeReading::kRefuse);
+  } catch (const FileReadError& e) {
+    throw ModelError(e.what());
+  }
   return decodeWeightsFile(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), path);
 }
 

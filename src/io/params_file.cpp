@@ -68,7 +68,7 @@ VehicleParams vehicleParamsFromText(const std::string& text, const std::string& 
 
 VehicleParams loadVehicleParams(const std::string& spec) {
   if (isNamedParamSet(spec)) return namedParams(spec);
-  const std::string text = readTextFile(spec);
+  const std::string text = readTextFile(spec, "a vehicle parameter file");
   if (looksLikeVehicleDescription(text)) return vehicleDescriptionFromText(text, spec).params;
   return vehicleParamsFromText(text, spec);
 }

@@ -250,7 +250,7 @@ VehicleDescription vehicleDescriptionFromText(const std::string& text, const std
 }
 
 VehicleDescription loadVehicleDescription(const std::string& path) {
-  return vehicleDescriptionFromText(readTextFile(path), path);
+  return vehicleDescriptionFromText(readTextFile(path, "a vehicle file"), path);
 }
 
 std::string vehicleDescriptionToText(const VehicleDescription& d) {

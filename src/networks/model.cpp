@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -232,6 +233,12 @@ void FaultIdentifier::save(const std::string& path) const {
 }
 
 FaultIdentifier FaultIdentifier::load(const std::string& path) {
+  // A folder opens and reads as empty; a device (/dev/zero) would be read as one endless first line.
+  std::error_code ignored;
+  const std::filesystem::file_status status = std::filesystem::status(path, ignored);
+  if (std::filesystem::is_directory(status)) throw ModelError(path + ": is a folder, not a model file");
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw ModelError(path + ": is not a regular file, not a model file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ModelError(path + ": cannot open for reading");
   std::string magic;

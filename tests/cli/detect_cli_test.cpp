@@ -1,8 +1,12 @@
 // quadfdi detect end to end: simulate → detect (file and pipe), and the documented behaviour
 // for every kind of messy or bad telemetry.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +15,7 @@
 #include <sstream>
 #include <utility>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "cli/cli_support.h"
@@ -1309,6 +1314,73 @@ TEST(DetectCli, BadTelemetryGetsOneLineNamingFileAndLine) {
   const CommandResult in_unit = run("detect -q --csv-time-unit ms --input " + temp("in-ms.csv") + " --output " + temp("in-ms.jsonl"));
   EXPECT_EQ(in_unit.exit_code, 0) << in_unit.out;
   EXPECT_EQ(readFile(temp("kept.jsonl")), "precious\n");
+}
+
+// Every file detect reads whole is bounded: a device (read without end), a folder, or a CSV
+// line past the reader's bound is refused in one line naming it, and the output is kept.
+TEST(DetectCli, DevicesAndFoldersAreRefusedInOneLineWhereverAFileIsRead) {
+  const std::string log = temp("device-log.csv");
+  std::ofstream(log) << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
+  const std::string folder = temp("device-folder");
+  std::filesystem::create_directories(folder);
+  const std::string kept = temp("device-kept.jsonl");
+  std::ofstream(kept) << "precious\n";
+  const std::string device = "/dev/zero: is a device or socket, not ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--vehicle /dev/zero --input " + log, device + "a vehicle"},
+      {"--config /dev/zero --input " + log, device + "a configuration file"},
+      {"--calibration /dev/zero --input " + log, device + "a calibration file"},
+      {"--model /dev/zero --input " + log, device + "a model file"},
+      {"--format ulog --input /dev/zero", device + "a flight log"},
+      {"--format csv --input /dev/zero", "/dev/zero:1: a line longer than 1048576 bytes: not CSV telemetry"},
+      {"--input " + folder, folder + ": is a folder, not a flight log or telemetry CSV"},
+      {"--vehicle " + folder + " --input " + log, folder + ": is a folder, not a vehicle"},
+  };
+  for (const auto& [arguments, expect] : cases) {
+    const CommandResult r = run("detect -q " + arguments + " --output " + kept);
+    EXPECT_EQ(r.exit_code, 1) << arguments << ": " << r.out;
+    EXPECT_EQ(countLines(r.out), 1) << arguments << ": " << r.out;
+    EXPECT_NE(r.out.find(expect), std::string::npos) << arguments << ": " << r.out;
+  }
+  EXPECT_EQ(readFile(kept), "precious\n");
+  std::filesystem::remove_all(folder);
+}
+
+// A pipe (`--input <(zcat log.csv.gz)`) gives its bytes once. Its format is not sniffed (that
+// would eat the header): named, it is read whole; left to auto, refused. A vehicle file, which
+// detect reads more than once, is refused unopened (opening a pipe waits for its writer).
+TEST(DetectCli, APipeIsReadWithANamedFormatAndRefusedWhereItWouldBeReadTwice) {
+  const std::string fifo = temp("input.fifo");
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // Writes once a reader has opened the pipe; gives up after 10 s so that a reader that never comes
+  // fails the test rather than hanging it. One write below PIPE_BUF: never partial.
+  std::thread writer([fifo] {
+    const std::string csv = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n0.002,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
+    for (int attempt = 0; attempt < 1000; ++attempt) {
+      if (const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK); fd >= 0) {
+        EXPECT_EQ(::write(fd, csv.data(), csv.size()), static_cast<ssize_t>(csv.size()));
+        ::close(fd);
+        return;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  });
+  const CommandResult named = run("detect --format csv --input " + fifo + " --output " + temp("fifo.jsonl"));
+  writer.join();
+  EXPECT_EQ(named.exit_code, 0) << named.out;  // the header and both rows were read: one window is more
+  EXPECT_NE(named.out.find("shorter than one window"), std::string::npos) << named.out;
+
+  const CommandResult sniffed = run("detect -q --input " + fifo);
+  EXPECT_EQ(sniffed.exit_code, 1) << sniffed.out;
+  EXPECT_NE(sniffed.out.find(fifo + ": a pipe: its format cannot be told from its first bytes without losing them; name it with --format"),
+            std::string::npos) << sniffed.out;
+  const std::string log = temp("pipe-log.csv");
+  std::ofstream(log) << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
+  const CommandResult vehicle = run("detect -q --vehicle " + fifo + " --input " + log);
+  EXPECT_EQ(vehicle.exit_code, 1) << vehicle.out;
+  EXPECT_NE(vehicle.out.find(fifo + ": is a pipe, not a vehicle"), std::string::npos) << vehicle.out;
+  std::remove(fifo.c_str());
 }
 
 TEST(DetectCli, ShortLogsModelsAndOptionsAreCheckedUpFront) {

@@ -58,7 +58,7 @@ TEST(KeyValue, MissingFileIsAOneLineError) {
     readKeyValueFile("/nonexistent/dir/x.toml");
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(), "/nonexistent/dir/x.toml: cannot open for reading");
+    EXPECT_STREQ(e.what(), "/nonexistent/dir/x.toml: cannot open for reading (No such file or directory)");
   }
 }
 

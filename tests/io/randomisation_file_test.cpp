@@ -179,12 +179,13 @@ TEST(RandomisationFile, ABaseIsExtendedKeyByKey) {
   EXPECT_EQ(test::configRefusal([&] { randomisationFromText("base = \"" + broken + "\"\n", "r.toml"); }),
             "r.toml:1: base: " + broken + ":2: unknown key 'speed'");
   EXPECT_EQ(refusalOf("vehicles = [\"nominal\"]\nbase = \"x.toml\"\n"), "r.toml:2: base must be the file's first key (before every section)");
-  EXPECT_EQ(refusalOf("base = \"no-such-base.toml\"\n"), "r.toml:1: base: no-such-base.toml is not a readable file");
-  EXPECT_EQ(refusalOf("base = \"/dev/zero\"\n"), "r.toml:1: base: /dev/zero is not a readable file");
-  EXPECT_EQ(refusalOf("base = \"" + folder.string() + "\"\n"), "r.toml:1: base: " + folder.string() + " is not a readable file");
+  EXPECT_EQ(refusalOf("base = \"no-such-base.toml\"\n"), "r.toml:1: base: no-such-base.toml: cannot open for reading (No such file or directory)");
+  EXPECT_EQ(refusalOf("base = \"/dev/zero\"\n"),
+            "r.toml:1: base: /dev/zero: is a device or socket, not a randomisation file (it would be read without end)");
+  EXPECT_EQ(refusalOf("base = \"" + folder.string() + "\"\n"), "r.toml:1: base: " + folder.string() + ": is a folder, not a randomisation file");
   EXPECT_EQ(refusalOf("base = \"\"\n"), "r.toml:1: base must name a randomisation file");
   const std::string large = write("large.toml", std::string((1u << 20) + 1, '#'));
-  EXPECT_EQ(refusalOf("base = \"" + large + "\"\n"), "r.toml:1: base: " + large + " is larger than 1048576 bytes: not a randomisation file");
+  EXPECT_EQ(refusalOf("base = \"" + large + "\"\n"), "r.toml:1: base: " + large + ": larger than 1048576 bytes, not a randomisation file");
   const std::string loop = write("loop.toml", "base = \"loop.toml\"\n");
   const std::string loop_message = test::configRefusal([&] { loadRandomisation(loop); });
   EXPECT_EQ(loop_message.rfind(loop + ":1: base: " + loop + ":1: base: ", 0), 0u) << loop_message;

@@ -156,6 +156,18 @@ std::string firstRefusal(const std::string& csv, const std::string& name, const 
 
 // A simulator that logs orientation as a quaternion needs no converter: qw,qx,qy,qz stand in for
 // roll,pitch,yaw and give the same ZYX angles, near gimbal lock and across yaw = ±π too.
+// A line past the reader's bound (1 MiB) is no telemetry: a device or a binary file read as CSV
+// would otherwise be read into memory without end. Lines up to it read; the last needs no newline.
+TEST(TelemetryCsv, ALineLongerThanTheBoundIsRefusedNamingIt) {
+  const std::string header = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4";
+  const std::string row = "0,0,0,0,0,0,0,0.1,0.1,0.1,0.1";
+  EXPECT_EQ(firstRefusal(header + "\n" + row, "last.csv"), "accepted");
+  const std::string padded = header + std::string((std::size_t{1} << 20) - header.size(), ' ');  // the bound, exactly
+  EXPECT_EQ(firstRefusal(padded + "\n" + row + "\n", "padded.csv"), "accepted");
+  EXPECT_EQ(firstRefusal(header + "\n" + row + "\n" + std::string((std::size_t{1} << 20) + 1, '0'), "zeros.csv"),
+            "zeros.csv:3: a line longer than 1048576 bytes: not CSV telemetry");
+}
+
 TEST(TelemetryCsv, AQuaternionAttitudeReadsAsItsEulerAngles) {
   const double kAngles[][3] = {{0.0, 0.0, 0.0}, {0.3, -0.2, 1.0}, {-2.9, 1.2, -3.1}, {3.1, -1.5, 3.14}, {0.01, 1.5707, -0.5}};
   for (const auto& a : kAngles) {

@@ -215,6 +215,8 @@ TEST(ModelFile, RefusesWrongTruncatedAndForeignFiles) {
     return path;
   };
   EXPECT_EQ(errorOf(temp("none.qfdi")), temp("none.qfdi") + ": cannot open for reading");
+  EXPECT_EQ(errorOf("/dev/zero"), "/dev/zero: is not a regular file, not a model file");  // not one endless line
+  EXPECT_EQ(errorOf(::testing::TempDir()), ::testing::TempDir() + ": is a folder, not a model file");
   EXPECT_EQ(errorOf(write(temp("empty.qfdi"), "")), temp("empty.qfdi") + ": empty file, not a quadfdi model");
   EXPECT_EQ(errorOf(write(temp("csv.qfdi"), "t,x,y\n")), temp("csv.qfdi") + ": not a quadfdi model file (bad first line)");
   EXPECT_EQ(errorOf(write(temp("v9.qfdi"), "quadfdi-model 9\n{}\n")),
