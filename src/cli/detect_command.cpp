@@ -107,7 +107,8 @@ CLI::App* addDetectCommand(CLI::App& app, DetectOptions& o) {
          "the shipped general model, or models/tcn-randomised-rates.qfdw where the telemetry carries body rates and that "
          "file is there)").defaultText("").shippedFile();
   t->add("--input,-i", o.input,
-         "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for CSV on standard input (streamed line by line)");
+         "Telemetry CSV or flight log (.ulg, .BIN, Crazyflie micro-SD), or - for standard input: CSV, streamed line by line, or "
+         "a flight log piped in with its --format named (zcat log.ulg.gz | quadfdi detect --format ulog)");
   t->add("--plot", o.plot, "Also draw Θ̂ per motor against time, alarms and evaluated phases into this PNG (needs gnuplot)");
   t->add("--output,-o", o.output, "JSON Lines output, or - for standard output");
   t->add("--summary", o.summary,

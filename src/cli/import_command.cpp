@@ -17,7 +17,7 @@ CLI::App* addImportCommand(CLI::App& app, ImportCommandOptions& o) {
       "telemetry CSV t,x,y,z,roll,pitch,yaw,u1..u4 (then p,q,r where the log records body rates) on the model's clock,\n"
       "airborne phases only, and print the import report: each signal's topic, rate and span, the conventions applied,\n"
       "the thrust scaling, the flight phases.");
-  cmd->add_option("input", o.input, "Flight log")->required();
+  cmd->add_option("input", o.input, "Flight log, or - for one piped in on standard input with its --format named")->required();
   auto t = std::make_shared<OptionTable>();
   t->addConfigFile(o.config);
   t->add("--output,-o", o.output, "Telemetry CSV, or - for standard output");

@@ -13,6 +13,7 @@
 #include "logs/crazyflie_signals.h"
 #include "logs/crazyflie_usd.h"
 #include "logs/dataflash.h"
+#include "logs/log_magic.h"
 #include "logs/px4_signals.h"
 #include "logs/ulog.h"
 
@@ -213,10 +214,7 @@ std::string resolveInputFormat(const std::string& path, const std::string& forma
   in.read(reinterpret_cast<char*>(head.data()), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
   const ByteSpan span{head.data(), head.size()};
-  const char* magic = looksLikeUlog(span)          ? "ulog"
-                      : looksLikeDataflash(span)   ? "dataflash"
-                      : looksLikeCrazyflieUsd(span) ? "crazyflie"
-                                                    : nullptr;
+  const char* magic = logFormatOfMagic(span);
   if (magic && format != "auto")
     throw std::runtime_error(path + ": byte 0: --format " + format + ", but the file starts with the " + magic +
                              " magic; use --format auto or " + magic);
@@ -284,19 +282,22 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
                         const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model,
                         bool read_rates) {
   if (format == "csv-merged") return openMergedCsv(path, o, csv_reading, dt, max_gap);
-  if (path == "-") throw std::runtime_error("flight logs (--format " + format + ") are read from a file, not standard input");
-  const std::string bytes = readFileBounded(path, kMaxLogFileBytes, "a flight log", PipeReading::kRead);
+  // A log piped in (`zcat log.ulg.gz | quadfdi detect --format ulog`) is read whole, as a file is.
+  const bool piped = path == "-";
+  const std::string name = piped ? "<stdin>" : path;
+  const std::string bytes = piped ? readStandardInputBounded(kMaxLogFileBytes, "a flight log")
+                                  : readFileBounded(path, kMaxLogFileBytes, "a flight log", PipeReading::kRead);
   const ByteSpan span{reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()};
   DecodedLog log;
   LogIssue issue;
   if (format == "ulog") issue = readUlog(span, log);
   else if (format == "dataflash") issue = readDataflash(span, log);
   else if (format == "crazyflie") issue = readCrazyflieUsd(span, log);
-  else throw std::runtime_error(path + ": unknown format '" + format + "'");
-  if (!issue.ok()) throw std::runtime_error(where(path, issue, true));
+  else throw std::runtime_error(name + ": unknown format '" + format + "'");
+  if (!issue.ok()) throw std::runtime_error(where(name, issue, true));
 
   OpenedLog opened;
-  for (const std::string& w : log.warnings) opened.warnings.push_back(path + ": " + w);
+  for (const std::string& w : log.warnings) opened.warnings.push_back(name + ": " + w);
 
   ImportOptions io = importOptions(o, dt, max_gap);
   io.scale_free_model = scale_free_model;
@@ -328,15 +329,15 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
   }
   if (!issue.ok()) {
     // A missing signal names itself; a log that is also too coarse says so in the same line.
-    std::string line = where(path, issue, issue.status != LogStatus::kMissingSignal && issue.offset != 0);
+    std::string line = where(name, issue, issue.status != LogStatus::kMissingSignal && issue.offset != 0);
     if (issue.status == LogStatus::kMissingSignal) line += coarseTopicsNote(log, io);
     throw std::runtime_error(line);
   }
   opened.source = std::make_unique<LogSampleSource>();
   const ImportRefusal refusal = buildLogSampleSource(std::move(signals), log.format, io, *opened.source);
   if (refusal.refused())
-    throw std::runtime_error(path + ": " + (refusal.topic.empty() ? "" : "topic " + refusal.topic + ": ") + refusal.message);
-  opened.source->setName(path);
+    throw std::runtime_error(name + ": " + (refusal.topic.empty() ? "" : "topic " + refusal.topic + ": ") + refusal.message);
+  opened.source->setName(name);
   return opened;
 }
 

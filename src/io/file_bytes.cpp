@@ -23,6 +23,25 @@ std::string tooLarge(const std::string& path, std::uintmax_t max_bytes, const st
   return path + ": larger than " + std::to_string(max_bytes) + " bytes, not " + kind;
 }
 
+// The descriptor's bytes to its end, at most max_bytes (`info`: its fstat, to reserve a regular file's size).
+std::string readToEnd(int fd, const struct stat& info, const std::string& name, std::uintmax_t max_bytes, const std::string& kind) {
+  std::string bytes;
+  if (S_ISREG(info.st_mode)) bytes.reserve(static_cast<std::size_t>(info.st_size));
+  char chunk[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, chunk, sizeof chunk);
+    if (n == 0) break;
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw FileReadError(name + ": read error after " + std::to_string(bytes.size()) + " bytes (" + std::strerror(errno) + ")");
+    }
+    // A regular file that grows while read, or a pipe: the bound holds for what was read.
+    if (bytes.size() + static_cast<std::size_t>(n) > max_bytes) throw FileReadError(tooLarge(name, max_bytes, kind));
+    bytes.append(chunk, static_cast<std::size_t>(n));
+  }
+  return bytes;
+}
+
 }  // namespace
 
 std::string readFileBounded(const std::string& path, std::uintmax_t max_bytes, const std::string& kind, PipeReading pipes) {
@@ -44,21 +63,19 @@ std::string readFileBounded(const std::string& path, std::uintmax_t max_bytes, c
   if (S_ISREG(info.st_mode) && static_cast<std::uintmax_t>(info.st_size) > max_bytes)
     throw FileReadError(tooLarge(path, max_bytes, kind));
 
-  std::string bytes;
-  if (S_ISREG(info.st_mode)) bytes.reserve(static_cast<std::size_t>(info.st_size));
-  char chunk[1 << 16];
-  for (;;) {
-    const ssize_t n = ::read(file.fd, chunk, sizeof chunk);
-    if (n == 0) break;
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      throw FileReadError(path + ": read error after " + std::to_string(bytes.size()) + " bytes (" + std::strerror(errno) + ")");
-    }
-    // A regular file that grows while read, or a pipe: the bound holds for what was read.
-    if (bytes.size() + static_cast<std::size_t>(n) > max_bytes) throw FileReadError(tooLarge(path, max_bytes, kind));
-    bytes.append(chunk, static_cast<std::size_t>(n));
-  }
-  return bytes;
+  return readToEnd(file.fd, info, path, max_bytes, kind);
+}
+
+std::string readStandardInputBounded(std::uintmax_t max_bytes, const std::string& kind) {
+  const std::string name = "<stdin>";
+  struct stat info {};
+  if (::fstat(STDIN_FILENO, &info) != 0) throw FileReadError(name + ": cannot read (" + std::strerror(errno) + ")");
+  if (::isatty(STDIN_FILENO)) throw FileReadError(name + ": is a terminal, not " + kind + ": pipe the file in or name it with --input");
+  if (S_ISDIR(info.st_mode)) throw FileReadError(name + ": is a folder, not " + kind);
+  if (!S_ISREG(info.st_mode) && !S_ISFIFO(info.st_mode) && !S_ISSOCK(info.st_mode))
+    throw FileReadError(name + ": is a device, not " + kind + " (it would be read without end)");
+  if (S_ISREG(info.st_mode) && static_cast<std::uintmax_t>(info.st_size) > max_bytes) throw FileReadError(tooLarge(name, max_bytes, kind));
+  return readToEnd(STDIN_FILENO, info, name, max_bytes, kind);
 }
 
 }  // namespace quadfdi

@@ -33,4 +33,8 @@ enum class PipeReading { kRead, kRefuse };
 // been, in the refusal ("a vehicle file").
 std::string readFileBounded(const std::string& path, std::uintmax_t max_bytes, const std::string& kind, PipeReading pipes);
 
+// Standard input's bytes to its end, as readFileBounded reads a pipe (`zcat log.ulg.gz | quadfdi
+// detect --format ulog`), named "<stdin>" in its refusals; a terminal is refused, unread.
+std::string readStandardInputBounded(std::uintmax_t max_bytes, const std::string& kind);
+
 }  // namespace quadfdi

@@ -111,6 +111,37 @@ TEST(LogCli, ImportWritesCsvThatDetectsTheSameAndPrintsTheReport) {
   EXPECT_EQ(fault(d.out), fault(l.out));
 }
 
+// A log piped in on standard input (`zcat log.ulg.gz | quadfdi detect --format ulog`) or
+// redirected from a file reads as the file does: the same decisions, sample for sample, named
+// <stdin>. Without --format, standard input is CSV; a log there says so in one line.
+TEST(LogCli, ALogOnStandardInputReadsAsTheFile) {
+  const std::string direct = temp("stdin-direct.jsonl"), piped = temp("stdin-piped.jsonl"), redirected = temp("stdin-redirected.jsonl");
+  ASSERT_EQ(run("detect -q --input " + faultyUlog() + " --max-thrust 0.15 --output " + direct).exit_code, 0);
+  const CommandResult p = quadfdi::test::runCommand("cat " + faultyUlog() + " | " QUADFDI_EXE " detect --format ulog --input - --max-thrust 0.15 --output " + piped + " 2>&1");
+  ASSERT_EQ(p.exit_code, 0) << p.out;
+  EXPECT_TRUE(contains(p.out, "FAULT in motor 3 at t = 4.0")) << p.out;
+  const CommandResult r = run("detect -q --format ulog --input - --max-thrust 0.15 --output " + redirected + " < " + faultyUlog());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_EQ(readFile(piped), readFile(direct));
+  EXPECT_EQ(readFile(redirected), readFile(direct));
+  // import the same way: the same CSV as from the file.
+  const std::string from_file = temp("stdin-import-file.csv"), from_pipe = temp("stdin-import-pipe.csv");
+  ASSERT_EQ(run("import -q " + faultyUlog() + " --max-thrust 0.15 -o " + from_file).exit_code, 0);
+  const CommandResult i = quadfdi::test::runCommand("cat " + faultyUlog() + " | " QUADFDI_EXE " import -q --format ulog - --max-thrust 0.15 -o " + from_pipe + " 2>&1");
+  ASSERT_EQ(i.exit_code, 0) << i.out;
+  EXPECT_EQ(readFile(from_pipe), readFile(from_file));
+  // Damage names <stdin> and the byte; without --format, the log is read as CSV and refused so.
+  const CommandResult cut = quadfdi::test::runCommand("head -c 300 " + faultyUlog() + " | " QUADFDI_EXE " detect -q --format ulog --input - 2>&1");
+  EXPECT_EQ(cut.exit_code, 1) << cut.out;
+  EXPECT_EQ(countLines(cut.out), 1) << cut.out;
+  EXPECT_TRUE(contains(cut.out, "<stdin>: byte ")) << cut.out;
+  const CommandResult unnamed = run("detect -q --input - < " + faultyUlog());
+  EXPECT_EQ(unnamed.exit_code, 1) << unnamed.out;
+  EXPECT_EQ(countLines(unnamed.out), 1) << unnamed.out;
+  EXPECT_TRUE(contains(unnamed.out, "<stdin>:1: binary, not CSV telemetry (the ulog magic: a flight log; read it with --format ulog)"))
+      << unnamed.out;
+}
+
 TEST(LogCli, VehicleDescriptionScalesTheThrustAndExplicitFlagsWin) {
   const std::string vehicle = std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/crazyflie2.toml";
   CommandResult r = run("import " + faultyUlog() + " --vehicle " + vehicle + " -o " + temp("vehicle.csv"));

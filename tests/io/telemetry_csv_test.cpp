@@ -168,6 +168,16 @@ TEST(TelemetryCsv, ALineLongerThanTheBoundIsRefusedNamingIt) {
             "zeros.csv:3: a line longer than 1048576 bytes: not CSV telemetry");
 }
 
+// A flight log read as CSV (on standard input, where its format is not sniffed) is named by its
+// magic; other binary is refused as binary; a header in UTF-8 (°) is text.
+TEST(TelemetryCsv, BinaryInputIsRefusedAndAFlightLogNamed) {
+  EXPECT_EQ(firstRefusal(std::string("ULog\x01\x12\x35\x01\0\0\0\0\0\0\0\0", 16), "log.csv"),
+            "log.csv:1: binary, not CSV telemetry (the ulog magic: a flight log; read it with --format ulog)");
+  EXPECT_EQ(firstRefusal(std::string("t,x\0y\n", 6), "nul.csv"),
+            "nul.csv:1: binary, not CSV telemetry (a flight log? name its format: --format ulog, dataflash or crazyflie)");
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll [°],pitch [°],yaw [°],u1,u2,u3,u4\r\n0,0,0,0,0,0,0,0.1,0.1,0.1,0.1\r\n", "utf8.csv"), "accepted");
+}
+
 TEST(TelemetryCsv, AQuaternionAttitudeReadsAsItsEulerAngles) {
   const double kAngles[][3] = {{0.0, 0.0, 0.0}, {0.3, -0.2, 1.0}, {-2.9, 1.2, -3.1}, {3.1, -1.5, 3.14}, {0.01, 1.5707, -0.5}};
   for (const auto& a : kAngles) {

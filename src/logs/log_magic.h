@@ -1,0 +1,13 @@
+// Which flight-log format a file's first bytes announce (each format's magic), shared by the
+// command line's format detection and the CSV reader's refusal of a log read as CSV.
+#pragma once
+
+#include "logs/decoded_log.h"
+
+namespace quadfdi {
+
+// "ulog", "dataflash" or "crazyflie" (the --format names) when `head` starts with that format's
+// magic; nullptr otherwise.
+const char* logFormatOfMagic(ByteSpan head);
+
+}  // namespace quadfdi
