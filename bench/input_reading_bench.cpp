@@ -1,13 +1,19 @@
-// Telemetry CSV reading speed: a 10-minute 500 Hz flight (300 000 rows, the columns `quadfdi
-// simulate` writes) from memory through TelemetryReader, every row parsed and checked. Reports
-// rows/s and bytes/s; the lines are read with the reader's 1 MiB line bound.
+// Input reading speed. readTelemetryCsv: a 10-minute 500 Hz flight (300 000 rows, the columns
+// `quadfdi simulate` writes) from memory through TelemetryReader, every row parsed and checked,
+// with the reader's 1 MiB line bound; rows/s and bytes/s. readLogFile: a 256 MB file (a long
+// flight log's size) read whole by readFileBounded, as detect and import read a log, from the
+// page cache; bytes/s.
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 
+#include "io/file_bytes.h"
 #include "io/telemetry_reader.h"
 
 using namespace quadfdi;
@@ -44,5 +50,19 @@ void readTelemetryCsv(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(text.size()));
 }
 BENCHMARK(readTelemetryCsv)->Unit(benchmark::kMillisecond);
+
+void readLogFile(benchmark::State& state) {
+  const std::string path = (std::filesystem::temp_directory_path() / ("quadfdi_bench_log_" + std::to_string(::getpid()) + ".bin")).string();
+  constexpr std::size_t kBytes = std::size_t{256} << 20;
+  {
+    std::ofstream out(path, std::ios::binary);
+    const std::string block(std::size_t{1} << 20, '\x5a');
+    for (std::size_t written = 0; written < kBytes; written += block.size()) out << block;
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(readFileBounded(path, kMaxLogFileBytes, "a flight log", PipeReading::kRead).size());
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(kBytes));
+  std::remove(path.c_str());
+}
+BENCHMARK(readLogFile)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
