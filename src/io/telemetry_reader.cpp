@@ -259,6 +259,12 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   std::vector<std::string> cells;
   separator_ = separatorOf(header);
   split(header, separator_, cells);
+  // ArduPilot's DataFlash log as text (Mission Planner's .log, pymavlink's text dump) opens with the
+  // FMT message's own format line: "FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns".
+  if (cells.size() >= 5 && trim(cells[0]) == "FMT" && trim(cells[3]) == "FMT" && trim(cells[4]) == "BBnNZ")
+    throw TelemetryError(where() + ": an ArduPilot DataFlash log as text (Mission Planner's .log), not CSV telemetry: "
+                                   "quadfdi reads the binary log the autopilot wrote (the .BIN beside it, or downloaded over "
+                                   "MAVLink), by its magic or with --format dataflash");
   cells_ = static_cast<int>(cells.size());
   bool angle_unit_read = false;
   const std::array<std::string, kColumnCount> header_names = label_;  // a column named with a unit is then labelled so
