@@ -220,10 +220,9 @@ std::string resolveInputFormat(const std::string& path, const std::string& forma
                              " magic; use --format auto or " + magic);
   if (magic) return magic;
   if (format != "auto") return format;
-  for (std::uint8_t b : head)
-    if (b == 0 || (b < 0x20 && b != '\t' && b != '\n' && b != '\r'))
-      throw std::runtime_error(path + ": unknown format: binary, but no ULog, DataFlash or Crazyflie micro-SD magic at "
-                               "byte 0 (and not CSV telemetry); --format names one");
+  if (looksBinary(span))
+    throw std::runtime_error(path + ": unknown format: binary, but no ULog, DataFlash or Crazyflie micro-SD magic at "
+                             "byte 0 (and not CSV telemetry); --format names one");
   return "csv";
 }
 

@@ -23,10 +23,14 @@ std::string tooLarge(const std::string& path, std::uintmax_t max_bytes, const st
   return path + ": larger than " + std::to_string(max_bytes) + " bytes, not " + kind;
 }
 
-// The descriptor's bytes to its end, at most max_bytes (`info`: its fstat, to reserve a regular file's size).
+// The descriptor's bytes to its end, at most max_bytes (`info`: its fstat: a regular file past the
+// bound is refused unread, one within it has its size reserved).
 std::string readToEnd(int fd, const struct stat& info, const std::string& name, std::uintmax_t max_bytes, const std::string& kind) {
   std::string bytes;
-  if (S_ISREG(info.st_mode)) bytes.reserve(static_cast<std::size_t>(info.st_size));
+  if (S_ISREG(info.st_mode)) {
+    if (static_cast<std::uintmax_t>(info.st_size) > max_bytes) throw FileReadError(tooLarge(name, max_bytes, kind));
+    bytes.reserve(static_cast<std::size_t>(info.st_size));
+  }
   char chunk[1 << 16];
   for (;;) {
     const ssize_t n = ::read(fd, chunk, sizeof chunk);
@@ -60,9 +64,6 @@ std::string readFileBounded(const std::string& path, std::uintmax_t max_bytes, c
   while (file.fd < 0 && errno == EINTR);
   if (file.fd < 0) throw FileReadError(path + ": cannot open for reading (" + std::strerror(errno) + ")");
   if (::fstat(file.fd, &info) != 0) throw FileReadError(path + ": cannot read (" + std::strerror(errno) + ")");
-  if (S_ISREG(info.st_mode) && static_cast<std::uintmax_t>(info.st_size) > max_bytes)
-    throw FileReadError(tooLarge(path, max_bytes, kind));
-
   return readToEnd(file.fd, info, path, max_bytes, kind);
 }
 
@@ -74,7 +75,6 @@ std::string readStandardInputBounded(std::uintmax_t max_bytes, const std::string
   if (S_ISDIR(info.st_mode)) throw FileReadError(name + ": is a folder, not " + kind);
   if (!S_ISREG(info.st_mode) && !S_ISFIFO(info.st_mode) && !S_ISSOCK(info.st_mode))
     throw FileReadError(name + ": is a device, not " + kind + " (it would be read without end)");
-  if (S_ISREG(info.st_mode) && static_cast<std::uintmax_t>(info.st_size) > max_bytes) throw FileReadError(tooLarge(name, max_bytes, kind));
   return readToEnd(STDIN_FILENO, info, name, max_bytes, kind);
 }
 

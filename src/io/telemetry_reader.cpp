@@ -250,8 +250,8 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
   std::string header;
   if (!readLine(header)) throw TelemetryError(name_ + ": empty input (expected the header t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4)");
   // Binary (standard input holding a flight log, or --format csv on one): said so, not "lacks column 't'".
-  if (std::any_of(header.begin(), header.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\r'; })) {
-    const char* magic = logFormatOfMagic({reinterpret_cast<const std::uint8_t*>(header.data()), header.size()});
+  if (const ByteSpan bytes{reinterpret_cast<const std::uint8_t*>(header.data()), header.size()}; looksBinary(bytes)) {
+    const char* magic = logFormatOfMagic(bytes);
     throw TelemetryError(where() + ": binary, not CSV telemetry" +
                          (magic ? std::string(" (the ") + magic + " magic: a flight log; read it with --format " + magic + ")"
                                 : std::string(" (a flight log? name its format: --format ulog, dataflash or crazyflie)")));
