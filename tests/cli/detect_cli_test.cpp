@@ -1333,6 +1333,7 @@ TEST(DetectCli, DevicesAndFoldersAreRefusedInOneLineWhereverAFileIsRead) {
       {"--model /dev/zero --input " + log, device + "a model file"},
       {"--format ulog --input /dev/zero", device + "a flight log"},
       {"--format csv --input /dev/zero", "/dev/zero:1: a line longer than 1048576 bytes: not CSV telemetry"},
+      {"--input /dev/zero", "/dev/zero: unknown format: binary, but no ULog, DataFlash or Crazyflie micro-SD magic at byte 0"},
       {"--input " + folder, folder + ": is a folder, not a flight log or telemetry CSV"},
       {"--vehicle " + folder + " --input " + log, folder + ": is a folder, not a vehicle"},
   };
