@@ -300,12 +300,13 @@ int runDetect(const DetectOptions& o) {
   // broken one must be refused ("FILE:LINE: problem"), not read as "no model of its own".
   // The motor numbers a pilot reads: a CSV is in quadfdi's numbering, which the description's
   // [motor.N] table (its autopilot's numbering) translates; a log's extractor overrides both.
-  MotorNumbering numbering = vehicleNumbering(o.log);
+  const std::optional<VehicleDescription> vehicle = describedVehicle(o.log);  // the one read of --vehicle
+  MotorNumbering numbering = vehicleNumbering(vehicle);
   const bool renumber = csvInVehicleNumbering(o.log);  // checked before any work or message
   const std::string format = resolveInputFormat(o.input, o.log.format);
   const bool csv = format == "csv" || format == "csv-merged";
   refuseOptionsUnreadBy(format, o.log);  // --csv-frame, --csv-commands on a log; a log's options on a CSV
-  const TelemetryReaderOptions reading = csv ? csvReadingOptions(o.log) : TelemetryReaderOptions{};
+  const TelemetryReaderOptions reading = csv ? csvReadingOptions(o.log, vehicle) : TelemetryReaderOptions{};
   const bool rotor_speed = reading.commands == CommandQuantity::kRotorSpeed;
   const bool through_curve = reading.commands == CommandQuantity::kThrottle || reading.commands == CommandQuantity::kPwm;
   // The other rule's options are warned about, not refused: a config file may serve both rules.
@@ -356,7 +357,7 @@ int runDetect(const DetectOptions& o) {
     if (reader->numbering() && !renumber) numbering = *reader->numbering();
   } else {
     // throws one line naming file, byte, topic
-    log = openFlightLog(o.input, format, o.log, csv_reading, model.metadata.dt, o.max_gap,
+    log = openFlightLog(o.input, format, o.log, vehicle, csv_reading, model.metadata.dt, o.max_gap,
                         featuresScaleFree(model.metadata.features),
                         csv_reading.read_rates);
     source = log.source.get();

@@ -35,8 +35,9 @@ int runImport(const ImportCommandOptions& o) {
   const std::string format = resolveInputFormat(o.input, o.log.format);
   require(format != "csv", o.input + ": already telemetry CSV (or not a flight log: --format names one)");
   refuseOptionsUnreadBy(format, o.log);
-  const TelemetryReaderOptions reading = format == "csv-merged" ? csvReadingOptions(o.log) : TelemetryReaderOptions{};
-  OpenedLog log = openFlightLog(o.input, format, o.log, reading, o.dt, o.max_gap);  // throws one line
+  const std::optional<VehicleDescription> vehicle = describedVehicle(o.log);  // the one read of --vehicle
+  const TelemetryReaderOptions reading = format == "csv-merged" ? csvReadingOptions(o.log, vehicle) : TelemetryReaderOptions{};
+  OpenedLog log = openFlightLog(o.input, format, o.log, vehicle, reading, o.dt, o.max_gap);  // throws one line
   std::unique_ptr<AtomicFileWriter> file_out;
   if (o.output != "-") file_out = std::make_unique<AtomicFileWriter>(o.output);
   std::ostream& out = file_out ? file_out->stream() : std::cout;

@@ -136,23 +136,28 @@ void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o) 
     refuseGiven(o.given, {"mass"}, "unused with --max-thrust unless --hover-calibrate (which calibrates the scale from the hover)");
 }
 
-TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o) {
+std::optional<VehicleDescription> describedVehicle(const LogInputOptions& o) {
+  if (o.vehicle.empty()) return std::nullopt;
+  // Read once, so a pipe (`--vehicle <(…)`) serves as well as a file.
+  return loadVehicleDescription(o.vehicle, PipeReading::kRead);  // throws "FILE:LINE: problem"
+}
+
+TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o, const std::optional<VehicleDescription>& vehicle) {
   TelemetryReaderOptions r;
   r.frame = o.csv_frame == "ned" ? TelemetryFrame::kNed : TelemetryFrame::kZUp;
   r.commands = o.csv_commands == "rotor-speed" ? CommandQuantity::kRotorSpeed
                : o.csv_commands == "throttle"  ? CommandQuantity::kThrottle
                : o.csv_commands == "pwm"       ? CommandQuantity::kPwm
                                                : CommandQuantity::kThrust;
-  if ((r.commands == CommandQuantity::kThrottle || r.commands == CommandQuantity::kPwm) && o.vehicle.empty())
+  if ((r.commands == CommandQuantity::kThrottle || r.commands == CommandQuantity::kPwm) && !vehicle)
     throw quadfdi::ConfigError("--csv-commands " + o.csv_commands + ": needs --vehicle FILE, whose [thrust] max and model_factor "
                       "turn the motor command into newtons (docs/vehicles.md)");
   if (r.commands != CommandQuantity::kPwm) refuseGiven(o.given, {"csv_pwm_min", "csv_pwm_max"}, "is read only with --csv-commands pwm");
   if (o.csv_pwm_max <= o.csv_pwm_min) throw quadfdi::ConfigError("--csv-pwm-max must be above --csv-pwm-min");
-  if (!o.vehicle.empty()) {
-    const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
-    r.curve.max_thrust = vehicle.params.max_thrust;
-    r.curve.model_factor = vehicle.params.thrust_model_factor;
-    if (csvInVehicleNumbering(o)) r.file_motor = vehicle.autopilot_motor_of_quadfdi_motor;  // read in quadfdi's order
+  if (vehicle) {
+    r.curve.max_thrust = vehicle->params.max_thrust;
+    r.curve.model_factor = vehicle->params.thrust_model_factor;
+    if (csvInVehicleNumbering(o)) r.file_motor = vehicle->autopilot_motor_of_quadfdi_motor;  // read in quadfdi's order
   }
   r.curve.pwm_min = o.csv_pwm_min;
   r.curve.pwm_max = o.csv_pwm_max;
@@ -169,12 +174,11 @@ TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o) {
   return r;
 }
 
-MotorNumbering vehicleNumbering(const LogInputOptions& o) {
+MotorNumbering vehicleNumbering(const std::optional<VehicleDescription>& vehicle) {
   MotorNumbering numbering;
-  if (o.vehicle.empty()) return numbering;
-  const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
-  numbering.name = vehicle.motor_numbering.substr(0, vehicle.motor_numbering.find(" ("));
-  numbering.autopilot_motor = vehicle.autopilot_motor_of_quadfdi_motor;
+  if (!vehicle) return numbering;
+  numbering.name = vehicle->motor_numbering.substr(0, vehicle->motor_numbering.find(" ("));
+  numbering.autopilot_motor = vehicle->autopilot_motor_of_quadfdi_motor;
   return numbering;
 }
 
@@ -249,8 +253,8 @@ void inVehicleNumbering(FlightSignals& s, const MotorNumbering& vehicle) {
   s.conventions.push_back("u1..u4 in the vehicle's numbering (" + vehicle.name + ", --csv-numbering vehicle), put in quadfdi's (motor ← column): " + columns);
 }
 
-OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const TelemetryReaderOptions& reading,
-                        double dt, double max_gap) {
+OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const std::optional<VehicleDescription>& vehicle,
+                        const TelemetryReaderOptions& reading, double dt, double max_gap) {
   const ImportOptions io = importOptions(o, dt, max_gap);  // its u1..u4 are newtons: no thrust scale
   std::ifstream file;
   if (path != "-") {
@@ -261,7 +265,7 @@ OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const
   TelemetryReader reader(path == "-" ? std::cin : file, name, reading);  // throws on an empty file or a bad header
   FlightSignals signals;
   const MergedTelemetryCounts counts = readMergedTelemetry(reader, signals);
-  if (csvInVehicleNumbering(o)) inVehicleNumbering(signals, vehicleNumbering(o));
+  if (csvInVehicleNumbering(o)) inVehicleNumbering(signals, vehicleNumbering(vehicle));
   OpenedLog opened;
   if (counts.without_time > 0 || counts.partial > 0)
     opened.warnings.push_back(std::to_string(counts.without_time) + " row(s) without a time skipped, " +
@@ -278,9 +282,9 @@ OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const
 }  // namespace
 
 OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o,
-                        const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model,
-                        bool read_rates) {
-  if (format == "csv-merged") return openMergedCsv(path, o, csv_reading, dt, max_gap);
+                        const std::optional<VehicleDescription>& vehicle, const TelemetryReaderOptions& csv_reading, double dt,
+                        double max_gap, bool scale_free_model, bool read_rates) {
+  if (format == "csv-merged") return openMergedCsv(path, o, vehicle, csv_reading, dt, max_gap);
   // A log piped in (`zcat log.ulg.gz | quadfdi detect --format ulog`) is read whole, as a file is.
   const bool piped = path == "-";
   const std::string name = piped ? "<stdin>" : path;
@@ -302,11 +306,10 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
   io.scale_free_model = scale_free_model;
   io.read_rates = read_rates;
   double thrust_model_factor = -1.0;  // [-] the vehicle description's, < 0 without one
-  if (!o.vehicle.empty()) {
-    const VehicleDescription vehicle = loadVehicleDescription(o.vehicle);  // throws "FILE:LINE: problem"
-    if (!(io.max_thrust > 0.0)) io.max_thrust = vehicle.params.max_thrust;
-    if (!(io.mass > 0.0)) io.mass = vehicle.params.mass;
-    thrust_model_factor = vehicle.params.thrust_model_factor;
+  if (vehicle) {
+    if (!(io.max_thrust > 0.0)) io.max_thrust = vehicle->params.max_thrust;
+    if (!(io.mass > 0.0)) io.mass = vehicle->params.mass;
+    thrust_model_factor = vehicle->params.thrust_model_factor;
   }
 
   FlightSignals signals;

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "cli/options.h"
 #include "core/motor_numbering.h"
 #include "io/telemetry_reader.h"
+#include "io/vehicle_file.h"
 #include "logs/telemetry_from_log.h"
 
 namespace quadfdi::cli {
@@ -52,14 +54,21 @@ std::string resolveInputFormat(const std::string& path, const std::string& forma
 // Crazyflie's, and so on. Run with the format resolveInputFormat gave, before any work.
 void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o);
 
-// How to read a telemetry CSV's cells (--csv-frame, --csv-commands, --csv-pwm-*; the thrust curve
-// from --vehicle). Throws ConfigError for a combination that cannot be read: a command quantity
-// that needs the vehicle's curve without --vehicle, pulse limits without pulses, an empty range.
-TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o);
+// The --vehicle description, read once per run and handed to the functions below (which read no
+// file of their own): one read gives the whole run one description, whatever happens to the file
+// meanwhile, and lets it be a pipe. nullopt without --vehicle; throws ConfigError "FILE:LINE:
+// problem" for a broken one.
+std::optional<VehicleDescription> describedVehicle(const LogInputOptions& o);
 
-// The motors' numbering the run reports: the --vehicle description's [motor.N] table, else
-// quadfdi's. A log's or a CSV's own numbering replaces it where the caller reads one.
-MotorNumbering vehicleNumbering(const LogInputOptions& o);
+// How to read a telemetry CSV's cells (--csv-frame, --csv-commands, --csv-pwm-*; the thrust curve
+// from `vehicle`, describedVehicle(o)). Throws ConfigError for a combination that cannot be read: a
+// command quantity that needs the vehicle's curve without --vehicle, pulse limits without pulses, an
+// empty range.
+TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o, const std::optional<VehicleDescription>& vehicle);
+
+// The motors' numbering the run reports: the description's [motor.N] table, else quadfdi's. A log's
+// or a CSV's own numbering replaces it where the caller reads one.
+MotorNumbering vehicleNumbering(const std::optional<VehicleDescription>& vehicle);
 
 // --csv-numbering vehicle: the CSV's u1..u4 are in the vehicle's numbering. Throws ConfigError
 // without --vehicle (a flight log's refusal is refuseOptionsUnreadBy's). Run before any work.
@@ -71,7 +80,9 @@ struct OpenedLog {
   std::vector<std::string> warnings;  // the reader's, "FILE: …"
 };
 
-// Reads, extracts and converts a log; `dt` is the model's period, `max_gap` the detector's.
+// Reads, extracts and converts a log; `dt` is the model's period, `max_gap` the detector's; `vehicle`
+// (describedVehicle(o)) gives the max thrust, mass and thrust curve where the flags and the log do not,
+// and a merged CSV's numbering.
 // "csv-merged": a telemetry CSV whose rows each hold some of the signals (io/merged_telemetry.h),
 // read from `path` or standard input ("-") to its end as `csv_reading` says (csvReadingOptions, which
 // the caller has already checked; unread for a flight log).
@@ -79,7 +90,7 @@ struct OpenedLog {
 // `read_rates`: the log's body rates are read (ImportOptions::read_rates; a merged CSV's by
 // csv_reading.read_rates).
 OpenedLog openFlightLog(const std::string& path, const std::string& format, const LogInputOptions& o,
-                        const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model = false,
+                        const std::optional<VehicleDescription>& vehicle, const TelemetryReaderOptions& csv_reading, double dt, double max_gap, bool scale_free_model = false,
                         bool read_rates = true);
 
 }  // namespace quadfdi::cli

@@ -145,9 +145,9 @@ KeyValueDocument parseKeyValue(const std::string& text, const std::string& sourc
   return doc;
 }
 
-std::string readTextFile(const std::string& path, const std::string& kind) {
+std::string readTextFile(const std::string& path, const std::string& kind, PipeReading pipes) {
   try {
-    return readFileBounded(path, kMaxConfigFileBytes, kind, PipeReading::kRefuse);
+    return readFileBounded(path, kMaxConfigFileBytes, kind, pipes);
   } catch (const FileReadError& e) {
     throw ConfigError(e.what());
   }

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "io/file_bytes.h"
+
 namespace quadfdi {
 
 // "FILE:LINE: problem" — thrown only at the edges (file and config parsing).
@@ -39,9 +41,11 @@ struct KeyValueDocument {
 // Parses text; throws ConfigError("SOURCE:LINE: problem") on malformed lines or duplicate keys.
 KeyValueDocument parseKeyValue(const std::string& text, const std::string& source);
 // Whole file as text, at most io/file_bytes.h's kMaxConfigFileBytes; throws ConfigError("PATH:
-// problem") when it cannot be read, is a folder, a device or a pipe, or is larger. `kind` names what the
-// file should be in that message ("a vehicle file").
-std::string readTextFile(const std::string& path, const std::string& kind = "a configuration file");
+// problem") when it cannot be read, is a folder, a device or (unless `pipes` reads them) a pipe, or is
+// larger. `kind` names what the file should be in that message ("a vehicle file"). A pipe gives its
+// bytes once: only a caller that reads the file once in a run may read one.
+std::string readTextFile(const std::string& path, const std::string& kind = "a configuration file",
+                         PipeReading pipes = PipeReading::kRefuse);
 // Reads and parses a file; throws ConfigError naming the file when it cannot be read.
 KeyValueDocument readKeyValueFile(const std::string& path);
 

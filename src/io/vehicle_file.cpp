@@ -249,8 +249,8 @@ VehicleDescription vehicleDescriptionFromText(const std::string& text, const std
   return d;
 }
 
-VehicleDescription loadVehicleDescription(const std::string& path) {
-  return vehicleDescriptionFromText(readTextFile(path, "a vehicle file"), path);
+VehicleDescription loadVehicleDescription(const std::string& path, PipeReading pipes) {
+  return vehicleDescriptionFromText(readTextFile(path, "a vehicle file", pipes), path);
 }
 
 std::string vehicleDescriptionToText(const VehicleDescription& d) {

@@ -12,6 +12,7 @@
 #include <array>
 #include <string>
 
+#include "io/file_bytes.h"
 #include "model/vehicle_params.h"
 
 namespace quadfdi {
@@ -39,7 +40,8 @@ inline constexpr double kRotorPositionTolerance = 0.02;  // [-]
 
 // Parses and checks a description; throws ConfigError("SOURCE:LINE: problem").
 VehicleDescription vehicleDescriptionFromText(const std::string& text, const std::string& source);
-VehicleDescription loadVehicleDescription(const std::string& path);
+// Reads `path` (a pipe only with PipeReading::kRead: a caller that reads it once in a run).
+VehicleDescription loadVehicleDescription(const std::string& path, PipeReading pipes = PipeReading::kRefuse);
 // The file form (round-trips through vehicleDescriptionFromText).
 std::string vehicleDescriptionToText(const VehicleDescription& description);
 // True when the text is a description (it has [motor.N] sections) rather than a parameter file.

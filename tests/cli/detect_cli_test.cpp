@@ -493,6 +493,16 @@ void rewriteRows(const std::string& from, const std::string& to, const std::func
   }
 }
 
+// A quadfdi-ordered telemetry CSV rewritten with u1..u4 in PX4's quad-X numbering (the library
+// quad450's): PX4 motor m sits at quadfdi motor (1, 3, 4, 2)[m − 1], so column u_m is written from that one.
+void writeInPx4Order(const std::string& ours, const std::string& px4) {
+  rewriteRows(ours, px4, [](std::vector<std::string>& cells) {
+    const int quadfdi_of_px4[] = {1, 3, 4, 2};
+    const std::vector<std::string> read = cells;
+    for (int m = 0; m < 4; ++m) cells[static_cast<std::size_t>(7 + m)] = read[static_cast<std::size_t>(6 + quadfdi_of_px4[m])];
+  });
+}
+
 // A simulator of another autopilot writes u1..u4 in that autopilot's numbering. Read as quadfdi's,
 // the commands land on the wrong rotors and the alarm names the wrong motor; with
 // --csv-numbering vehicle the description's [motor.N] table reorders them, and the output is the
@@ -503,12 +513,7 @@ TEST(DetectCli, ACsvInTheVehiclesOwnNumberingIsReorderedByItsDescription) {
   const std::string ours = temp("quad-quadfdi-order.csv"), px4 = temp("quad-px4-order.csv");
   ASSERT_EQ(run("simulate --controller pid --params " + vehicle + " --motor 2 --theta 0 --fault-step 500 --steps 1000 --seed 3 "
                 "--output " + ours).exit_code, 0);
-  // PX4 motor m sits at quadfdi motor (1, 3, 4, 2)[m − 1]: write column u_m from that one.
-  rewriteRows(ours, px4, [](std::vector<std::string>& cells) {
-    const int quadfdi_of_px4[] = {1, 3, 4, 2};
-    const std::vector<std::string> read = cells;
-    for (int m = 0; m < 4; ++m) cells[static_cast<std::size_t>(7 + m)] = read[static_cast<std::size_t>(6 + quadfdi_of_px4[m])];
-  });
+  writeInPx4Order(ours, px4);
   const CommandResult reference = run("detect -q --vehicle " + vehicle + " --input " + ours, false);
   const CommandResult reordered = run("detect -q --vehicle " + vehicle + " --csv-numbering vehicle --input " + px4, false);
   ASSERT_EQ(reference.exit_code, 0);
@@ -1347,26 +1352,34 @@ TEST(DetectCli, DevicesAndFoldersAreRefusedInOneLineWhereverAFileIsRead) {
   std::filesystem::remove_all(folder);
 }
 
-// A pipe (`--input <(zcat log.csv.gz)`) gives its bytes once. Its format is not sniffed (that
-// would eat the header): named, it is read whole; left to auto, refused. A vehicle file, which
-// detect reads more than once, is refused unopened (opening a pipe waits for its writer).
-TEST(DetectCli, APipeIsReadWithANamedFormatAndRefusedWhereItWouldBeReadTwice) {
-  const std::string fifo = temp("input.fifo");
-  std::remove(fifo.c_str());
-  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  // Writes once a reader has opened the pipe; gives up after 10 s so that a reader that never comes
-  // fails the test rather than hanging it. One write below PIPE_BUF: never partial.
-  std::thread writer([fifo] {
-    const std::string csv = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n0.002,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
+// A thread that writes `text` into the pipe `fifo` once, as soon as a reader has opened it, then
+// closes it: a second open by the reader would wait for a writer that never comes. Gives up after
+// 10 s, so that a reader that never comes fails the test rather than hanging it.
+std::thread writeOnceToFirstReader(const std::string& fifo, const std::string& text) {
+  return std::thread([fifo, text] {
     for (int attempt = 0; attempt < 1000; ++attempt) {
+      // Non-blocking, the open succeeds only once a reader holds the pipe; then blocking, so that
+      // text longer than the pipe's buffer is written whole.
       if (const int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK); fd >= 0) {
-        EXPECT_EQ(::write(fd, csv.data(), csv.size()), static_cast<ssize_t>(csv.size()));
+        ASSERT_EQ(::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK), 0);
+        EXPECT_EQ(::write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
         ::close(fd);
         return;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   });
+}
+
+// A pipe (`--input <(zcat log.csv.gz)`) gives its bytes once. Its format is not sniffed (that
+// would eat the header): named, it is read whole; left to auto, refused. A calibration file, which
+// a run may read more than once, is refused unopened (opening a pipe waits for its writer).
+TEST(DetectCli, APipeIsReadWithANamedFormatAndRefusedWhereItWouldBeReadTwice) {
+  const std::string fifo = temp("input.fifo");
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer = writeOnceToFirstReader(
+      fifo, "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n0.002,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n");
   const CommandResult named = run("detect --format csv --input " + fifo + " --output " + temp("fifo.jsonl"));
   writer.join();
   EXPECT_EQ(named.exit_code, 0) << named.out;  // the header and both rows were read: one window is more
@@ -1378,9 +1391,39 @@ TEST(DetectCli, APipeIsReadWithANamedFormatAndRefusedWhereItWouldBeReadTwice) {
             std::string::npos) << sniffed.out;
   const std::string log = temp("pipe-log.csv");
   std::ofstream(log) << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n0,0,0,1,0,0,0,0.07,0.07,0.07,0.07\n";
-  const CommandResult vehicle = run("detect -q --vehicle " + fifo + " --input " + log);
-  EXPECT_EQ(vehicle.exit_code, 1) << vehicle.out;
-  EXPECT_NE(vehicle.out.find(fifo + ": is a pipe, not a vehicle"), std::string::npos) << vehicle.out;
+  const CommandResult calibration = run("detect -q --calibration " + fifo + " --input " + log);
+  EXPECT_EQ(calibration.exit_code, 1) << calibration.out;
+  EXPECT_NE(calibration.out.find(fifo + ": is a pipe, not a calibration file"), std::string::npos) << calibration.out;
+  std::remove(fifo.c_str());
+}
+
+// detect reads --vehicle once and hands the description to everything that needs it (the motor
+// numbering, a CSV's column order, a log's thrust scale), so a pipe serves as the file does: the
+// pipe is written once, and a second read would wait for ever (here: until `timeout` ends it).
+// The pipe is named quad450.toml so that it picks the same shipped model as the file.
+TEST(DetectCli, TheVehicleDescriptionIsReadOnceSoAPipeServesAsTheFile) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string vehicle = src + "/configs/vehicles/quad450.toml";  // written in PX4's numbering
+  const std::string ours = temp("once-quadfdi-order.csv"), px4 = temp("once-px4-order.csv");
+  ASSERT_EQ(run("simulate --controller pid --params " + vehicle + " --motor 2 --theta 0 --fault-step 500 --steps 1000 --seed 3 "
+                "--output " + ours).exit_code, 0);
+  writeInPx4Order(ours, px4);
+  const std::string folder = temp("once-pipe");
+  std::filesystem::create_directories(folder);
+  const std::string fifo = folder + "/quad450.toml";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string format : {"csv", "csv-merged"}) {
+    const std::string args = " --csv-numbering vehicle --format " + format + " --input " + px4 + " 2>/dev/null";
+    const CommandResult from_file = quadfdi::test::runCommand(exe() + " detect -q --vehicle " + vehicle + args);
+    ASSERT_EQ(from_file.exit_code, 0) << format;
+    EXPECT_NE(from_file.out.find("\"motor\": 2, \"severity\": \"failed\""), std::string::npos) << format;
+    std::thread writer = writeOnceToFirstReader(fifo, readFile(vehicle));
+    const CommandResult from_pipe = quadfdi::test::runCommand("timeout 60 " + exe() + " detect -q --vehicle " + fifo + args);
+    writer.join();
+    ASSERT_EQ(from_pipe.exit_code, 0) << format;  // 124: a second read of the pipe waited
+    EXPECT_TRUE(from_pipe.out == from_file.out) << format << ": the pipe's output differs from the file's";
+  }
   std::remove(fifo.c_str());
 }
 
