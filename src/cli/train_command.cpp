@@ -33,7 +33,7 @@ CLI::App* addTrainCommand(CLI::App& app, TrainOptions& o) {
   t->add("--features", o.features,
          "model-free (y, u), model-free-heading (local increments; needed by tcn), scale-free (model-free-heading with "
          "the commands as shares of the collective: any vehicle size), scale-free-rates (scale-free with the measured body "
-         "rates: trains and runs on simulated flights; detect cannot feed it yet, docs/networks.md#body-rates), "
+         "rates: detect feeds it from a CSV's p,q,r or a log's gyro topic, docs/networks.md#body-rates), "
          "model-based (y, u, residual) or residual")
       .choices({"model-free", "model-free-heading", "scale-free", "scale-free-rates", "model-based", "residual"});
   t->add("--training", o.training,
