@@ -503,6 +503,14 @@ void writeInPx4Order(const std::string& ours, const std::string& px4) {
   });
 }
 
+// The library quad450 (`vehicle`) flown by the PID with motor 2 failing at 1 s: `ours` in quadfdi's
+// motor order, `px4` the same rows in PX4's (writeInPx4Order).
+void simulateQuadMotor2Failure(const std::string& vehicle, const std::string& ours, const std::string& px4) {
+  ASSERT_EQ(run("simulate --controller pid --params " + vehicle + " --motor 2 --theta 0 --fault-step 500 --steps 1000 --seed 3 "
+                "--output " + ours).exit_code, 0);
+  writeInPx4Order(ours, px4);
+}
+
 // A simulator of another autopilot writes u1..u4 in that autopilot's numbering. Read as quadfdi's,
 // the commands land on the wrong rotors and the alarm names the wrong motor; with
 // --csv-numbering vehicle the description's [motor.N] table reorders them, and the output is the
@@ -511,9 +519,7 @@ TEST(DetectCli, ACsvInTheVehiclesOwnNumberingIsReorderedByItsDescription) {
   const std::string src = QUADFDI_SOURCE_DIR;
   const std::string vehicle = src + "/configs/vehicles/quad450.toml";  // written in PX4's numbering
   const std::string ours = temp("quad-quadfdi-order.csv"), px4 = temp("quad-px4-order.csv");
-  ASSERT_EQ(run("simulate --controller pid --params " + vehicle + " --motor 2 --theta 0 --fault-step 500 --steps 1000 --seed 3 "
-                "--output " + ours).exit_code, 0);
-  writeInPx4Order(ours, px4);
+  simulateQuadMotor2Failure(vehicle, ours, px4);
   const CommandResult reference = run("detect -q --vehicle " + vehicle + " --input " + ours, false);
   const CommandResult reordered = run("detect -q --vehicle " + vehicle + " --csv-numbering vehicle --input " + px4, false);
   ASSERT_EQ(reference.exit_code, 0);
@@ -1405,9 +1411,7 @@ TEST(DetectCli, TheVehicleDescriptionIsReadOnceSoAPipeServesAsTheFile) {
   const std::string src = QUADFDI_SOURCE_DIR;
   const std::string vehicle = src + "/configs/vehicles/quad450.toml";  // written in PX4's numbering
   const std::string ours = temp("once-quadfdi-order.csv"), px4 = temp("once-px4-order.csv");
-  ASSERT_EQ(run("simulate --controller pid --params " + vehicle + " --motor 2 --theta 0 --fault-step 500 --steps 1000 --seed 3 "
-                "--output " + ours).exit_code, 0);
-  writeInPx4Order(ours, px4);
+  simulateQuadMotor2Failure(vehicle, ours, px4);
   const std::string folder = temp("once-pipe");
   std::filesystem::create_directories(folder);
   const std::string fifo = folder + "/quad450.toml";
