@@ -1,14 +1,18 @@
 // DataFlash reading speed: a 10-minute synthetic ArduPilot log in memory (ATT and RCOU at
 // 400 Hz, XKF1 of two EKF cores at 400 Hz each: the loop rate, as with LOG_BITMASK's
 // ATTITUDE_FAST and RCOUT bits; plus FMTU/UNIT/MULT and a few PARM), timed through
-// readDataflash and through readDataflash + extractArdupilotSignals. Reports bytes/s.
+// readDataflash and through readDataflash + extractArdupilotSignals; and the same log as text
+// (Mission Planner's .log, as the test writer prints it) through readDataflashText. Reports bytes/s
+// of the form read.
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "logs/ardupilot_signals.h"
 #include "logs/dataflash.h"
+#include "logs/dataflash_text.h"
 #include "logs/dataflash_writer.h"
 
 using namespace quadfdi;
@@ -17,8 +21,8 @@ using quadfdi::test::DataflashWriter;
 
 namespace {
 
-const std::vector<std::uint8_t>& tenMinuteLog() {
-  static const std::vector<std::uint8_t> bytes = [] {
+const DataflashWriter& tenMinuteWriter() {
+  static const DataflashWriter writer = [] {
     DataflashWriter w;
     w.fmt(30, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
     w.fmt(31, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
@@ -45,10 +49,12 @@ const std::vector<std::uint8_t>& tenMinuteLog() {
                      1, 2, 3, 0});
       w.write(32, {t, 1500 + k % 50, 1510, 1490, 1505, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
     }
-    return w.bytes;
+    return w;
   }();
-  return bytes;
+  return writer;
 }
+
+const std::vector<std::uint8_t>& tenMinuteLog() { return tenMinuteWriter().bytes; }
 
 void BM_ReadDataflash(benchmark::State& state) {
   const std::vector<std::uint8_t>& bytes = tenMinuteLog();
@@ -75,5 +81,18 @@ void BM_ReadAndExtractArdupilot(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(bytes.size()));
 }
 BENCHMARK(BM_ReadAndExtractArdupilot)->Unit(benchmark::kMillisecond);
+
+void BM_ReadDataflashText(benchmark::State& state) {
+  const std::string& text = tenMinuteWriter().text;
+  for (auto _ : state) {
+    DecodedLog log;
+    const LogIssue issue = readDataflashText(ByteSpan{reinterpret_cast<const std::uint8_t*>(text.data()), text.size()}, log);
+    if (!issue.ok()) state.SkipWithError(issue.message.c_str());
+    benchmark::DoNotOptimize(log.topics.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(text.size()));
+  state.counters["log_MB"] = static_cast<double>(text.size()) / 1e6;
+}
+BENCHMARK(BM_ReadDataflashText)->Unit(benchmark::kMillisecond);
 
 }  // namespace

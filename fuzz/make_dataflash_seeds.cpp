@@ -1,5 +1,6 @@
 // One-off generator of the dataflash_fuzz seeds (fuzz/corpus/dataflash/): small logs written by
-// tests/logs/dataflash_writer.h. `fuzz_make_dataflash_seeds DIR`.
+// tests/logs/dataflash_writer.h; with TEXT_DIR, the same logs as text (Mission Planner's .log) for
+// dataflash_text_fuzz (fuzz/corpus/dataflash_text/). `fuzz_make_dataflash_seeds DIR [TEXT_DIR]`.
 #include <array>
 #include <cstdint>
 #include <cmath>
@@ -15,10 +16,24 @@ using quadfdi::test::e7;
 
 namespace {
 
-void save(const std::string& dir, const char* name, const std::vector<std::uint8_t>& b) {
-  const std::string path = dir + "/" + name;
+void saveBytes(const std::string& path, const char* b, std::size_t n) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f || std::fwrite(b.data(), 1, b.size(), f) != b.size() || std::fclose(f) != 0) std::perror(path.c_str());
+  if (!f || std::fwrite(b, 1, n, f) != n || std::fclose(f) != 0) std::perror(path.c_str());
+}
+
+std::string text_dir;  // empty: no text seeds
+
+void save(const std::string& dir, const char* name, const std::vector<std::uint8_t>& b) {
+  saveBytes(dir + "/" + name, reinterpret_cast<const char*>(b.data()), b.size());
+}
+
+// The binary seed, and its text form beside (NAME with .log for .bin).
+void save(const std::string& dir, const char* name, const DataflashWriter& w) {
+  save(dir, name, w.bytes);
+  if (text_dir.empty()) return;
+  std::string text_name = name;
+  text_name.replace(text_name.rfind(".bin"), 4, ".log");
+  saveBytes(text_dir + "/" + text_name, w.text.data(), w.text.size());
 }
 
 // frame_type: ArduPilot's FRAME_TYPE (1 X; 12 Betaflight order: the extractor maps motors by it).
@@ -68,15 +83,16 @@ DataflashWriter copter(int rows, bool fmtu, int frame_type = 1, bool ekf_status 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s DIR\n", argv[0]);
+  if (argc != 2 && argc != 3) {
+    std::fprintf(stderr, "usage: %s DIR [TEXT_DIR]\n", argv[0]);
     return 2;
   }
   const std::string dir = argv[1];
-  save(dir, "copter-fmtu.bin", copter(4, true).bytes);
-  save(dir, "copter-plain.bin", copter(3, false).bytes);
-  save(dir, "copter-bf-x.bin", copter(3, true, 12).bytes);
-  save(dir, "copter-ekf-status.bin", copter(4, false, 1, true).bytes);
+  if (argc == 3) text_dir = argv[2];
+  save(dir, "copter-fmtu.bin", copter(4, true));
+  save(dir, "copter-plain.bin", copter(3, false));
+  save(dir, "copter-bf-x.bin", copter(3, true, 12));
+  save(dir, "copter-ekf-status.bin", copter(4, false, 1, true));
   {
     // Finding 13: an XKF4 whose SS is a float no uint32 holds (−5, 1e12, NaN).
     DataflashWriter w = copter(3, false);
@@ -87,7 +103,7 @@ int main(int argc, char** argv) {
       w.write(35, {1005000ull, core, 1.0, 1.0, std::nan("")});
     }
     w.write(33, {9800000ull, 18});  // last byte 18: the fuzz target reads EKF core 18 % 3 = 0
-    save(dir, "regress-ekf-status-out-of-range.bin", w.bytes);
+    save(dir, "regress-ekf-status-out-of-range.bin", w);
   }
   {
     DataflashWriter w;  // every format character, TimeMS, VER
@@ -101,7 +117,7 @@ int main(int argc, char** argv) {
     w.write(202, {5u, 1});
     w.fmt(203, "VER", "QBHBBBBIZH", "TimeUS,BT,BST,Maj,Min,Pat,FWT,GH,FWS,APJ");
     w.write(203, {3ull, 3, 0, 4, 5, 1, 255, 1u, "ArduCopter V4.5.1", 140});
-    save(dir, "all-chars.bin", w.bytes);
+    save(dir, "all-chars.bin", w);
   }
   {
     DataflashWriter w = copter(2, true);  // garbage, an undefined type, a truncated tail
@@ -110,6 +126,6 @@ int main(int argc, char** argv) {
     w.bytes.resize(w.bytes.size() - 7);
     save(dir, "damaged.bin", w.bytes);
   }
-  save(dir, "fmt-only.bin", DataflashWriter(false).bytes);
+  save(dir, "fmt-only.bin", DataflashWriter(false));
   return 0;
 }

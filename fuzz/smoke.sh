@@ -12,7 +12,7 @@ set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build/fuzz}
 seconds=${FUZZ_SECONDS:-20}
-targets=(telemetry_csv key_value params_file vehicle_file randomisation_file calibration_file controller_config model_file weights_file hdf5_dataset ulog crazyflie_usd dataflash)
+targets=(telemetry_csv key_value params_file vehicle_file randomisation_file calibration_file controller_config model_file weights_file hdf5_dataset ulog crazyflie_usd dataflash dataflash_text)
 
 export LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"

@@ -13,6 +13,7 @@
 #include "logs/crazyflie_signals.h"
 #include "logs/crazyflie_usd.h"
 #include "logs/dataflash.h"
+#include "logs/dataflash_text.h"
 #include "logs/log_magic.h"
 #include "logs/px4_signals.h"
 #include "logs/ulog.h"
@@ -193,7 +194,8 @@ namespace {
 
 std::string where(const std::string& path, const LogIssue& issue, bool with_offset) {
   std::string s = path + ": ";
-  if (with_offset) s += "byte " + std::to_string(issue.offset) + (issue.topic.empty() ? ": " : ", ");
+  if (issue.line > 0) s += "line " + std::to_string(issue.line) + (issue.topic.empty() ? ": " : ", ");
+  else if (with_offset) s += "byte " + std::to_string(issue.offset) + (issue.topic.empty() ? ": " : ", ");
   if (!issue.topic.empty()) s += "topic " + issue.topic + ": ";
   return s + issue.message;
 }
@@ -294,7 +296,7 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
   DecodedLog log;
   LogIssue issue;
   if (format == "ulog") issue = readUlog(span, log);
-  else if (format == "dataflash") issue = readDataflash(span, log);
+  else if (format == "dataflash") issue = looksLikeDataflashText(span) ? readDataflashText(span, log) : readDataflash(span, log);
   else if (format == "crazyflie") issue = readCrazyflieUsd(span, log);
   else throw std::runtime_error(name + ": unknown format '" + format + "'");
   if (!issue.ok()) throw std::runtime_error(where(name, issue, true));

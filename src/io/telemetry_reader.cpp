@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "logs/dataflash_text.h"
 #include "logs/log_magic.h"
 #include "model/vehicle_params.h"
 
@@ -256,15 +257,14 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
                          (magic ? std::string(" (the ") + magic + " magic: a flight log; read it with --format " + magic + ")"
                                 : std::string(" (a flight log? name its format: --format ulog, dataflash or crazyflie)")));
   }
+  // ArduPilot's DataFlash log as text (Mission Planner's .log) opens with a FMT line, typically the
+  // FMT message's own: "FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns".
+  if (looksLikeDataflashText(ByteSpan{reinterpret_cast<const std::uint8_t*>(header.data()), header.size()}))
+    throw TelemetryError(where() + ": an ArduPilot DataFlash log as text (Mission Planner's .log), not CSV telemetry: "
+                                   "read it with --format dataflash");
   std::vector<std::string> cells;
   separator_ = separatorOf(header);
   split(header, separator_, cells);
-  // ArduPilot's DataFlash log as text (Mission Planner's .log, pymavlink's text dump) opens with the
-  // FMT message's own format line: "FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns".
-  if (cells.size() >= 5 && trim(cells[0]) == "FMT" && trim(cells[3]) == "FMT" && trim(cells[4]) == "BBnNZ")
-    throw TelemetryError(where() + ": an ArduPilot DataFlash log as text (Mission Planner's .log), not CSV telemetry: "
-                                   "quadfdi reads the binary log the autopilot wrote (the .BIN beside it, or downloaded over "
-                                   "MAVLink), by its magic or with --format dataflash");
   cells_ = static_cast<int>(cells.size());
   bool angle_unit_read = false;
   const std::array<std::string, kColumnCount> header_names = label_;  // a column named with a unit is then labelled so

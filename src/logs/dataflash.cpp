@@ -256,12 +256,9 @@ std::string Reader::parseFmt(const std::uint8_t* m, bool first) {
 
   if (!printableName(name)) return "FMT for type " + std::to_string(type) + " has no printable name";
   if (length < kHeaderLen) return "FMT " + name + " declares an impossible length " + std::to_string(length);
-  std::size_t size = kHeaderLen;
-  for (char c : format) {
-    const CharInfo ci = charInfo(c);
-    if (!ci.ok) return "FMT " + name + " has an unknown format character '" + std::string(1, c) + "'";
-    size += ci.size * ci.count;
-  }
+  for (char c : format)
+    if (!charInfo(c).ok) return "FMT " + name + " has an unknown format character '" + std::string(1, c) + "'";
+  const std::size_t size = dataflashMessageLength(format);
   if (size != length)
     return "FMT " + name + " declares length " + std::to_string(length) + " but its format \"" + format + "\" needs " +
            std::to_string(size) + " bytes";
@@ -436,7 +433,7 @@ LogIssue Reader::run() {
     return LogIssue{LogStatus::kTooLarge, 0, "", "log of " + std::to_string(n_) + " bytes; the reader accepts up to " +
                                                     std::to_string(kDataflashMaxBytes)};
   if (p_[0] != kHead1 || (n_ >= 2 && p_[1] != kHead2))
-    return LogIssue{LogStatus::kWrongMagic, 0, "", "not a DataFlash log (no 0xA3 0x95 header)"};
+    return LogIssue{LogStatus::kWrongMagic, 0, "", "not a DataFlash log: no 0xA3 0x95 header, nor a first line \"FMT, …\" of the log as text"};
   if (n_ < kHeaderLen) return LogIssue{LogStatus::kTruncated, 0, "", "log ends inside the first message header"};
   if (p_[2] != kFmtType)
     return LogIssue{LogStatus::kWrongMagic, 0, "", "the first message is type " + std::to_string(p_[2]) + ", not FMT (128)"};
@@ -593,6 +590,16 @@ void Reader::finish() {
 bool looksLikeDataflash(ByteSpan bytes) {
   return bytes.data != nullptr && bytes.size >= kHeaderLen && bytes.data[0] == kHead1 && bytes.data[1] == kHead2 &&
          bytes.data[2] == kFmtType;
+}
+
+std::size_t dataflashMessageLength(const std::string& format) {
+  std::size_t size = kHeaderLen;
+  for (char c : format) {
+    const CharInfo ci = charInfo(c);
+    if (!ci.ok) return 0;
+    size += ci.size * ci.count;
+  }
+  return size;
 }
 
 LogIssue readDataflash(ByteSpan bytes, DecodedLog& out) {

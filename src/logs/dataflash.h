@@ -33,6 +33,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "logs/decoded_log.h"
 
@@ -47,6 +48,11 @@ inline constexpr std::size_t kDataflashMaxWarnings = 100;
 
 // Cheap test: the log starts with 0xA3 0x95 and a FMT (type 128).
 bool looksLikeDataflash(ByteSpan bytes);
+
+// [bytes] the length of a message of this format, the 3-byte header included (what its FMT's
+// Length must say); 0 when a character is not a DataFlash format character. Shared with the text
+// reader (logs/dataflash_text.h), which re-encodes each text line by it.
+std::size_t dataflashMessageLength(const std::string& format);
 
 // Reads a whole DataFlash log into `out` (cleared first). Fatal problems (empty, not DataFlash,
 // the first FMT truncated or broken, too large) come back as the LogIssue, with what was read;

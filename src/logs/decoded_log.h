@@ -89,12 +89,13 @@ enum class LogStatus {
 const char* toString(LogStatus s);
 
 // The one error convention of the readers: status, where, and a sentence; the CLI prints
-// "FILE: byte OFFSET[, topic T]: message".
+// "FILE: byte OFFSET[, topic T]: message" ("FILE: line N[, …]" for a text log).
 struct LogIssue {
   LogStatus status = LogStatus::kOk;
   std::uint64_t offset = 0;  // [bytes] from the start of the log
   std::string topic;         // the message type involved, if any
   std::string message;
+  std::uint64_t line = 0;    // [1-based] the line, in a log that is text (DataFlash as text); 0 where `offset` says it
   bool ok() const { return status == LogStatus::kOk; }
 };
 

@@ -4,13 +4,14 @@
 
 #include "logs/crazyflie_usd.h"
 #include "logs/dataflash.h"
+#include "logs/dataflash_text.h"
 #include "logs/ulog.h"
 
 namespace quadfdi {
 
 const char* logFormatOfMagic(ByteSpan head) {
   if (looksLikeUlog(head)) return "ulog";
-  if (looksLikeDataflash(head)) return "dataflash";
+  if (looksLikeDataflash(head) || looksLikeDataflashText(head)) return "dataflash";
   if (looksLikeCrazyflieUsd(head)) return "crazyflie";
   return nullptr;
 }

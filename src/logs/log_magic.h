@@ -8,7 +8,7 @@
 namespace quadfdi {
 
 // "ulog", "dataflash" or "crazyflie" (the --format names) when `head` starts with that format's
-// magic; nullptr otherwise.
+// magic (for DataFlash also its text form's first line, "FMT, …"); nullptr otherwise.
 const char* logFormatOfMagic(ByteSpan head);
 
 // True when `bytes` hold a control byte other than tab, line feed and carriage return (a NUL

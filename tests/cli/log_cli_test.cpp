@@ -142,6 +142,48 @@ TEST(LogCli, ALogOnStandardInputReadsAsTheFile) {
       << unnamed.out;
 }
 
+// ArduPilot's log as text (Mission Planner's .log beside the .BIN): read by its first line, or
+// with --format dataflash on standard input, it gives the binary log's decisions sample for
+// sample; a line it cannot read is named by its line and skipped.
+TEST(LogCli, AnArdupilotLogAsTextDetectsAsItsBinaryLog) {
+  const quadfdi::test::DataflashWriter w = quadfdi::test::ardupilotMissionLog(quadfdi::test::simulateMission(2, 0.0, 4.0));
+  const std::string bin = temp("faulty.BIN"), text = temp("faulty.log"), damaged = temp("damaged.log");
+  writeBytes(bin, w.bytes);
+  std::string crlf;  // as Mission Planner writes it on Windows
+  for (char c : w.text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  { std::ofstream(text, std::ios::binary) << crlf; }
+  const std::string from_bin = temp("text-bin.jsonl"), from_text = temp("text-text.jsonl"), from_stdin = temp("text-stdin.jsonl");
+  ASSERT_EQ(run("detect -q --input " + bin + " --max-thrust 0.15 --output " + from_bin).exit_code, 0);
+  const CommandResult r = run("detect --input " + text + " --max-thrust 0.15 --output " + from_text);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "FAULT in motor 2 at t = 4.0")) << r.out;
+  EXPECT_TRUE(contains(r.out, "ArduPilot DataFlash")) << r.out;
+  EXPECT_EQ(readFile(from_text), readFile(from_bin));
+  ASSERT_EQ(run("detect -q --format dataflash --input - --max-thrust 0.15 --output " + from_stdin + " < " + text).exit_code, 0);
+  EXPECT_EQ(readFile(from_stdin), readFile(from_bin));
+  // Standard input without --format is CSV: the text log is named and the flag given.
+  const CommandResult unnamed = run("detect -q --input - < " + text);
+  EXPECT_EQ(unnamed.exit_code, 1);
+  EXPECT_EQ(unnamed.out, "quadfdi: error: <stdin>:1: an ArduPilot DataFlash log as text (Mission Planner's .log), not CSV telemetry: read it with "
+                         "--format dataflash\n");
+  // A damaged line: named with its line, skipped; the rest still reads.
+  std::string bad = w.text;
+  const std::size_t rcou = bad.find("\nRCOU, ") + 1;
+  bad.insert(bad.find(", ", rcou + 6) + 2, "x");
+  const std::size_t line = static_cast<std::size_t>(std::count(bad.begin(), bad.begin() + static_cast<long>(rcou), '\n')) + 1;
+  { std::ofstream(damaged, std::ios::binary) << bad; }
+  const CommandResult d = run("detect --input " + damaged + " --max-thrust 0.15 --output " + temp("text-damaged.jsonl"));
+  ASSERT_EQ(d.exit_code, 0) << d.out;
+  EXPECT_TRUE(contains(d.out, damaged + ": line " + std::to_string(line) + ": RCOU.C1: 'x")) << d.out;
+  EXPECT_TRUE(contains(d.out, "FAULT in motor 2 at t = 4.0")) << d.out;
+  // What is neither form, read as DataFlash: one line naming both.
+  const std::string csv = temp("not-dataflash.log");
+  { std::ofstream(csv) << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n"; }
+  const CommandResult n = run("detect --format dataflash --input " + csv);
+  EXPECT_EQ(n.exit_code, 1);
+  EXPECT_EQ(n.out, "quadfdi: error: " + csv + ": byte 0: not a DataFlash log: no 0xA3 0x95 header, nor a first line \"FMT, …\" of the log as text\n");
+}
+
 TEST(LogCli, VehicleDescriptionScalesTheThrustAndExplicitFlagsWin) {
   const std::string vehicle = std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/crazyflie2.toml";
   CommandResult r = run("import " + faultyUlog() + " --vehicle " + vehicle + " -o " + temp("vehicle.csv"));

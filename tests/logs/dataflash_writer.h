@@ -3,11 +3,15 @@
 // AP_Logger lays them out (libraries/AP_Logger/LogStructure.h: packed little-endian structs
 // behind the 0xA3 0x95 type header). Values are given as stored: c/C/e/E in hundredths, L in
 // 1e-7 degrees (use centi() and e7() for physical values).
+// Every message is also printed into `text`, the log as text the way Mission Planner writes its
+// .log: "NAME, v1, v2, …", values in physical units (c/C/e/E ÷ 100, L ÷ 1e7), floats with the
+// digits that give the float back, strings unpadded, an int16[32] as "[a0 a1 … a31]".
 #pragma once
 
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -100,6 +104,8 @@ class DataflashWriter {
     chars(name, 4);
     chars(format, 16);
     chars(labels, 64);
+    text += "FMT, " + std::to_string(type) + ", " + std::to_string(length) + ", " + name + ", " + format + ", " + labels + "\n";
+    names_[type] = name;
   }
   void fmtu(std::uint64_t t, std::uint8_t type, const std::string& units, const std::string& mults) {
     write(kFmtu, {t, static_cast<unsigned>(type), units, mults});
@@ -107,7 +113,7 @@ class DataflashWriter {
   void unit(std::uint64_t t, char id, const std::string& label) { write(kUnit, {t, static_cast<int>(id), label}); }
   void mult(std::uint64_t t, char id, double m) { write(kMult, {t, static_cast<int>(id), m}); }
   void parm(std::uint64_t t, const std::string& name, double value) { write(kParm, {t, name, value}); }
-  void msg(std::uint64_t t, const std::string& text) { write(kMsg, {t, text}); }
+  void msg(std::uint64_t t, const std::string& message) { write(kMsg, {t, message}); }
 
   // A data message of a type defined with fmt(): one value per format character.
   void write(std::uint8_t type, const std::vector<DfValue>& values) {
@@ -116,14 +122,44 @@ class DataflashWriter {
     const std::string& format = it->second;
     if (values.size() != format.size()) throw std::logic_error("DataflashWriter: value count differs from the format");
     header(type);
-    for (std::size_t k = 0; k < format.size(); ++k) field(format[k], values[k]);
+    text += names_[type];
+    for (std::size_t k = 0; k < format.size(); ++k) {
+      field(format[k], values[k]);
+      text += ", " + printed(format[k], values[k]);
+    }
+    text += "\n";
   }
 
   void raw(const std::vector<std::uint8_t>& b) { bytes.insert(bytes.end(), b.begin(), b.end()); }
 
   std::vector<std::uint8_t> bytes;
+  std::string text;
 
  private:
+  static std::string number(int digits, double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    return buf;
+  }
+  // One value as Mission Planner prints it: physical units, no padding.
+  static std::string printed(char c, const DfValue& v) {
+    switch (c) {
+      case 'b': case 'h': case 'i': case 'q': return std::to_string(v.asInt());
+      case 'B': case 'M': case 'H': case 'I': case 'Q': return std::to_string(v.asUInt());
+      case 'c': case 'e': return number(10, static_cast<double>(v.asInt()) / 100.0);
+      case 'C': case 'E': return number(10, static_cast<double>(v.asUInt()) / 100.0);
+      case 'L': return number(10, static_cast<double>(v.asInt()) / 1e7);
+      case 'f': return number(9, static_cast<double>(static_cast<float>(v.asReal())));
+      case 'd': return number(17, v.asReal());
+      case 'n': case 'N': case 'Z': return v.s.substr(0, dfCharSize(c));
+      case 'a': {
+        std::string s = "[";
+        for (std::size_t k = 0; k < v.a.size(); ++k) s += (k ? " " : "") + std::to_string(v.a[k]);
+        return s + "]";
+      }
+      default: return "?";
+    }
+  }
   template <typename T>
   void put(T v) {
     std::uint8_t b[sizeof(T)];
@@ -158,6 +194,7 @@ class DataflashWriter {
     }
   }
   std::map<std::uint8_t, std::string> formats_;
+  std::map<std::uint8_t, std::string> names_;
 };
 
 }  // namespace quadfdi::test

@@ -160,8 +160,9 @@ inline constexpr std::uint8_t kApAtt = 30, kApXkf1 = 31, kApRcou = 32, kApEv = 3
 // AC_AttitudeControl::Write_Rate logs them; or no RATE but IMU GyrX, GyrY, GyrZ [rad/s, FRD] of two
 // IMUs (instance field I), the second's off by 5 rad/s so that reading it shows.
 enum class ApRates { kNone, kRate, kImu };
-inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
-                                                      ApRates rates = ApRates::kNone) {
+// The writer holds the log as binary (`bytes`, the .BIN) and as text (`text`, Mission Planner's .log).
+inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
+                                           ApRates rates = ApRates::kNone) {
   DataflashWriter w;
   w.fmt(kApAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
   w.fmt(kApXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
@@ -225,7 +226,12 @@ inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double 
       ++e;
     }
   }
-  return w.bytes;
+  return w;
+}
+
+inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
+                                                      ApRates rates = ApRates::kNone) {
+  return ardupilotMissionLog(m, loop_hz, ekf_hz, rates).bytes;
 }
 
 // ---------- Crazyflie ----------
