@@ -308,6 +308,11 @@ bool TextReader::encodeField(std::uint64_t line, const TextType& t, std::size_t 
     putChars(value, n);
     return true;
   }
+  // UNIT's and MULT's Id is a character stored as int8: printed as its code (100) or as itself (d).
+  if ((t.name == "UNIT" || t.name == "MULT") && k == 1 && c == 'b' && value.size() == 1 && !(value[0] >= '0' && value[0] <= '9')) {
+    bin_.push_back(value[0]);
+    return true;
+  }
   if (c == 'f' || c == 'd' || c == 'M') {
     double v = 0.0;
     if (!parseReal(value, v)) {

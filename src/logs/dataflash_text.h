@@ -16,6 +16,8 @@
 //  * a flight-mode field (M) may be printed as the mode's name; it is read as a number where it
 //    is one and as NaN where it is a name (its column's type is then kFloat);
 //  * an int16[32] array (a) is read from 32 integers separated by spaces, with or without [ ];
+//  * UNIT's and MULT's Id (a character stored as int8) may be printed as its code or as itself
+//    (a digit, ambiguous, is read as a code);
 //  * the FMT line of FMT itself is the text form's own layout: it is checked, not needed.
 //
 // Problems: a line that cannot be read (an undefined message name, a field that is not a number

@@ -165,6 +165,27 @@ TEST(DataflashText, AFlightModeNameReadsAsNaN) {
   EXPECT_EQ(mode->fields[0].type, FieldType::kFloat);
 }
 
+// UNIT's and MULT's Id, a character stored as int8, reads the same printed as its code or as itself.
+TEST(DataflashText, UnitAndMultIdsReadAsCodesOrCharacters) {
+  const std::string head =
+      "FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns\n"
+      "FMT, 177, 76, UNIT, QbZ, TimeUS,Id,Label\n"
+      "FMT, 179, 20, MULT, Qbd, TimeUS,Id,Mult\n"
+      "FMT, 178, 44, FMTU, QBNN, TimeUS,FmtType,UnitIds,MultIds\n"
+      "FMT, 200, 17, TST, Qhf, TimeUS,A,B\n";
+  const std::string tail = "FMTU, 0, 200, sdm, F?B\nTST, 1000, 150, 2.5\n";
+  DecodedLog as_codes, as_characters;
+  ASSERT_TRUE(readDataflashText(span(head + "UNIT, 0, 100, deg\nUNIT, 0, 109, m\nMULT, 0, 66, 0.01\n" + tail), as_codes).ok());
+  ASSERT_TRUE(readDataflashText(span(head + "UNIT, 0, d, deg\nUNIT, 0, m, m\nMULT, 0, B, 0.01\n" + tail), as_characters).ok());
+  EXPECT_EQ(allWarnings(as_characters), "");
+  expectSameLog(as_codes, as_characters);
+  const LogTopic* tst = as_characters.find("TST");
+  ASSERT_NE(tst, nullptr);
+  EXPECT_EQ(tst->fields[0].unit, "deg");
+  EXPECT_EQ(tst->fields[1].unit, "m");
+  EXPECT_DOUBLE_EQ(tst->columns[1][0], 0.025);  // B × 0.01
+}
+
 // A line that cannot be read is skipped and named by its line (the first of each kind; the rest
 // counted); every other line still reads.
 TEST(DataflashText, LinesThatCannotBeReadAreSkippedAndNamedByTheirLine) {
