@@ -295,8 +295,9 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
   const ByteSpan span{reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()};
   DecodedLog log;
   LogIssue issue;
+  const bool dataflash_text = format == "dataflash" && looksLikeDataflashText(span);
   if (format == "ulog") issue = readUlog(span, log);
-  else if (format == "dataflash") issue = looksLikeDataflashText(span) ? readDataflashText(span, log) : readDataflash(span, log);
+  else if (format == "dataflash") issue = dataflash_text ? readDataflashText(span, log) : readDataflash(span, log);
   else if (format == "crazyflie") issue = readCrazyflieUsd(span, log);
   else throw std::runtime_error(name + ": unknown format '" + format + "'");
   if (!issue.ok()) throw std::runtime_error(where(name, issue, true));
@@ -337,6 +338,9 @@ OpenedLog openFlightLog(const std::string& path, const std::string& format, cons
     if (issue.status == LogStatus::kMissingSignal) line += coarseTopicsNote(log, io);
     throw std::runtime_error(line);
   }
+  if (dataflash_text)
+    signals.conventions.insert(signals.conventions.begin(), "log: the DataFlash log as text (Mission Planner's .log), each line re-encoded "
+                                                            "into the binary message it was printed from");
   opened.source = std::make_unique<LogSampleSource>();
   const ImportRefusal refusal = buildLogSampleSource(std::move(signals), log.format, io, *opened.source);
   if (refusal.refused())

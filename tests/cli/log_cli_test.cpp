@@ -161,6 +161,13 @@ TEST(LogCli, AnArdupilotLogAsTextDetectsAsItsBinaryLog) {
   EXPECT_EQ(readFile(from_text), readFile(from_bin));
   ASSERT_EQ(run("detect -q --format dataflash --input - --max-thrust 0.15 --output " + from_stdin + " < " + text).exit_code, 0);
   EXPECT_EQ(readFile(from_stdin), readFile(from_bin));
+  // import says which form it read, and writes the .BIN's samples.
+  const std::string csv_bin = temp("text-bin.csv"), csv_text = temp("text-text.csv");
+  ASSERT_EQ(run("import -q " + bin + " --max-thrust 0.15 -o " + csv_bin).exit_code, 0);
+  const CommandResult imported = run("import " + text + " --max-thrust 0.15 -o " + csv_text);
+  ASSERT_EQ(imported.exit_code, 0) << imported.out;
+  EXPECT_TRUE(contains(imported.out, "log: the DataFlash log as text (Mission Planner's .log)")) << imported.out;
+  EXPECT_EQ(readFile(csv_text), readFile(csv_bin));
   // Standard input without --format is CSV: the text log is named and the flag given.
   const CommandResult unnamed = run("detect -q --input - < " + text);
   EXPECT_EQ(unnamed.exit_code, 1);
