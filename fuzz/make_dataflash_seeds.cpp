@@ -12,7 +12,6 @@
 
 using quadfdi::test::centi;
 using quadfdi::test::DataflashWriter;
-using quadfdi::test::e7;
 
 namespace {
 
@@ -105,20 +104,7 @@ int main(int argc, char** argv) {
     w.write(33, {9800000ull, 18});  // last byte 18: the fuzz target reads EKF core 18 % 3 = 0
     save(dir, "regress-ekf-status-out-of-range.bin", w);
   }
-  {
-    DataflashWriter w;  // every format character, TimeMS, VER
-    w.fmt(200, "ALL", "QbBhHiIfdcCeELMq", "TimeUS,b,B,h,H,i,I,f,d,c,C,e,E,L,M,q");
-    w.write(200, {1ull, -1, 2, -3, 4, -5, 6u, 0.5, 0.25, -7, 8, -9, 10u, e7(47.1), 6, -11});
-    w.fmt(201, "ARR", "QanNZ", "TimeUS,Arr,Sh,Md,Lg");
-    std::array<std::int16_t, 32> a{};
-    a[3] = 77;
-    w.write(201, {2ull, a, "abcd", "sixteen", "long"});
-    w.fmt(202, "OLD", "Ih", "TimeMS,V");
-    w.write(202, {5u, 1});
-    w.fmt(203, "VER", "QBHBBBBIZH", "TimeUS,BT,BST,Maj,Min,Pat,FWT,GH,FWS,APJ");
-    w.write(203, {3ull, 3, 0, 4, 5, 1, 255, 1u, "ArduCopter V4.5.1", 140});
-    save(dir, "all-chars.bin", w);
-  }
+  save(dir, "all-chars.bin", quadfdi::test::everyFormatCharacterLog());
   {
     DataflashWriter w = copter(2, true);  // garbage, an undefined type, a truncated tail
     w.raw({0x00, 0xA3, 0x95, 0x11, 0x42, 0x42});

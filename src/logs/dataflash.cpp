@@ -15,17 +15,9 @@
 namespace quadfdi {
 namespace {
 
-// LogStructure.h: HEAD_BYTE1, HEAD_BYTE2, LOG_PACKET_HEADER_LEN, LOG_FORMAT_MSG = 128 and
-// sizeof(log_Format) = 3 + 1 + 1 + 4 + 16 + 64.
-constexpr std::uint8_t kHead1 = 0xA3;
-constexpr std::uint8_t kHead2 = 0x95;
-constexpr std::uint8_t kFmtType = 128;
+// LogStructure.h: LOG_PACKET_HEADER_LEN and sizeof(log_Format) = 3 + 1 + 1 + 4 + 16 + 64.
 constexpr std::size_t kHeaderLen = 3;
 constexpr std::size_t kFmtLen = 89;
-constexpr std::size_t kNameLen = 4;
-constexpr std::size_t kFormatLen = 16;
-constexpr std::size_t kLabelsLen = 64;
-constexpr std::size_t kArrayLen = 32;  // 'a': int16_t[32]
 
 // How one field is read from the message bytes.
 enum class Op : std::uint8_t { kI8, kU8, kI16, kU16, kI32, kU32, kI64, kU64, kF32, kF64, kString };
@@ -59,7 +51,7 @@ CharInfo charInfo(char c) {
     case 'e': i.op = Op::kI32; i.size = 4; i.type = FieldType::kInt32; i.scale = 0.01; break;
     case 'E': i.op = Op::kU32; i.size = 4; i.type = FieldType::kUInt32; i.scale = 0.01; break;
     case 'L': i.op = Op::kI32; i.size = 4; i.type = FieldType::kInt32; i.scale = 1e-7; break;
-    case 'a': i.op = Op::kI16; i.size = 2; i.count = kArrayLen; i.type = FieldType::kInt16; break;
+    case 'a': i.op = Op::kI16; i.size = 2; i.count = kDataflashArrayLen; i.type = FieldType::kInt16; break;
     case 'n': i.op = Op::kString; i.size = 4; break;
     case 'N': i.op = Op::kString; i.size = 16; break;
     case 'Z': i.op = Op::kString; i.size = 64; break;
@@ -223,16 +215,16 @@ void Reader::warnAt(const std::string& text) {
 
 bool Reader::known(std::size_t at) const {
   if (n_ - at < kHeaderLen) return false;
-  if (p_[at] != kHead1 || p_[at + 1] != kHead2) return false;
+  if (p_[at] != kDataflashHead1 || p_[at + 1] != kDataflashHead2) return false;
   const std::uint8_t type = p_[at + 2];
-  return type == kFmtType || defs_[type].defined;
+  return type == kDataflashFmtType || defs_[type].defined;
 }
 
 // Skips from `from` to the next header of a known type (or the end), with one warning.
 void Reader::resync(std::size_t from, const std::string& why) {
   std::size_t at = from + 1;
   while (at < n_) {
-    const void* hit = std::memchr(p_ + at, kHead1, n_ - at);
+    const void* hit = std::memchr(p_ + at, kDataflashHead1, n_ - at);
     if (!hit) {
       at = n_;
       break;
@@ -250,9 +242,9 @@ void Reader::resync(std::size_t from, const std::string& why) {
 std::string Reader::parseFmt(const std::uint8_t* m, bool first) {
   const std::uint8_t type = m[3];
   const std::uint8_t length = m[4];
-  const std::string name = fixedString(m + 5, kNameLen);
-  const std::string format = fixedString(m + 5 + kNameLen, kFormatLen);
-  const std::string labels_text = fixedString(m + 5 + kNameLen + kFormatLen, kLabelsLen);
+  const std::string name = fixedString(m + 5, kDataflashNameLen);
+  const std::string format = fixedString(m + 5 + kDataflashNameLen, kDataflashFormatLen);
+  const std::string labels_text = fixedString(m + 5 + kDataflashNameLen + kDataflashFormatLen, kDataflashLabelsLen);
 
   if (!printableName(name)) return "FMT for type " + std::to_string(type) + " has no printable name";
   if (length < kHeaderLen) return "FMT " + name + " declares an impossible length " + std::to_string(length);
@@ -267,7 +259,7 @@ std::string Reader::parseFmt(const std::uint8_t* m, bool first) {
     return "FMT " + name + " has " + std::to_string(labels.size()) + " labels for " + std::to_string(format.size()) +
            " format characters";
 
-  if (type == kFmtType) {
+  if (type == kDataflashFmtType) {
     // The FMT of FMT itself: the reader knows its layout; it must agree.
     if (length != kFmtLen || format != "BBnNZ") return "FMT describes FMT (128) with a layout other than BBnNZ, 89 bytes";
     return {};
@@ -432,10 +424,10 @@ LogIssue Reader::run() {
   if (static_cast<std::uint64_t>(n_) > kDataflashMaxBytes)
     return LogIssue{LogStatus::kTooLarge, 0, "", "log of " + std::to_string(n_) + " bytes; the reader accepts up to " +
                                                     std::to_string(kDataflashMaxBytes)};
-  if (p_[0] != kHead1 || (n_ >= 2 && p_[1] != kHead2))
+  if (p_[0] != kDataflashHead1 || (n_ >= 2 && p_[1] != kDataflashHead2))
     return LogIssue{LogStatus::kWrongMagic, 0, "", "not a DataFlash log: no 0xA3 0x95 header, nor a first line \"FMT, …\" of the log as text"};
   if (n_ < kHeaderLen) return LogIssue{LogStatus::kTruncated, 0, "", "log ends inside the first message header"};
-  if (p_[2] != kFmtType)
+  if (p_[2] != kDataflashFmtType)
     return LogIssue{LogStatus::kWrongMagic, 0, "", "the first message is type " + std::to_string(p_[2]) + ", not FMT (128)"};
   if (n_ < kFmtLen)
     return LogIssue{LogStatus::kTruncated, 0, "FMT", "log ends at byte " + std::to_string(n_) + " inside the first FMT (89 bytes)"};
@@ -448,19 +440,19 @@ LogIssue Reader::run() {
   while (pos_ < n_) {
     const std::size_t left = n_ - pos_;
     if (left < kHeaderLen) {
-      if (p_[pos_] == kHead1 && (left < 2 || p_[pos_ + 1] == kHead2))
+      if (p_[pos_] == kDataflashHead1 && (left < 2 || p_[pos_ + 1] == kDataflashHead2))
         warn(pos_, "log ends inside a message header (" + std::to_string(left) + " bytes); dropped");
       else
         warn(pos_, "not a message header; skipped " + std::to_string(left) + " bytes to the end of the log");
       break;
     }
     const std::uint8_t* m = p_ + pos_;
-    if (m[0] != kHead1 || m[1] != kHead2) {
+    if (m[0] != kDataflashHead1 || m[1] != kDataflashHead2) {
       resync(pos_, "not a message header");
       continue;
     }
     const std::uint8_t type = m[2];
-    if (type == kFmtType) {
+    if (type == kDataflashFmtType) {
       if (left < kFmtLen) {
         warn(pos_, "log ends inside a FMT (" + std::to_string(left) + " of 89 bytes); dropped");
         break;
@@ -588,8 +580,8 @@ void Reader::finish() {
 }  // namespace
 
 bool looksLikeDataflash(ByteSpan bytes) {
-  return bytes.data != nullptr && bytes.size >= kHeaderLen && bytes.data[0] == kHead1 && bytes.data[1] == kHead2 &&
-         bytes.data[2] == kFmtType;
+  return bytes.data != nullptr && bytes.size >= kHeaderLen && bytes.data[0] == kDataflashHead1 && bytes.data[1] == kDataflashHead2 &&
+         bytes.data[2] == kDataflashFmtType;
 }
 
 std::size_t dataflashMessageLength(const std::string& format) {

@@ -39,6 +39,16 @@
 
 namespace quadfdi {
 
+// The format's fixed numbers, shared with the text reader (LogStructure.h: HEAD_BYTE1, HEAD_BYTE2,
+// LOG_FORMAT_MSG, and the char arrays of log_Format and of the 'a' format character).
+inline constexpr std::uint8_t kDataflashHead1 = 0xA3;
+inline constexpr std::uint8_t kDataflashHead2 = 0x95;
+inline constexpr std::uint8_t kDataflashFmtType = 128;  // FMT
+inline constexpr std::size_t kDataflashNameLen = 4;     // [chars] log_Format::name
+inline constexpr std::size_t kDataflashFormatLen = 16;  // [chars] log_Format::format
+inline constexpr std::size_t kDataflashLabelsLen = 64;  // [chars] log_Format::labels
+inline constexpr std::size_t kDataflashArrayLen = 32;   // 'a': int16_t[32]
+
 // Largest log the reader accepts [bytes]: decoded columns take up to 8× the log's size in
 // memory (a one-byte field becomes a double); 2 GiB keeps that within a workstation. Our choice.
 inline constexpr std::uint64_t kDataflashMaxBytes = std::uint64_t{1} << 31;

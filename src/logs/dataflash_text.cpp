@@ -19,15 +19,6 @@
 namespace quadfdi {
 namespace {
 
-// LogStructure.h: HEAD_BYTE1, HEAD_BYTE2, LOG_FORMAT_MSG and the field sizes of log_Format.
-constexpr std::uint8_t kHead1 = 0xA3;
-constexpr std::uint8_t kHead2 = 0x95;
-constexpr std::uint8_t kFmtType = 128;
-constexpr std::size_t kNameLen = 4;
-constexpr std::size_t kFormatLen = 16;
-constexpr std::size_t kLabelsLen = 64;
-constexpr std::size_t kArrayLen = 32;  // 'a': int16_t[32]
-
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
@@ -137,10 +128,10 @@ double storedFactor(char c) {
   }
 }
 
-std::size_t stringBytes(char c) { return c == 'n' ? kNameLen : c == 'N' ? 16 : c == 'Z' ? 64 : 0; }
+std::size_t stringBytes(char c) { return c == 'n' ? 4 : c == 'N' ? 16 : c == 'Z' ? 64 : 0; }  // char[4], [16], [64]
 
 bool printableName(std::string_view s) {
-  if (s.empty() || s.size() > kNameLen) return false;
+  if (s.empty() || s.size() > kDataflashNameLen) return false;
   return std::all_of(s.begin(), s.end(), [](char c) { return c >= 0x21 && c <= 0x7e; });
 }
 
@@ -206,8 +197,8 @@ void TextReader::problem(std::uint64_t line, const std::string& key, const std::
 
 void TextReader::header(std::uint64_t line, std::uint8_t type) {
   line_of_.emplace_back(bin_.size(), line);
-  bin_.push_back(static_cast<char>(kHead1));
-  bin_.push_back(static_cast<char>(kHead2));
+  bin_.push_back(static_cast<char>(kDataflashHead1));
+  bin_.push_back(static_cast<char>(kDataflashHead2));
   bin_.push_back(static_cast<char>(type));
 }
 
@@ -242,9 +233,9 @@ void TextReader::readFmt(std::uint64_t line) {
     problem(line, "fmt-name", "FMT line: the name '" + name + "' is not 1 to 4 printable characters; skipped");
     return;
   }
-  if (type == kFmtType || name == "FMT") {
+  if (type == kDataflashFmtType || name == "FMT") {
     // The text form's own layout: FMT lines are read by position whatever this line says.
-    if (type != kFmtType || name != "FMT" || format != "BBnNZ")
+    if (type != kDataflashFmtType || name != "FMT" || format != "BBnNZ")
       problem(line, "fmt-fmt", "FMT line describes FMT as type " + std::to_string(type) + " " + name + " \"" + format +
                                    "\", not type 128 FMT \"BBnNZ\" (the text form's own layout); ignored");
     return;
@@ -252,7 +243,7 @@ void TextReader::readFmt(std::uint64_t line) {
   std::string stored = format;
   std::replace(stored.begin(), stored.end(), 'M', 'f');
   const std::size_t needed = dataflashMessageLength(format);
-  if (format.size() > kFormatLen || labels.size() > kLabelsLen || needed == 0 || dataflashMessageLength(stored) > 255) {
+  if (format.size() > kDataflashFormatLen || labels.size() > kDataflashLabelsLen || needed == 0 || dataflashMessageLength(stored) > 255) {
     problem(line, "fmt-format " + name, "FMT line for " + name + ": the format \"" + format +
                                             "\" is not up to 16 DataFlash format characters with up to 64 characters of labels; "
                                             "skipped, and its messages with it");
@@ -283,12 +274,12 @@ void TextReader::readFmt(std::uint64_t line) {
   first = t.get();
   by_name_[name] = t.get();
   definitions_.push_back(std::move(t));
-  header(line, kFmtType);
+  header(line, kDataflashFmtType);
   put<std::uint8_t>(first->type);
   put<std::uint8_t>(static_cast<std::uint8_t>(dataflashMessageLength(stored)));
-  putChars(name, kNameLen);
-  putChars(stored, kFormatLen);
-  putChars(labels, kLabelsLen);
+  putChars(name, kDataflashNameLen);
+  putChars(stored, kDataflashFormatLen);
+  putChars(labels, kDataflashLabelsLen);
 }
 
 bool TextReader::encodeField(std::uint64_t line, const TextType& t, std::size_t k, std::string_view value) {
@@ -329,19 +320,19 @@ bool TextReader::encodeField(std::uint64_t line, const TextType& t, std::size_t 
     if (!list.empty() && list.front() == '[') list.remove_prefix(1);
     if (!list.empty() && list.back() == ']') list.remove_suffix(1);
     std::size_t count = 0;
-    std::array<std::int16_t, kArrayLen> a{};
+    std::array<std::int16_t, kDataflashArrayLen> a{};
     while (true) {
       while (!list.empty() && list.front() == ' ') list.remove_prefix(1);
       if (list.empty()) break;
       const std::size_t end = std::min(list.find(' '), list.size());
       std::uint64_t bits = 0;
       bool in_range = false;
-      if (count == kArrayLen || !parseInteger(list.substr(0, end), -32768, 32767, bits, in_range) || !in_range)
+      if (count == kDataflashArrayLen || !parseInteger(list.substr(0, end), -32768, 32767, bits, in_range) || !in_range)
         return refuse("is not 32 integers of int16 separated by spaces");
       a[count++] = static_cast<std::int16_t>(static_cast<std::int64_t>(bits));
       list.remove_prefix(end);
     }
-    if (count != kArrayLen) return refuse("is not 32 integers of int16 separated by spaces");
+    if (count != kDataflashArrayLen) return refuse("is not 32 integers of int16 separated by spaces");
     for (std::int16_t x : a) put(x);
     return true;
   }
@@ -419,12 +410,12 @@ LogIssue TextReader::run() {
                                                     std::to_string(kDataflashMaxBytes), 1};
   bin_.reserve(n_ / 2);
   // The FMT of FMT, as every binary log starts: the text form's own FMT lines need no definition.
-  header(1, kFmtType);
-  put<std::uint8_t>(kFmtType);
+  header(1, kDataflashFmtType);
+  put<std::uint8_t>(kDataflashFmtType);
   put<std::uint8_t>(static_cast<std::uint8_t>(dataflashMessageLength("BBnNZ")));
-  putChars("FMT", kNameLen);
-  putChars("BBnNZ", kFormatLen);
-  putChars("Type,Length,Name,Format,Columns", kLabelsLen);
+  putChars("FMT", kDataflashNameLen);
+  putChars("BBnNZ", kDataflashFormatLen);
+  putChars("Type,Length,Name,Format,Columns", kDataflashLabelsLen);
 
   std::size_t pos = n_ >= 3 && std::memcmp(p_, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;  // a UTF-8 byte-order mark
   std::uint64_t line = 0;

@@ -197,4 +197,30 @@ class DataflashWriter {
   std::map<std::uint8_t, std::string> names_;
 };
 
+// Every format character, at its extremes where it has them (the integer limits, NaN, −0, a
+// TimeUS beyond int64), an int16[32] and the three string sizes, a TimeMS type, VER, PARM and a
+// MSG with commas: for the readers' tests and the fuzz seeds.
+inline DataflashWriter everyFormatCharacterLog() {
+  DataflashWriter w;
+  w.fmt(200, "ALL", "QbBhHiIfdcCeELMq", "TimeUS,b,B,h,H,i,I,f,d,c,C,e,E,L,M,q");
+  w.write(200, {1ull, -1, 2, -3, 4, -5, 6u, 0.1, 0.25, -7, 8, -9, 10u, e7(47.1234567), 6, -11});
+  w.write(200, {2ull, -128, 255, -32768, 65535, -2147483647 - 1, 4294967295u, std::nan(""), 1e300, -32768, 65535, -2147483647 - 1,
+                4294967295u, e7(-179.9999999), 255, -9223372036854775807LL});
+  w.write(200, {18446744073709551615ull, 127, 0, 32767, 0, 2147483647, 0u, -3.4e38, -0.0, 32767, 0, 2147483647, 0u, e7(0.0000001), 0,
+                9223372036854775807LL});
+  w.fmt(201, "ARR", "QanNZ", "TimeUS,Arr,Sh,Md,Lg");
+  std::array<std::int16_t, 32> a{};
+  a[0] = -32768;
+  a[3] = 77;
+  a[31] = 32767;
+  w.write(201, {2ull, a, "abcd", "sixteen chars!!!", "long"});
+  w.fmt(202, "OLD", "Ih", "TimeMS,V");
+  w.write(202, {5u, 1});
+  w.fmt(203, "VER", "QBHBBBBIZH", "TimeUS,BT,BST,Maj,Min,Pat,FWT,GH,FWS,APJ");
+  w.write(203, {3ull, 3, 0, 4, 5, 1, 255, 1u, "ArduCopter V4.5.1", 140});
+  w.parm(4, "MOT_THST_EXPO", 0.65);
+  w.msg(6, "PreArm: Gyros inconsistent, check IMU, 2 and 3");  // commas in the last field
+  return w;
+}
+
 }  // namespace quadfdi::test
