@@ -450,11 +450,16 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
     channel_note += (k ? ", " : "") + std::string("quadfdi ") + std::to_string(k + 1) + " ← AP motor " +
                     std::to_string(ap_motor) + " (C" + std::to_string(ch) + ")";
   }
+  // Output n is labelled Cn (Copter 3.6 on), Chn (3.3–3.5) or Chann (3.2 and before).
   std::array<const double*, kMotors> pwm{};
+  std::string pwm_fields;
   for (int k = 0; k < kMotors; ++k) {
-    const std::string name = "C" + std::to_string(channel[static_cast<std::size_t>(k)]);
-    pwm[static_cast<std::size_t>(k)] = column(*rcou, name.c_str());
-    if (!pwm[static_cast<std::size_t>(k)]) return missing("RCOU", "RCOU has no field " + name);
+    const std::string n = std::to_string(channel[static_cast<std::size_t>(k)]);
+    std::string label;
+    for (const char* prefix : {"C", "Ch", "Chan"})
+      if (!pwm[static_cast<std::size_t>(k)]) pwm[static_cast<std::size_t>(k)] = column(*rcou, (label = prefix + n).c_str());
+    if (!pwm[static_cast<std::size_t>(k)]) return missing("RCOU", "RCOU has no field C" + n + " (nor Ch" + n + ", Chan" + n + ")");
+    pwm_fields += (k ? "," : "") + label;
   }
 
   ArdupilotThrustMap map;
@@ -481,8 +486,7 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
     out.command.t.push_back(seconds(rcou->timestamp_us[r]));
     out.command.v.push_back(u);
   }
-  out.command.source = {"RCOU", "C" + std::to_string(channel[0]) + ",C" + std::to_string(channel[1]) + ",C" +
-                                    std::to_string(channel[2]) + ",C" + std::to_string(channel[3]),
+  out.command.source = {"RCOU", pwm_fields,
                         "PWM → thrust fraction (MOT_THST_EXPO curve inverted); AP quad-X order → quadfdi"};
   out.conventions.push_back("motors: ArduPilot quad " + std::string(frame->name) + " (" + frame->layout +
                             ") → quadfdi (1 FR, 2 BR, 3 BL, 4 FL): " + channel_note);

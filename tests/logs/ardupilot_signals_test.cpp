@@ -16,6 +16,7 @@
 using namespace quadfdi;
 using quadfdi::test::centi;
 using quadfdi::test::DataflashWriter;
+using quadfdi::test::DfValue;
 
 namespace {
 
@@ -230,6 +231,54 @@ TEST(ArdupilotSignals, ServoFunctionsAndOldPwmDefaults) {
   EXPECT_NEAR(s.command.v[0][2], 200 / span, 1e-12);
   EXPECT_NEAR(s.command.v[0][3], 300 / span, 1e-12);
   EXPECT_EQ(s.command.source.fields, "C4,C1,C3,C2");
+}
+
+// Older Copters label the outputs Chn (3.3–3.5: "TimeUS,Ch1,…,Ch12") or Chann (3.2: "TimeMS,Chan1,…"):
+// read as Cn is.
+TEST(ArdupilotSignals, OlderOutputLabelsReadAsTheCurrentOnes) {
+  const std::array<int, 4> pulses = {1100, 1400, 1200, 1300};
+  FlightSignals current;
+  {
+    DataflashWriter w = apLog();
+    att(w, 1000, 0, 0, 0);
+    xkf1(w, 1000, 0, 0, 0, 0);
+    rcou(w, 1000, pulses);
+    ASSERT_TRUE(extract(w, current).ok());
+  }
+  const struct {
+    const char *format, *labels, *fields;
+  } older[] = {{"Qhhhhhhhhhhhh", "TimeUS,Ch1,Ch2,Ch3,Ch4,Ch5,Ch6,Ch7,Ch8,Ch9,Ch10,Ch11,Ch12", "Ch1,Ch4,Ch2,Ch3"},
+               {"Ihhhhhhhh", "TimeMS,Chan1,Chan2,Chan3,Chan4,Chan5,Chan6,Chan7,Chan8", "Chan1,Chan4,Chan2,Chan3"}};
+  for (const auto& o : older) {
+    SCOPED_TRACE(o.labels);
+    DataflashWriter w;
+    w.fmt(kAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
+    w.fmt(kXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
+    w.fmt(kRcou, "RCOU", o.format, o.labels);
+    att(w, 1000, 0, 0, 0);
+    xkf1(w, 1000, 0, 0, 0, 0);
+    std::vector<DfValue> row = {o.format[0] == 'Q' ? DfValue(1000ull) : DfValue(1u)};
+    for (std::size_t k = 1; k < std::string(o.format).size(); ++k) row.emplace_back(k <= 4 ? pulses[k - 1] : 0);
+    w.write(kRcou, row);
+    FlightSignals s;
+    const LogIssue issue = extract(w, s);
+    ASSERT_TRUE(issue.ok()) << issue.message;
+    ASSERT_EQ(s.command.v.size(), 1u);
+    EXPECT_EQ(s.command.v[0], current.command.v[0]);
+    EXPECT_EQ(s.command.source.fields, o.fields);
+  }
+  // None of the three: named.
+  DataflashWriter w;
+  w.fmt(kAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
+  w.fmt(kXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
+  w.fmt(kRcou, "RCOU", "QHHHH", "TimeUS,Out1,Out2,Out3,Out4");
+  att(w, 1000, 0, 0, 0);
+  xkf1(w, 1000, 0, 0, 0, 0);
+  w.write(kRcou, {1000ull, 1100, 1400, 1200, 1300});
+  FlightSignals s;
+  const LogIssue issue = extract(w, s);
+  EXPECT_EQ(issue.status, LogStatus::kMissingSignal);
+  EXPECT_EQ(issue.message, "RCOU has no field C1 (nor Ch1, Chan1)");
 }
 
 TEST(ArdupilotSignals, ArmedAndLandedStates) {
