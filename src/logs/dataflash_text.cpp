@@ -419,7 +419,9 @@ LogIssue TextReader::run() {
 
   std::size_t pos = n_ >= 3 && std::memcmp(p_, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;  // a UTF-8 byte-order mark
   std::uint64_t line = 0;
-  bool first = true;
+  bool first = true;            // no FMT line yet
+  std::size_t preamble_lines = 0;  // non-blank lines before it
+  std::string preamble;            // the first of them, for the warning
   while (pos < n_) {
     ++line;
     const void* nl = std::memchr(p_ + pos, '\n', n_ - pos);
@@ -431,9 +433,18 @@ LogIssue TextReader::run() {
     const std::string_view name = trim(text.substr(0, comma));
     const std::string_view rest = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
     if (first) {
-      if (name != "FMT" || comma == std::string_view::npos)
-        return LogIssue{LogStatus::kWrongMagic, 0, "", "not an ArduPilot DataFlash log as text: its first line is not a FMT line "
-                                                        "(\"FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns\")", line};
+      if (name != "FMT" || comma == std::string_view::npos) {
+        // Older firmware printed a banner first ("ArduCopter V3.1.5 (3c57e771)", "Free RAM: 990").
+        if (preamble.empty()) preamble = std::string(text.substr(0, 60));
+        if (++preamble_lines > kDataflashTextPreambleLines)
+          return LogIssue{LogStatus::kWrongMagic, 0, "",
+                          "not an ArduPilot DataFlash log as text: no FMT line (\"FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,"
+                          "Columns\") in its first " + std::to_string(kDataflashTextPreambleLines) + " lines of text", line};
+        continue;
+      }
+      if (preamble_lines > 0)
+        problem(1, "preamble", std::to_string(preamble_lines) + " line" + (preamble_lines > 1 ? "s" : "") +
+                                   " of text before the first FMT line skipped (\"" + preamble + "\")");
       first = false;
     }
     if (comma == std::string_view::npos) {
@@ -454,6 +465,9 @@ LogIssue TextReader::run() {
     }
     readData(line, *t->second, rest);
   }
+  if (first && preamble_lines > 0)
+    return LogIssue{LogStatus::kWrongMagic, 0, "", "not an ArduPilot DataFlash log as text: no FMT line (\"FMT, 128, 89, FMT, BBnNZ, "
+                                                    "Type,Length,Name,Format,Columns\")", 1};
   if (first) return LogIssue{LogStatus::kTruncated, 0, "", "empty log (no line of text)", 1};
 
   const ByteSpan encoded{reinterpret_cast<const std::uint8_t*>(bin_.data()), bin_.size()};
@@ -472,8 +486,15 @@ bool looksLikeDataflashText(ByteSpan bytes) {
   if (bytes.data == nullptr) return false;
   std::string_view s(reinterpret_cast<const char*>(bytes.data), bytes.size);
   if (s.rfind("\xEF\xBB\xBF", 0) == 0) s.remove_prefix(3);
-  while (!s.empty() && (s.front() == '\n' || s.front() == '\r' || s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  return s.rfind("FMT,", 0) == 0;
+  // A FMT line among the first lines (after a banner of older firmware, if any).
+  for (std::size_t lines = 0; !s.empty() && lines <= kDataflashTextPreambleLines;) {
+    const std::size_t end = std::min(s.find('\n'), s.size());
+    const std::string_view text = trim(s.substr(0, end));
+    if (text.rfind("FMT,", 0) == 0) return true;
+    if (!text.empty()) ++lines;
+    s.remove_prefix(std::min(end + 1, s.size()));
+  }
+  return false;
 }
 
 LogIssue readDataflashText(ByteSpan bytes, DecodedLog& out) {

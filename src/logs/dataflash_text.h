@@ -23,15 +23,24 @@
 // Problems: a line that cannot be read (an undefined message name, a field that is not a number
 // of its type or lies outside its type's range, too few or too many fields, a broken FMT) is
 // skipped with a warning "line N: …" (the first of each kind with its line, the rest counted in
-// it); a text whose first line is not a FMT line, or an empty one, is fatal (LogIssue::line). Pure
-// function: no I/O, no exceptions.
+// it); lines before the first FMT line (a banner) are skipped with one warning; a text with no FMT
+// line within its first lines, or an empty one, is fatal (LogIssue::line). Pure function: no I/O,
+// no exceptions.
 #pragma once
+
+#include <cstddef>
 
 #include "logs/decoded_log.h"
 
 namespace quadfdi {
 
-// Cheap test: after an optional UTF-8 byte-order mark and blank lines, the text starts "FMT,".
+// Non-blank lines of text allowed before the first FMT line: older firmware (APM 2, ArduCopter 3.1)
+// printed a banner of a few lines ("ArduCopter V3.1.5 (3c57e771)", "Free RAM: 990", "APM 2").
+// Our choice: a banner's few lines with room to spare; a CSV is never scanned past them.
+inline constexpr std::size_t kDataflashTextPreambleLines = 16;
+
+// Cheap test: after an optional UTF-8 byte-order mark, a line starting "FMT," among the first
+// non-blank lines (up to kDataflashTextPreambleLines before it).
 bool looksLikeDataflashText(ByteSpan bytes);
 
 // Reads a whole text DataFlash log into `out` (cleared first; out.format is kDataflash).

@@ -208,6 +208,23 @@ TEST(DataflashText, LinesThatCannotBeReadAreSkippedAndNamedByTheirLine) {
   EXPECT_EQ(log.find("LEN")->columns[0], std::vector<double>{2.5});
 }
 
+// Older firmware printed a banner before the first FMT line: skipped with one warning.
+TEST(DataflashText, ABannerBeforeTheFirstFmtLineIsSkipped) {
+  const std::string text =
+      "ArduCopter V3.1.5 (3c57e771)\r\n"
+      "Free RAM: 990\r\n"
+      "\r\n"
+      "APM 2\r\n"
+      "FMT, 1, 23, PARM, Nf, Name,Value\r\n"
+      "PARM, RATE_RLL_P, 0.15\r\n";
+  EXPECT_TRUE(looksLikeDataflashText(span(text)));
+  DecodedLog log;
+  const LogIssue issue = readDataflashText(span(text), log);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  EXPECT_EQ(allWarnings(log), "line 1: 3 lines of text before the first FMT line skipped (\"ArduCopter V3.1.5 (3c57e771)\")\n");
+  EXPECT_FLOAT_EQ(static_cast<float>(log.parameters.at("RATE_RLL_P")), 0.15f);
+}
+
 // What is not a text DataFlash log is refused with its line; the binary reader names the text form.
 TEST(DataflashText, WhatIsNoTextLogIsRefusedWithItsLine) {
   DecodedLog log;
@@ -216,10 +233,18 @@ TEST(DataflashText, WhatIsNoTextLogIsRefusedWithItsLine) {
   issue = readDataflashText(span(std::string("\n \r\n\n")), log);
   EXPECT_EQ(issue.status, LogStatus::kTruncated);
   EXPECT_EQ(issue.message, "empty log (no line of text)");
-  issue = readDataflashText(span(std::string("\n\nt,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\nFMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns\n")), log);
+  // A CSV: no FMT line in its first 16 lines (nor anywhere): refused at the 17th, or at line 1 when shorter.
+  std::string csv = "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n";
+  for (int k = 0; k < 20; ++k) csv += "0,0,0,0,0,0,0,0.1,0.1,0.1,0.1\n";
+  EXPECT_FALSE(looksLikeDataflashText(span(csv)));
+  issue = readDataflashText(span("\n\n" + csv + "FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,Columns\n"), log);
   EXPECT_EQ(issue.status, LogStatus::kWrongMagic);
-  EXPECT_EQ(issue.line, 3u);
-  EXPECT_EQ(issue.message.rfind("not an ArduPilot DataFlash log as text: its first line is not a FMT line", 0), 0u) << issue.message;
+  EXPECT_EQ(issue.line, 19u);
+  EXPECT_EQ(issue.message, "not an ArduPilot DataFlash log as text: no FMT line (\"FMT, 128, 89, FMT, BBnNZ, Type,Length,Name,Format,"
+                           "Columns\") in its first 16 lines of text");
+  issue = readDataflashText(span(std::string("t,x\n0,1\n")), log);
+  EXPECT_EQ(issue.status, LogStatus::kWrongMagic);
+  EXPECT_EQ(issue.line, 1u);
   EXPECT_FALSE(looksLikeDataflashText(span(std::string("t,FMT,x\n"))));
   EXPECT_TRUE(looksLikeDataflashText(span(std::string("\r\n  FMT, 129, 23, PARM, QNf, TimeUS,Name,Value\n"))));
   // A text log given to the binary reader: its refusal names the text form.
