@@ -55,7 +55,7 @@ bool parseReal(std::string_view s, double& v) {
 }
 
 // An integer as printed, exact to 64 bits; an integral decimal ("3.0", "1e3") is accepted too.
-// False when it is no number or not integral; `range` false when it lies outside [lo, hi].
+// False when it is no number or not integral; `in_range` false when it lies outside [lo, hi].
 bool parseInteger(std::string_view s, std::int64_t lo, std::uint64_t hi, std::uint64_t& bits, bool& in_range) {
   in_range = true;
   std::string_view body = s;
