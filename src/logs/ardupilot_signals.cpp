@@ -448,7 +448,7 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
     }
     channel[static_cast<std::size_t>(k)] = ch;
     channel_note += (k ? ", " : "") + std::string("quadfdi ") + std::to_string(k + 1) + " ← AP motor " +
-                    std::to_string(ap_motor) + " (C" + std::to_string(ch) + ")";
+                    std::to_string(ap_motor) + " (output " + std::to_string(ch) + ")";
   }
   // Output n is labelled Cn (Copter 3.6 on), Chn (3.3–3.5) or Chann (3.2 and before).
   std::array<const double*, kMotors> pwm{};

@@ -179,7 +179,7 @@ TEST(ArdupilotSignals, TrajectoryMotorOrderAndThrust) {
   }
   EXPECT_FALSE(s.conventions.empty());
   bool motor_line = false;
-  for (const std::string& c : s.conventions) motor_line |= c.find("quadfdi 2 ← AP motor 4 (C4)") != std::string::npos;
+  for (const std::string& c : s.conventions) motor_line |= c.find("quadfdi 2 ← AP motor 4 (output 4)") != std::string::npos;
   EXPECT_TRUE(motor_line);
 }
 
