@@ -139,8 +139,7 @@ bool printableName(std::string_view s) {
 struct TextType {
   std::string name;
   std::uint8_t type = 0;
-  std::string format;         // as printed
-  std::string stored_format;  // as re-encoded: a flight mode (M) becomes a float, to hold a NaN
+  std::string format;  // as printed (re-encoded with a flight mode, M, as a float, to hold a NaN)
   std::string labels_text;
 };
 
@@ -155,6 +154,7 @@ class TextReader {
   bool encodeField(std::uint64_t line, const TextType& t, std::size_t k, std::string_view value);
   void problem(std::uint64_t line, const std::string& key, const std::string& text);
   void header(std::uint64_t line, std::uint8_t type);
+  void emitFmt(std::uint64_t line, std::uint8_t type, const std::string& name, const std::string& format, const std::string& labels);
   template <typename T>
   void put(T v) {
     char b[sizeof(T)];
@@ -200,6 +200,17 @@ void TextReader::header(std::uint64_t line, std::uint8_t type) {
   bin_.push_back(static_cast<char>(kDataflashHead1));
   bin_.push_back(static_cast<char>(kDataflashHead2));
   bin_.push_back(static_cast<char>(type));
+}
+
+// The binary FMT message that defines `type`, its length the one `format` needs.
+void TextReader::emitFmt(std::uint64_t line, std::uint8_t type, const std::string& name, const std::string& format,
+                         const std::string& labels) {
+  header(line, kDataflashFmtType);
+  put<std::uint8_t>(type);
+  put<std::uint8_t>(static_cast<std::uint8_t>(dataflashMessageLength(format)));
+  putChars(name, kDataflashNameLen);
+  putChars(format, kDataflashFormatLen);
+  putChars(labels, kDataflashLabelsLen);
 }
 
 std::uint64_t TextReader::lineOfOffset(std::uint64_t offset) const {
@@ -269,17 +280,11 @@ void TextReader::readFmt(std::uint64_t line) {
   t->name = name;
   t->type = static_cast<std::uint8_t>(type);
   t->format = format;
-  t->stored_format = stored;
   t->labels_text = labels;
   first = t.get();
   by_name_[name] = t.get();
   definitions_.push_back(std::move(t));
-  header(line, kDataflashFmtType);
-  put<std::uint8_t>(first->type);
-  put<std::uint8_t>(static_cast<std::uint8_t>(dataflashMessageLength(stored)));
-  putChars(name, kDataflashNameLen);
-  putChars(stored, kDataflashFormatLen);
-  putChars(labels, kDataflashLabelsLen);
+  emitFmt(line, first->type, name, stored, labels);
 }
 
 bool TextReader::encodeField(std::uint64_t line, const TextType& t, std::size_t k, std::string_view value) {
@@ -410,12 +415,7 @@ LogIssue TextReader::run() {
                                                     std::to_string(kDataflashMaxBytes), 1};
   bin_.reserve(n_ / 2);
   // The FMT of FMT, as every binary log starts: the text form's own FMT lines need no definition.
-  header(1, kDataflashFmtType);
-  put<std::uint8_t>(kDataflashFmtType);
-  put<std::uint8_t>(static_cast<std::uint8_t>(dataflashMessageLength("BBnNZ")));
-  putChars("FMT", kDataflashNameLen);
-  putChars("BBnNZ", kDataflashFormatLen);
-  putChars("Type,Length,Name,Format,Columns", kDataflashLabelsLen);
+  emitFmt(1, kDataflashFmtType, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns");
 
   std::size_t pos = n_ >= 3 && std::memcmp(p_, "\xEF\xBB\xBF", 3) == 0 ? 3 : 0;  // a UTF-8 byte-order mark
   std::uint64_t line = 0;
