@@ -189,7 +189,7 @@ class JsonLinesSink : public DetectionSink {
       // Which motor to look at (added keys): its position, and its number in the autopilot's own
       // numbering (the log's, else the --vehicle description's, else quadfdi's).
       if (d.motor > 0)
-        out_ << ", \"motor_position\": \"" << motorPosition(d.motor) << "\", \"autopilot_motor\": "
+        out_ << ", \"motor_position\": \"" << motorPosition(numbering_, d.motor) << "\", \"autopilot_motor\": "
              << numbering_.autopilot_motor[static_cast<std::size_t>(d.motor - 1)];
       else
         out_ << ", \"motor_position\": null, \"autopilot_motor\": null";
@@ -550,7 +550,7 @@ int runDetect(const DetectOptions& o) {
                    s.first_alarm_motor, s.first_alarm_t, static_cast<double>(s.first_alarm_theta),
                    static_cast<double>(s.lowest_theta), s.alarms_raised, s.alarms_raised == 1 ? "" : "s", s.input_samples);
     if (s.alarms_raised > 0)
-      std::fprintf(stderr, "detect: motor %d is the %s motor%s\n", s.first_alarm_motor, motorPosition(s.first_alarm_motor),
+      std::fprintf(stderr, "detect: motor %d is the %s motor%s\n", s.first_alarm_motor, motorPosition(numbering, s.first_alarm_motor),
                    numbering.isQuadfdis()
                        ? " (quadfdi's numbering: 1 front-right, 2 back-right, 3 back-left, 4 front-left)"
                        : (": " + numbering.name + " motor " +

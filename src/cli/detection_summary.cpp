@@ -63,7 +63,7 @@ std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
     a["t_raised"] = e.t_raised;
     a["t_cleared"] = e.t_cleared ? json(*e.t_cleared) : json(nullptr);
     a["motor"] = e.motor;
-    a["motor_position"] = motorPosition(e.motor);
+    a["motor_position"] = motorPosition(*in.numbering, e.motor);
     a["autopilot_motor"] = in.numbering->autopilot_motor[static_cast<std::size_t>(e.motor - 1)];
     if (sequential) {
       a["severity_raised"] = toString(e.severity_raised);

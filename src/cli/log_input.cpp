@@ -158,7 +158,10 @@ TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o, const std::op
   if (vehicle) {
     r.curve.max_thrust = vehicle->params.max_thrust;
     r.curve.model_factor = vehicle->params.thrust_model_factor;
-    if (csvInVehicleNumbering(o)) r.file_motor = vehicle->autopilot_motor_of_quadfdi_motor;  // read in quadfdi's order
+    if (csvInVehicleNumbering(o)) {  // the airframe's own numbering and axes, read in quadfdi's
+      r.file_motor = vehicle->autopilot_motor_of_quadfdi_motor;
+      r.body_turn = vehicle->body_turn;
+    }
   }
   r.curve.pwm_min = o.csv_pwm_min;
   r.curve.pwm_max = o.csv_pwm_max;
@@ -180,6 +183,7 @@ MotorNumbering vehicleNumbering(const std::optional<VehicleDescription>& vehicle
   if (!vehicle) return numbering;
   numbering.name = vehicle->motor_numbering.substr(0, vehicle->motor_numbering.find(" ("));
   numbering.autopilot_motor = vehicle->autopilot_motor_of_quadfdi_motor;
+  numbering.body_turn = vehicle->body_turn;
   return numbering;
 }
 
@@ -264,7 +268,9 @@ OpenedLog openMergedCsv(const std::string& path, const LogInputOptions& o, const
     if (!file.is_open()) throw std::runtime_error(path + ": cannot open");
   }
   const std::string name = path == "-" ? "<stdin>" : path;
-  TelemetryReader reader(path == "-" ? std::cin : file, name, reading);  // throws on an empty file or a bad header
+  TelemetryReaderOptions unturned = reading;  // a plus or props-out frame's axes are turned by the conventions layer
+  unturned.body_turn = {};
+  TelemetryReader reader(path == "-" ? std::cin : file, name, unturned);  // throws on an empty file or a bad header
   FlightSignals signals;
   const MergedTelemetryCounts counts = readMergedTelemetry(reader, signals);
   if (csvInVehicleNumbering(o)) inVehicleNumbering(signals, vehicleNumbering(vehicle));

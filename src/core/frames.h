@@ -6,6 +6,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace quadfdi {
@@ -84,5 +85,39 @@ inline double rotationAngleBetween(const EulerZyx& a, const EulerZyx& b) {
 
 // The same attitude with both frames turned 180° about x: NED/FRD angles → quadfdi's, and back.
 inline EulerZyx turnedAboutX(const EulerZyx& e) { return {e.roll, -e.pitch, -e.yaw}; }
+
+// The axes quadfdi reads an airframe in: the airframe's own body axes turned about body z by
+// `eighths` × 45°, counter-clockwise seen from above. A plus frame is an X seen from axes turned
+// ±45°, and a props-out X (every propeller spinning the other way) a standard X seen from axes
+// turned 90°, so both are read as the standard X the model and networks know
+// (docs/vehicles.md#plus-and-props-out-frames). Rigid-body dynamics do not depend on which body
+// axes describe them: only the attitude and the body rates change, and the motors' numbers.
+struct BodyTurn {
+  int eighths = 0;  // [45°] −3 … 4
+  double radians() const { return eighths * 0.78539816339744830962; }  // π/4 per eighth
+  bool none() const { return eighths % 8 == 0; }
+};
+
+// The attitude of the turned axes: R' = R·Rz(α), α the turn.
+inline EulerZyx attitudeOfTurnedAxes(const EulerZyx& e, BodyTurn turn) {
+  if (turn.none()) return e;
+  const double cf = std::cos(e.roll), sf = std::sin(e.roll), ct = std::cos(e.pitch), st = std::sin(e.pitch),
+               cp = std::cos(e.yaw), sp = std::sin(e.yaw), ca = std::cos(turn.radians()), sa = std::sin(turn.radians());
+  // R = Rz(ψ)·Ry(θ)·Rx(φ): its first two columns (the body x and y axes in the world) and third row.
+  const double r11 = cp * ct, r21 = sp * ct, r31 = -st;
+  const double r12 = cp * st * sf - sp * cf, r22 = sp * st * sf + cp * cf, r32 = ct * sf;
+  const double r33 = ct * cf;
+  // The turned x axis is ca·x + sa·y; its y axis −sa·x + ca·y; z is unchanged.
+  const double n11 = ca * r11 + sa * r12, n21 = ca * r21 + sa * r22, n31 = ca * r31 + sa * r32;
+  const double n32 = -sa * r31 + ca * r32;
+  return {std::atan2(n32, r33), std::asin(std::clamp(-n31, -1.0, 1.0)), std::atan2(n21, n11)};
+}
+
+// A body vector (the body rates) in the turned axes: Rz(−α)·v.
+inline std::array<double, 3> bodyVectorInTurnedAxes(const std::array<double, 3>& v, BodyTurn turn) {
+  if (turn.none()) return v;
+  const double ca = std::cos(turn.radians()), sa = std::sin(turn.radians());
+  return {ca * v[0] + sa * v[1], -sa * v[0] + ca * v[1], v[2]};
+}
 
 }  // namespace quadfdi

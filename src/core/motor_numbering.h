@@ -8,6 +8,7 @@
 #include <array>
 #include <string>
 
+#include "core/frames.h"
 #include "core/types.h"
 
 namespace quadfdi {
@@ -15,6 +16,9 @@ namespace quadfdi {
 struct MotorNumbering {
   std::string name = "quadfdi";  // whose numbers: "PX4", "ArduPilot", "Crazyflie", a vehicle's motor_numbering
   std::array<int, kMotors> autopilot_motor{1, 2, 3, 4};  // [-] that numbering's motor (1-based) for quadfdi motor k + 1
+  // The axes quadfdi reads the airframe in (core/frames.h): a plus or props-out frame's motors
+  // sit elsewhere on the airframe than quadfdi's numbers say in its turned axes.
+  BodyTurn body_turn;
   bool isQuadfdis() const { return name == "quadfdi"; }  // no autopilot's numbering is known
 };
 
@@ -24,10 +28,22 @@ inline const char* motorPosition(int quadfdi_motor) {
   return quadfdi_motor >= 1 && quadfdi_motor <= kMotors ? kNames[quadfdi_motor - 1] : "";
 }
 
+// Where quadfdi motor 1..4 sits on an airframe read in axes turned by `turn`: "front-right" … for
+// an X, "front", "left" … for a plus frame; "" for another number.
+inline const char* motorPosition(int quadfdi_motor, BodyTurn turn) {
+  static const char* const kByEighth[] = {"front", "front-left", "left", "back-left", "back", "back-right", "right", "front-right"};
+  static const int kEighthOf[] = {-1, -3, 3, 1};  // FR, BR, BL, FL: 45° steps counter-clockwise from the nose
+  if (quadfdi_motor < 1 || quadfdi_motor > kMotors) return "";
+  return kByEighth[((kEighthOf[quadfdi_motor - 1] + turn.eighths) % 8 + 8) % 8];
+}
+inline const char* motorPosition(const MotorNumbering& numbering, int quadfdi_motor) {
+  return motorPosition(quadfdi_motor, numbering.body_turn);
+}
+
 // The motor as its pilot finds it: "back-right, PX4 motor 4" for quadfdi motor 2 of a PX4 log;
 // the position alone under quadfdi's own numbering.
 inline std::string motorForPilot(const MotorNumbering& numbering, int quadfdi_motor) {
-  std::string s = motorPosition(quadfdi_motor);
+  std::string s = motorPosition(quadfdi_motor, numbering.body_turn);
   if (quadfdi_motor < 1 || quadfdi_motor > kMotors || numbering.isQuadfdis()) return s;
   return s + ", " + numbering.name + " motor " + std::to_string(numbering.autopilot_motor[static_cast<std::size_t>(quadfdi_motor - 1)]);
 }

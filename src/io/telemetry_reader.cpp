@@ -508,11 +508,11 @@ std::array<double, 3> TelemetryReader::ratesOf(const double (&values)[kColumnCou
                            (options_.rates_in_degrees ? " in deg/s (over 100 rad/s)"
                                                       : " in rad/s (over 100 rad/s): degrees per second? --csv-rate-unit deg/s"));
   const double sign = options_.frame == TelemetryFrame::kNed ? -1.0 : 1.0;
-  return {values[kP] * unit, sign * values[kP + 1] * unit, sign * values[kP + 2] * unit};
+  return bodyVectorInTurnedAxes({values[kP] * unit, sign * values[kP + 1] * unit, sign * values[kP + 2] * unit}, options_.body_turn);
 }
 
 EulerZyx TelemetryReader::inQuadfdisFrame(const EulerZyx& attitude) const {
-  return options_.frame == TelemetryFrame::kNed ? turnedAboutX(attitude) : attitude;
+  return attitudeOfTurnedAxes(options_.frame == TelemetryFrame::kNed ? turnedAboutX(attitude) : attitude, options_.body_turn);
 }
 
 SampleSource::Next TelemetryReader::next(TelemetrySample& sample, std::string& problem) {

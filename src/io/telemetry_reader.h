@@ -70,6 +70,10 @@ struct TelemetryReaderOptions {
   // autopilot's numbering (--csv-numbering vehicle) has the vehicle description's
   // autopilot_motor_of_quadfdi_motor here, and is read in quadfdi's order. A permutation of 1..4.
   std::array<int, kInputDim> file_motor{1, 2, 3, 4};
+  // The axes quadfdi reads the airframe in (core/frames.h): a file in the airframe's own axes of a
+  // plus or props-out frame (--csv-numbering vehicle) has the description's body_turn here, and its
+  // attitude and body rates are read turned.
+  BodyTurn body_turn;
 };
 
 // One row of an export that merges signals sampled at different times (PlotJuggler, a ROS bag):

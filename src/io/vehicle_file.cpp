@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/motor_numbering.h"
+#include "core/quad_layout.h"
 #include "io/key_value.h"
 
 namespace quadfdi {
@@ -181,65 +182,86 @@ VehicleDescription vehicleDescriptionFromText(const std::string& text, const std
     if (spin != "cw" && spin != "ccw") doc.fail(es, "'" + es.key + "' must be \"cw\" or \"ccw\" (seen from above), got \"" + spin + "\"");
     rotor.ccw = spin == "ccw";
     line_of[static_cast<std::size_t>(m - 1)] = ex.line;
-    if (rotor.x == 0.0 || rotor.y == 0.0)
-      doc.fail(rotor.x == 0.0 ? ex : ey, "motor " + std::to_string(m) +
-                                             " lies on a body axis: quadfdi handles quad X frames (every rotor at "
-                                             "(±a, ±b) with a, b > 0), not plus frames");
   }
-  // One rotor per quadrant.
-  std::array<int, 4> autopilot_of{0, 0, 0, 0};
-  for (int m = 1; m <= 4; ++m) {
-    const RotorDescription& rotor = d.rotors[static_cast<std::size_t>(m - 1)];
-    const int q = quadfdiMotorAtFrd(rotor.x, rotor.y);
-    int& owner = autopilot_of[static_cast<std::size_t>(q - 1)];
-    if (owner != 0)
-      r.failAt(line_of[static_cast<std::size_t>(m - 1)],
-               "motors " + std::to_string(owner) + " and " + std::to_string(m) + " are both " + motorPosition(q) +
-                   " (duplicate motor position): a quad X has exactly one rotor in each quadrant");
-    owner = m;
-    d.quadfdi_motor_of_autopilot_motor[static_cast<std::size_t>(m - 1)] = q;
+  // An X, a plus or a props-out frame, read as the standard X in turned axes (core/quad_layout.h).
+  std::array<RotorPlacement, 4> placements{};
+  for (std::size_t i = 0; i < 4; ++i) placements[i] = {d.rotors[i].x, d.rotors[i].y, d.rotors[i].ccw ? 1 : -1};
+  const QuadLayout layout = quadLayout(placements);
+  const auto lineOf = [&](int motor) { return line_of[static_cast<std::size_t>(motor - 1)]; };
+  const auto named = [&](int motor) {
+    const int q = layout.quadfdi_motor_of[static_cast<std::size_t>(motor - 1)];
+    return "motor " + std::to_string(motor) + (q > 0 ? std::string(" (") + motorPosition(q, layout.turn) + ")" : std::string());
+  };
+  switch (layout.status) {
+    case QuadLayoutStatus::kOk: break;
+    case QuadLayoutStatus::kRotorAtCentre:
+      r.failAt(lineOf(layout.motor), "motor " + std::to_string(layout.motor) + " is at the centre (x = y = 0): every rotor needs an arm");
+      break;
+    case QuadLayoutStatus::kMixedAxes:
+      r.failAt(lineOf(layout.motor), "motor " + std::to_string(layout.motor) + " lies on a body axis and motor " +
+                                         std::to_string(layout.other) +
+                                         " does not: quadfdi reads a quad X (every rotor at (±a, ±b) with a, b > 0) or a "
+                                         "plus frame (every rotor on an axis)");
+      break;
+    case QuadLayoutStatus::kDuplicateQuadrant: {
+      const RotorPlacement& o = placements[static_cast<std::size_t>(layout.other - 1)];  // named in the axes it was found in
+      const double ca = std::cos(layout.turn.radians()), sa = std::sin(layout.turn.radians());
+      const int q = quadfdiMotorAtFrd(ca * o.x_forward - sa * o.y_right, sa * o.x_forward + ca * o.y_right);
+      r.failAt(lineOf(layout.other), "motors " + std::to_string(layout.motor) + " and " + std::to_string(layout.other) + " are both " +
+                                         motorPosition(q, layout.turn) +
+                                         " (duplicate motor position): a quad has exactly one rotor in each quadrant" +
+                                         (layout.plus ? " (a plus frame: one on each arm)" : ""));
+    }
+    case QuadLayoutStatus::kWrongSpinPattern:
+    case QuadLayoutStatus::kSpinsUnknown:  // not reached: a description gives every spin
+      if (placements[static_cast<std::size_t>(layout.motor - 1)].spin != placements[static_cast<std::size_t>(layout.other - 1)].spin)
+        r.failAt(lineOf(layout.other), "wrong spin pattern: motors " + std::to_string(layout.motor) + " and " + std::to_string(layout.other) +
+                                           " are opposite each other and must spin the same way, or hovering needs a yaw moment");
+      r.failAt(lineOf(layout.other), "wrong spin pattern: motors " + std::to_string(layout.motor) + " and " + std::to_string(layout.other) +
+                                         " are neighbours and spin the same way: a quad needs two rotors spinning each way, "
+                                         "opposite rotors alike, to make a yaw moment");
   }
-  d.autopilot_motor_of_quadfdi_motor = autopilot_of;
+  d.body_turn = layout.turn;
+  d.quadfdi_motor_of_autopilot_motor = layout.quadfdi_motor_of;
+  d.autopilot_motor_of_quadfdi_motor = layout.rotor_of_quadfdi_motor;
+  const std::string axes = layout.turn.none() ? "" : " (in the axes turned " + std::to_string(45 * layout.turn.eighths) + "°)";
 
-  // Centre of mass at the centre of the rotors.
+  // Centre of mass at the centre of the rotors; rotors at (±a, ±b): checked in the axes the model reads.
   double mean_x = 0.0, mean_y = 0.0, a = 0.0, b = 0.0;
-  for (const RotorDescription& rotor : d.rotors) {
-    mean_x += rotor.x / 4.0;
-    mean_y += rotor.y / 4.0;
-    a += std::abs(rotor.x) / 4.0;
-    b += std::abs(rotor.y) / 4.0;
+  for (const RotorPlacement& rotor : layout.turned) {
+    mean_x += rotor.x_forward / 4.0;
+    mean_y += rotor.y_right / 4.0;
+    a += std::abs(rotor.x_forward) / 4.0;
+    b += std::abs(rotor.y_right) / 4.0;
   }
   if (std::abs(mean_x) > kRotorPositionTolerance * a || std::abs(mean_y) > kRotorPositionTolerance * b)
     r.failAt(line_of[0], "centre of mass offset: the mean rotor position is (" + metres(mean_x) + ", " + metres(mean_y) +
-                             ") from the centre of mass (more than " + percent(kRotorPositionTolerance) +
+                             ")" + axes + " from the centre of mass (more than " + percent(kRotorPositionTolerance) +
                              " of the arm); the isolation's symmetry needs the centre of mass at the centre of the rotors "
                              "(measure rotor positions from the centre of mass)");
-  // Rotors at (±a, ±b).
   for (int m = 1; m <= 4; ++m) {
-    const RotorDescription& rotor = d.rotors[static_cast<std::size_t>(m - 1)];
-    const double ex = std::abs(std::abs(rotor.x) - a) / a, ey = std::abs(std::abs(rotor.y) - b) / b;
+    const RotorPlacement& rotor = layout.turned[static_cast<std::size_t>(m - 1)];
+    const double ex = std::abs(std::abs(rotor.x_forward) - a) / a, ey = std::abs(std::abs(rotor.y_right) - b) / b;
     if (ex > kRotorPositionTolerance || ey > kRotorPositionTolerance)
-      r.failAt(line_of[static_cast<std::size_t>(m - 1)],
-               "asymmetric rotor positions: motor " + std::to_string(m) + " at |x| = " + metres(std::abs(rotor.x)) +
-                   ", |y| = " + metres(std::abs(rotor.y)) + " differs from the mean (" + metres(a) + ", " + metres(b) +
-                   ") by " + percent(std::max(ex, ey)) + " (> " + percent(kRotorPositionTolerance) +
-                   "); the isolation needs every rotor at (±a, ±b) — symmetrise the positions if the difference is a "
-                   "measurement artefact");
+      r.failAt(lineOf(m), "asymmetric rotor positions: " + named(m) + " at |x| = " + metres(std::abs(rotor.x_forward)) +
+                              ", |y| = " + metres(std::abs(rotor.y_right)) + axes + " differs from the mean (" + metres(a) + ", " +
+                              metres(b) + ") by " + percent(std::max(ex, ey)) + " (> " + percent(kRotorPositionTolerance) +
+                              "); the isolation needs every rotor at (±a, ±b)" +
+                              (layout.plus ? ", for a plus frame every arm of one length" : "") +
+                              " — symmetrise the positions if the difference is a measurement artefact");
   }
-  // Spins: diagonal rotors share a direction, and front-right / back-left spin counter-clockwise.
-  auto spinOf = [&](int quadfdi_motor) { return d.rotors[static_cast<std::size_t>(autopilot_of[static_cast<std::size_t>(quadfdi_motor - 1)] - 1)].ccw; };
-  auto lineOfQ = [&](int quadfdi_motor) { return line_of[static_cast<std::size_t>(autopilot_of[static_cast<std::size_t>(quadfdi_motor - 1)] - 1)]; };
-  for (const auto& [q1, q2] : {std::pair<int, int>{1, 3}, std::pair<int, int>{2, 4}})
-    if (spinOf(q1) != spinOf(q2))
-      r.failAt(lineOfQ(q2), "wrong spin pattern: the diagonal rotors " + std::string(motorPosition(q1)) + " (motor " +
-                                std::to_string(autopilot_of[static_cast<std::size_t>(q1 - 1)]) + ") and " + motorPosition(q2) +
-                                " (motor " + std::to_string(autopilot_of[static_cast<std::size_t>(q2 - 1)]) +
-                                ") must spin the same way, or hovering needs a yaw moment");
-  if (!spinOf(1))
-    r.failAt(lineOfQ(1), std::string("props-out (reversed) spin pattern: front-right and back-left spin clockwise. quadfdi's ") +
-                             "model and its trained networks assume the standard quad X pattern (front-right and back-left "
-                             "counter-clockwise seen from above, as PX4, ArduPilot and Betaflight's default); a mirrored "
-                             "pattern flips every yaw moment, so it is refused rather than silently mis-isolated");
+  // The inertia in the turned axes: a quarter turn swaps the roll and pitch axes; an eighth turn
+  // (a plus frame) keeps it diagonal only when the two are equal.
+  if (layout.turn.eighths % 4 == 2 || layout.turn.eighths % 4 == -2) std::swap(p.inertia_xx, p.inertia_yy);
+  if (layout.plus) {
+    const double mean = 0.5 * (p.inertia_xx + p.inertia_yy), diff = std::abs(p.inertia_xx - p.inertia_yy);
+    if (diff > kRotorPositionTolerance * mean)
+      r.failAt(doc.find("inertia_xx") ? doc.find("inertia_xx")->line : lineOf(1),
+               "a plus frame with inertia_xx and inertia_yy " + percent(diff / mean) + " apart (> " + percent(kRotorPositionTolerance) +
+                   "): read as an X in axes turned 45°, the difference would be a product of inertia, which quadfdi's "
+                   "model and symmetry maps do not have");
+    p.inertia_xx = p.inertia_yy = mean;
+  }
 
   p.rotor_x = a;
   p.rotor_y = b;
@@ -261,8 +283,10 @@ std::string vehicleDescriptionToText(const VehicleDescription& d) {
   out << "motor_numbering = \"" << d.motor_numbering << "\"\n";
   out << "frame = \"frd\"\n";
   out << "mass = " << formatNumber(p.mass) << "  # [kg]\n";
-  out << "inertia_xx = " << formatNumber(p.inertia_xx) << "  # [kg·m²]\n";
-  out << "inertia_yy = " << formatNumber(p.inertia_yy) << "  # [kg·m²]\n";
+  // The airframe's own axes, as the rotors are written (params hold the turned axes' inertia).
+  const bool quarter_turn = d.body_turn.eighths % 4 == 2 || d.body_turn.eighths % 4 == -2;
+  out << "inertia_xx = " << formatNumber(quarter_turn ? p.inertia_yy : p.inertia_xx) << "  # [kg·m²]\n";
+  out << "inertia_yy = " << formatNumber(quarter_turn ? p.inertia_xx : p.inertia_yy) << "  # [kg·m²]\n";
   out << "inertia_zz = " << formatNumber(p.inertia_zz) << "  # [kg·m²]\n";
   out << "yaw_moment_coeff = " << formatNumber(p.yaw_moment_coeff) << "  # [m]\n";
   out << "motor_time_constant = " << formatNumber(p.motor_time_constant) << "  # [s]\n";

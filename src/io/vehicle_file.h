@@ -12,6 +12,7 @@
 #include <array>
 #include <string>
 
+#include "core/frames.h"
 #include "io/file_bytes.h"
 #include "model/vehicle_params.h"
 
@@ -31,6 +32,9 @@ struct VehicleDescription {
   // quadfdi motor (1..4) of autopilot motor i + 1, and the inverse.
   std::array<int, 4> quadfdi_motor_of_autopilot_motor{};
   std::array<int, 4> autopilot_motor_of_quadfdi_motor{};
+  // The axes quadfdi reads the airframe in: none for a standard X, 90° for a props-out X, ±45° for
+  // a plus frame (core/quad_layout.h). `params` and quadfdi's motor numbers are in these axes.
+  BodyTurn body_turn;
   VehicleParams params;  // rotor_x, rotor_y symmetrised (mean |x|, mean |y|), yaw_moment_coeff set
 };
 

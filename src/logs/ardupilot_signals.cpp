@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/frames.h"
+#include "core/quad_layout.h"
 
 namespace quadfdi {
 namespace {
@@ -18,41 +19,56 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegToRad = kPi / 180.0;
 
-// The quad frames ArduPilot flies as an X with the standard spins (front-right and back-left
-// counter-clockwise), which differ only in how the outputs are numbered. Source:
-// AP_MotorsMatrix::setup_quad_matrix (angles clockwise from the nose: 45° front-right, 135°
-// back-right, −135° back-left, −45° front-left) and the motor_frame_type enum of AP_Motors_Class.h.
-struct ApQuadX {
-  int frame_type;                         // [-] FRAME_TYPE
-  const char* name;                       // ArduPilot's frame string
-  std::array<int, kMotors> ap_motor_of;   // [-] ArduPilot motor (1-based) at quadfdi motor k + 1 (FR, BR, BL, FL)
-  const char* layout;                     // for the import report
+// ArduPilot's quad frames (AP_MotorsMatrix::setup_quad_matrix): motor n's arm angle, clockwise
+// from the nose in degrees, and its yaw factor's sign (AP_MOTORS_MATRIX_YAW_FACTOR_CCW = +1, CW =
+// −1), with FRAME_TYPE from the motor_frame_type enum of AP_Motors_Class.h. Each is read through
+// core/quad_layout.h: the Xs with the standard spins as they are, the props-out Xs (H, BF_X_REV)
+// in axes turned 90°, the plus frames in axes turned ±45°.
+struct ApQuadFrame {
+  int frame_type;                  // [-] FRAME_TYPE
+  const char* name;                // ArduPilot's frame string
+  std::array<int, kMotors> angle;  // [deg] motor n's arm, clockwise from the nose
+  std::array<int, kMotors> spin;   // [-] motor n's yaw factor sign: +1 counter-clockwise
 };
-constexpr ApQuadX kApQuadX[] = {
-    {1, "X", {1, 4, 2, 3}, "1 FR CCW, 2 BL CCW, 3 FL CW, 4 BR CW"},
-    {12, "BF_X", {2, 1, 3, 4}, "1 BR CW, 2 FR CCW, 3 BL CCW, 4 FL CW (Betaflight's order)"},
-    {13, "DJI_X", {1, 4, 3, 2}, "1 FR CCW, 2 FL CW, 3 BL CCW, 4 BR CW (DJI's order)"},
-    {14, "CW_X", {1, 2, 3, 4}, "1 FR CCW, 2 BR CW, 3 BL CCW, 4 FL CW (clockwise from the front right)"},
+constexpr ApQuadFrame kApQuadFrames[] = {
+    {0, "PLUS", {90, -90, 0, 180}, {1, 1, -1, -1}},
+    {1, "X", {45, -135, -45, 135}, {1, 1, -1, -1}},
+    {3, "H", {45, -135, -45, 135}, {-1, -1, 1, 1}},
+    {6, "PLUSREV", {90, -90, 0, 180}, {-1, -1, 1, 1}},
+    {12, "BF_X", {135, 45, -135, -45}, {-1, 1, 1, -1}},
+    {13, "DJI_X", {45, -45, -135, 135}, {1, -1, 1, -1}},
+    {14, "CW_X", {45, 135, -135, -45}, {1, -1, 1, -1}},
+    {18, "BF_X_REV", {135, 45, -135, -45}, {1, -1, -1, 1}},
 };
 
-// The X above with FRAME_TYPE `frame_type`, or nullptr.
-const ApQuadX* quadX(int frame_type) {
-  for (const ApQuadX& f : kApQuadX)
+// The frame above with FRAME_TYPE `frame_type`, or nullptr.
+const ApQuadFrame* quadFrame(int frame_type) {
+  for (const ApQuadFrame& f : kApQuadFrames)
     if (f.frame_type == frame_type) return &f;
   return nullptr;
 }
 
-// Why a quad frame type that is not one of the Xs above is refused.
+// Why a quad frame type that is not one of the frames above is refused.
 const char* refusedQuadFrame(int frame_type) {
   switch (frame_type) {
-    case 3: case 18:  // H, BF_X_REV: the X's rotor positions with every spin reversed
-      return "the X's rotor positions with every propeller spinning the other way (props-out: front-right and back-left "
-             "clockwise); quadfdi's model and its trained networks assume the standard pattern, so a mirrored one is "
-             "refused rather than silently mis-isolated";
-    case 0: case 6: case 16: return "a plus frame (rotors on the body axes); quadfdi handles quad X frames";
-    case 17: return "an X without differential yaw torque (NYT_X); quadfdi's model needs the rotors' yaw moments";
-    default: return "not a quad X (ArduPilot's X frames are FRAME_TYPE 1, 12, 13 and 14)";
+    case 16: case 17: return "a quad without differential yaw torque (NYT_PLUS, NYT_X); quadfdi's model needs the rotors' yaw moments";
+    case 2: case 4: case 5: case 19:
+      return "a V, V-tail, A-tail or Y4 quad, whose rotors are not at the corners of a rectangle; quadfdi reads quad X and plus frames";
+    default: return "not a quad frame quadfdi reads (FRAME_TYPE 0, 1, 3, 6, 12, 13, 14 and 18: the X and plus frames)";
   }
+}
+
+// The layout of `frame` through the one rule every source of a layout shares.
+QuadLayout apQuadLayout(const ApQuadFrame& frame, std::string& text) {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  std::array<RotorPlacement, kMotors> rotors{};
+  for (std::size_t i = 0; i < kMotors; ++i)
+    rotors[i] = {std::cos(frame.angle[i] * kDeg), std::sin(frame.angle[i] * kDeg), frame.spin[i]};
+  const QuadLayout layout = quadLayout(rotors);
+  for (std::size_t i = 0; i < kMotors; ++i)
+    text += (i ? ", " : "") + std::to_string(i + 1) + " " + motorPosition(layout.quadfdi_motor_of[i], layout.turn) +
+            (frame.spin[i] > 0 ? " CCW" : " CW");
+  return layout;
 }
 
 // SRV_Channel::k_motor1 = 33 … k_motor4 = 36 (SERVOn_FUNCTION values).
@@ -263,11 +279,18 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
     return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_CLASS is " + shortNumber(frame_class) + ", not 1 (quad); only quad X is supported"};
   const double frame_type = param(log, "FRAME_TYPE", 1.0, &have);
   const int type = frame_type >= 0.0 && frame_type <= 255.0 && frame_type == std::floor(frame_type) ? static_cast<int>(frame_type) : -1;
-  const ApQuadX* frame = quadX(type);
+  const ApQuadFrame* frame = quadFrame(type);
   if (!frame) return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_TYPE is " + shortNumber(frame_type) + ": " + refusedQuadFrame(type)};
+  std::string layout_text;
+  const QuadLayout layout = apQuadLayout(*frame, layout_text);
+  if (layout.status != QuadLayoutStatus::kOk)  // every frame of the table is an X or a plus (test ArdupilotSignals)
+    return LogIssue{LogStatus::kCorrupt, 0, "PARM", "FRAME_TYPE " + std::to_string(type) + ": the frame table is not a quad"};
   out.conventions.push_back("frame: ArduPilot quad " + std::string(frame->name) + " (FRAME_CLASS 1, FRAME_TYPE " +
-                            std::to_string(type) + (have ? ", from the log)" : ", assumed: not in the log)"));
-  out.numbering = {"ArduPilot", frame->ap_motor_of};
+                            std::to_string(type) + (have ? ", from the log)" : ", assumed: not in the log)") +
+                            bodyTurnNote(layout));
+  out.numbering.name = "ArduPilot";
+  out.numbering.autopilot_motor = layout.rotor_of_quadfdi_motor;
+  out.numbering.body_turn = layout.turn;
   out.conventions.push_back("time: TimeUS [µs since boot] → t = TimeUS·1e-6 s");
 
   // Attitude.
@@ -436,7 +459,7 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   std::array<int, kMotors> channel{};
   std::string channel_note;
   for (int k = 0; k < kMotors; ++k) {
-    const int ap_motor = frame->ap_motor_of[static_cast<std::size_t>(k)];
+    const int ap_motor = layout.rotor_of_quadfdi_motor[static_cast<std::size_t>(k)];
     int ch = ap_motor;  // default SERVOn_FUNCTION: output n = motor n
     for (int n = 1; n <= kRcouChannels; ++n) {
       bool found = false;
@@ -488,7 +511,7 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
   }
   out.command.source = {"RCOU", pwm_fields,
                         "PWM → thrust fraction (MOT_THST_EXPO curve inverted); AP quad-X order → quadfdi"};
-  out.conventions.push_back("motors: ArduPilot quad " + std::string(frame->name) + " (" + frame->layout +
+  out.conventions.push_back("motors: ArduPilot quad " + std::string(frame->name) + " (" + layout_text +
                             ") → quadfdi (1 FR, 2 BR, 3 BL, 4 FL): " + channel_note);
   out.conventions.push_back("commands: RCOU PWM [µs] → a = (pwm − " + shortNumber(map.pwm_min) + ")/(" + shortNumber(map.pwm_max) + " − " +
                             shortNumber(map.pwm_min) + ") (" + pwm_source + "), x = (a − " + shortNumber(map.spin_min) + ")/(" +

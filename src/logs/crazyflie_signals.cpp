@@ -403,7 +403,7 @@ LogIssue extractCrazyflieSignals(const DecodedLog& log, const CrazyflieSignalOpt
   const std::string cmd_fields = battery ? "pwm.m1_pwm..m4_pwm, pm.vbatMV" : "motor.m1..m4";
   if (LogIssue i = fill<kMotors>(cmd, origin, cmd_fields, convert, out.command, skipped); !i.ok()) return i;
   out.command_kind = CommandKind::kThrustNewton;
-  out.numbering = {"Crazyflie", {1, 2, 3, 4}};  // M1..M4 are quadfdi's 1..4 (quadfdi numbers as the Crazyflie does)
+  out.numbering = {"Crazyflie", {1, 2, 3, 4}, BodyTurn{}};  // M1..M4 are quadfdi's 1..4 (quadfdi numbers as the Crazyflie does)
   out.command.source.note = (battery ? "battery-voltage thrust model; " : "quadratic duty → thrust map; ") +
                             rateNote(out.command.t);
   out.conventions.push_back("motors: Crazyflie M1..M4 → quadfdi motors 1..4 unchanged (M1 front-right, M2 "

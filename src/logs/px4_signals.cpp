@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/frames.h"
+#include "core/quad_layout.h"
 
 // PX4 conventions applied here (sources: PX4 msg/VehicleLocalPosition.msg, VehicleAttitude.msg,
 // ActuatorMotors.msg, ActuatorOutputs.msg, VehicleStatus.msg, VehicleLandDetected.msg; the PX4
@@ -322,7 +323,8 @@ std::string motorTableText(const std::array<int, kMotors>& table) {
 // FRD] and CA_ROTORn_KM, positive for a counter-clockwise rotor — PX4 parameter reference), else
 // options.px4_motor_for_quadfdi. So an airframe whose outputs PX4 numbers unlike its quad X is read
 // as it flies, and a frame the model does not describe is refused by its parameters.
-LogIssue motorTable(const DecodedLog& log, const Px4SignalOptions& options, std::array<int, kMotors>& table, std::string& note) {
+LogIssue motorTable(const DecodedLog& log, const Px4SignalOptions& options, std::array<int, kMotors>& table, BodyTurn& turn,
+                    std::string& note) {
   table = options.px4_motor_for_quadfdi;
   for (int index : table)
     if (index < 0 || index > 15)
@@ -340,9 +342,7 @@ LogIssue motorTable(const DecodedLog& log, const Px4SignalOptions& options, std:
     return refuse("CA_AIRFRAME is " + shortNumber(airframe) + ", not 0 (multicopter): quadfdi reads quad X multicopters");
   if (count != 4.0)
     return refuse("CA_ROTOR_COUNT is " + shortNumber(count) + ": quadfdi's model is a quad X (4 rotors)");
-  std::array<int, kMotors> px4_at{-1, -1, -1, -1};
-  std::array<bool, kMotors> ccw{};
-  std::array<bool, kMotors> spin_known{};
+  std::array<RotorPlacement, kMotors> rotors{};
   for (int i = 0; i < kMotors; ++i) {
     const std::string rotor = "CA_ROTOR" + std::to_string(i) + "_";
     bool has_x = false, has_y = false, has_km = false;
@@ -351,40 +351,44 @@ LogIssue motorTable(const DecodedLog& log, const Px4SignalOptions& options, std:
     const double km = parameter(log, rotor + "KM", 0.0, has_km);
     if (!has_x || !has_y)
       return refuse("CA_ROTOR_COUNT is 4 but the log has no " + rotor + (has_x ? "PY" : "PX"));
-    const int q = quadfdiMotorAtFrd(x, y);
-    if (q == 0)
-      return refuse("rotor " + std::to_string(i) + " (PX4 motor " + std::to_string(i + 1) + ") is at " + rotor + "PX " +
-                             shortNumber(x) + ", " + rotor + "PY " + shortNumber(y) +
-                             ", on a body axis: quadfdi reads quad X frames, not plus frames");
-    int& owner = px4_at[static_cast<std::size_t>(q - 1)];
-    if (owner >= 0)
-      return refuse("PX4 motors " + std::to_string(owner + 1) + " and " + std::to_string(i + 1) + " are both " +
-                             motorPosition(q) + " (CA_ROTORn_PX/PY): a quad X has one rotor in each quadrant");
-    owner = i;
-    spin_known[static_cast<std::size_t>(q - 1)] = has_km && km != 0.0;
-    ccw[static_cast<std::size_t>(q - 1)] = km > 0.0;
+    rotors[static_cast<std::size_t>(i)] = {x, y, has_km && km != 0.0 ? (km > 0.0 ? 1 : -1) : 0};
   }
-  // quadfdi's model (and every trained network): front-right and back-left counter-clockwise.
-  for (int q = 1; q <= kMotors; ++q) {
-    const std::size_t k = static_cast<std::size_t>(q - 1);
-    const bool want_ccw = q == 1 || q == 3;
-    if (spin_known[k] && ccw[k] != want_ccw)
-      return refuse("PX4 motor " + std::to_string(px4_at[k] + 1) + " (" + motorPosition(q) + ") spins " +
-                             (ccw[k] ? "counter-clockwise" : "clockwise") + " (CA_ROTOR" + std::to_string(px4_at[k]) +
-                             "_KM " + (ccw[k] ? "> 0" : "< 0") +
-                             "): quadfdi's model and its trained networks assume the standard quad X pattern "
-                             "(front-right and back-left counter-clockwise seen from above)");
+  // An X, a plus or a props-out frame, by the rule every layout goes through (core/quad_layout.h).
+  const QuadLayout layout = quadLayout(rotors);
+  const auto at = [&](int rotor) {  // "PX4 motor 2 (CA_ROTOR1_PX 0.25, CA_ROTOR1_PY 0)"
+    const RotorPlacement& r = rotors[static_cast<std::size_t>(rotor - 1)];
+    const std::string p = "CA_ROTOR" + std::to_string(rotor - 1) + "_";
+    return "PX4 motor " + std::to_string(rotor) + " (" + p + "PX " + shortNumber(r.x_forward) + ", " + p + "PY " + shortNumber(r.y_right) + ")";
+  };
+  const auto spin = [&](int rotor) { return rotors[static_cast<std::size_t>(rotor - 1)].spin > 0 ? "counter-clockwise" : "clockwise"; };
+  switch (layout.status) {
+    case QuadLayoutStatus::kOk: break;
+    case QuadLayoutStatus::kRotorAtCentre: return refuse(at(layout.motor) + " is at the centre: every rotor needs an arm");
+    case QuadLayoutStatus::kMixedAxes:
+      return refuse(at(layout.motor) + " is on a body axis and " + at(layout.other) +
+                    " is not: quadfdi reads quad X frames and plus frames (every rotor on an axis)");
+    case QuadLayoutStatus::kDuplicateQuadrant:
+      return refuse(at(layout.motor) + " and " + at(layout.other) + " are in one quadrant" +
+                    (layout.plus ? " of the plus frame turned 45°" : "") + ": a quad has one rotor in each");
+    case QuadLayoutStatus::kWrongSpinPattern:
+      return refuse("PX4 motors " + std::to_string(layout.motor) + " and " + std::to_string(layout.other) + " spin " +
+                    spin(layout.motor) + " and " + spin(layout.other) +
+                    " (CA_ROTORn_KM > 0: counter-clockwise): a quad's opposite rotors spin alike and its neighbours the "
+                    "other way, or it has no yaw moment to hover with");
+    case QuadLayoutStatus::kSpinsUnknown:
+      return refuse("a plus frame with a CA_ROTORn_KM of 0: which way its axes turn onto an X depends on the spins");
   }
-  table = px4_at;
-  const bool all_known = spin_known[0] && spin_known[1] && spin_known[2] && spin_known[3];
-  note = std::string(" (from the log's CA_ROTORn_PX/PY") + (all_known ? ", spins checked by CA_ROTORn_KM)" : "; a KM of 0 left a spin unchecked)");
+  for (int k = 0; k < kMotors; ++k) table[static_cast<std::size_t>(k)] = layout.rotor_of_quadfdi_motor[static_cast<std::size_t>(k)] - 1;
+  turn = layout.turn;
+  note = std::string(" (from the log's CA_ROTORn_PX/PY") +
+         (layout.spins_checked ? ", spins checked by CA_ROTORn_KM)" : "; a KM of 0 left a spin unchecked)") + bodyTurnNote(layout);
   return {};
 }
 
 LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options, FlightSignals& out) {
   std::array<int, kMotors> table{};
   std::string table_note;
-  if (LogIssue e = motorTable(log, options, table, table_note); !e.ok()) return e;
+  if (LogIssue e = motorTable(log, options, table, out.numbering.body_turn, table_note); !e.ok()) return e;
   out.numbering.name = "PX4";
   for (std::size_t k = 0; k < kMotors; ++k) out.numbering.autopilot_motor[k] = table[k] + 1;
   out.command_kind = CommandKind::kThrustFraction;

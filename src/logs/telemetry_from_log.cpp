@@ -225,6 +225,15 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   rep.conventions = signals.conventions;
   rep.numbering = signals.numbering;
   if (!(o.dt > 0.0)) return {"", "the model's sample period must be > 0"};
+  // A plus or props-out frame: the attitude and body rates of the turned axes the model reads it in
+  // (core/quad_layout.h); the extractor has numbered the motors in them.
+  if (const BodyTurn turn = signals.numbering.body_turn; !turn.none()) {
+    for (std::array<double, 3>& a : signals.attitude.v) {
+      const EulerZyx e = attitudeOfTurnedAxes({a[0], a[1], a[2]}, turn);
+      a = {e.roll, e.pitch, e.yaw};
+    }
+    for (std::array<double, 3>& w : signals.rates.v) w = bodyVectorInTurnedAxes(w, turn);
+  }
 
   // --- Rates. ---
   struct Check {

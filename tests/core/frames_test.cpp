@@ -2,6 +2,7 @@
 // conversion every reader uses, and the NED/FRD ↔ z-up/FLU turn.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "core/frames.h"
@@ -91,4 +92,47 @@ TEST(Frames, QuaternionProductComposesAndConjugateUndoes) {
   const Quaternion undone = conjugate(step) * reset;
   EXPECT_NEAR(undone.w, q.w, 1e-12);
   EXPECT_NEAR(undone.z, q.z, 1e-12);
+}
+
+namespace {
+// R = Rz(ψ)·Ry(θ)·Rx(φ), row-major.
+std::array<double, 9> rotation(const EulerZyx& e) {
+  const double cf = std::cos(e.roll), sf = std::sin(e.roll), ct = std::cos(e.pitch), st = std::sin(e.pitch),
+               cp = std::cos(e.yaw), sp = std::sin(e.yaw);
+  return {cp * ct, cp * st * sf - sp * cf, cp * st * cf + sp * sf,
+          sp * ct, sp * st * sf + cp * cf, sp * st * cf - cp * sf,
+          -st,     ct * sf,                ct * cf};
+}
+std::array<double, 3> times(const std::array<double, 9>& r, const std::array<double, 3>& v) {
+  return {r[0] * v[0] + r[1] * v[1] + r[2] * v[2], r[3] * v[0] + r[4] * v[1] + r[5] * v[2], r[6] * v[0] + r[7] * v[1] + r[8] * v[2]};
+}
+}  // namespace
+
+TEST(Frames, TurnedBodyAxesDescribeTheSameRotationAndTheSameVectors) {
+  // A body vector given in the turned axes and turned back is the same vector in the world:
+  // R·v = R'·v' for R' the attitude of the turned axes and v' the vector in them.
+  const EulerZyx attitudes[] = {{0.0, 0.0, 0.0}, {0.3, -0.2, 2.9}, {-1.1, 0.7, -3.0}, {2.5, 1.2, 0.4}};
+  const std::array<double, 3> v = {0.4, -1.3, 2.2};
+  for (int eighths = -3; eighths <= 4; ++eighths) {
+    const BodyTurn turn{eighths};
+    for (const EulerZyx& e : attitudes) {
+      SCOPED_TRACE(testing::Message() << "turn " << 45 * eighths << "°, attitude " << e.roll << ", " << e.pitch << ", " << e.yaw);
+      const EulerZyx t = attitudeOfTurnedAxes(e, turn);
+      const std::array<double, 3> world = times(rotation(e), v);
+      const std::array<double, 3> world_turned = times(rotation(t), bodyVectorInTurnedAxes(v, turn));
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(world_turned[static_cast<std::size_t>(k)], world[static_cast<std::size_t>(k)], 1e-12);
+      // Turning back gives the attitude again, and the turned axes share the body z axis.
+      EXPECT_NEAR(rotationAngleBetween(attitudeOfTurnedAxes(t, BodyTurn{-eighths}), e), 0.0, 1e-7);
+      EXPECT_NEAR(rotation(t)[8], rotation(e)[8], 1e-12);
+    }
+  }
+  // Level flight: a turn of the body axes is a turn of the heading, nothing else.
+  const EulerZyx level = attitudeOfTurnedAxes({0.0, 0.0, 0.5}, BodyTurn{2});
+  EXPECT_NEAR(level.roll, 0.0, 1e-15);
+  EXPECT_NEAR(level.pitch, 0.0, 1e-15);
+  EXPECT_NEAR(level.yaw, 0.5 + kPi / 2, 1e-15);
+  // A roll of the airframe is a pitch of axes turned 90° counter-clockwise (their x is its left).
+  const EulerZyx rolled = attitudeOfTurnedAxes({0.2, 0.0, 0.0}, BodyTurn{2});
+  EXPECT_NEAR(rolled.pitch, -0.2, 1e-12);
+  EXPECT_NEAR(rotationAngleBetween(rolled, {0.0, -0.2, kPi / 2}), 0.0, 1e-7);
 }

@@ -88,7 +88,7 @@ TEST(TelemetryCsv, TheMotorNumberingCommentRoundTrips) {
   EXPECT_EQ(plain.str(), "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
   EXPECT_FALSE(TelemetryReader(plain, "plain.csv").numbering());
   std::stringstream px4;
-  writeTelemetryCsvHeader(px4, MotorNumbering{"PX4 quad X", {1, 4, 2, 3}});
+  writeTelemetryCsvHeader(px4, MotorNumbering{"PX4 quad X", {1, 4, 2, 3}, BodyTurn{}});
   EXPECT_EQ(px4.str(), "# motor_numbering: PX4 quad X = 1 4 2 3\nt,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
   const TelemetryReader reader(px4, "px4.csv");
   ASSERT_TRUE(reader.numbering());

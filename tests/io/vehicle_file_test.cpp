@@ -4,6 +4,7 @@
 #include <string>
 
 #include "config_refusal.h"
+#include "core/motor_numbering.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
 #include "io/vehicle_file.h"
@@ -168,14 +169,10 @@ TEST(VehicleFile, RefusalsNameFileLineAndWhy) {
   // Wrong spin pattern: diagonal rotors spinning opposite ways.
   e = refusal(replaced(kValid, "y = -0.21\nspin = \"ccw\"", "y = -0.21\nspin = \"cw\""));
   EXPECT_EQ(e.rfind("quad.toml:20: wrong spin pattern", 0), 0u) << e;
-  // Props-out: the whole pattern mirrored.
-  std::string mirrored = kValid;
-  for (int i = 0; i < 2; ++i) mirrored = replaced(mirrored, "spin = \"ccw\"", "spin = \"CW-\"");
-  for (int i = 0; i < 2; ++i) mirrored = replaced(mirrored, "spin = \"cw\"", "spin = \"ccw\"");
-  for (int i = 0; i < 2; ++i) mirrored = replaced(mirrored, "spin = \"CW-\"", "spin = \"cw\"");
-  e = refusal(mirrored);
-  EXPECT_EQ(e.rfind("quad.toml:16: props-out (reversed) spin pattern", 0), 0u) << e;
-  EXPECT_NE(e.find("trained networks assume the standard quad X pattern"), std::string::npos) << e;
+  // Every rotor spinning the same way: no yaw moment.
+  e = refusal(replaced(replaced(kValid, "y = -0.21\nspin = \"cw\"", "y = -0.21\nspin = \"ccw\""), "y = 0.21\nspin = \"cw\"",
+                       "y = 0.21\nspin = \"ccw\""));
+  EXPECT_EQ(e.rfind("quad.toml:28: wrong spin pattern: motors 1 and 4 are neighbours and spin the same way", 0), 0u) << e;
   // Duplicate motor position.
   e = refusal(replaced(kValid, "x = -0.13\ny = 0.21", "x = 0.13\ny = 0.21"));
   EXPECT_EQ(e.rfind("quad.toml:28: motors 1 and 4 are both front-right", 0), 0u) << e;
@@ -193,13 +190,77 @@ TEST(VehicleFile, RefusalsNameFileLineAndWhy) {
   e = refusal(replaced(kValid, "mass = 1.5", "mass = 1.5\nmas = 2"));
   EXPECT_EQ(e.rfind("quad.toml:6: unknown key 'mas'", 0), 0u) << e;
   e = refusal(replaced(kValid, "x = 0.13\ny = 0.21", "x = 0.0\ny = 0.21"));
-  EXPECT_EQ(e.rfind("quad.toml:16: motor 1 lies on a body axis", 0), 0u) << e;
+  EXPECT_EQ(e.rfind("quad.toml:16: motor 1 lies on a body axis and motor 2 does not", 0), 0u) << e;
   e = refusal(replaced(kValid, "frame = \"frd\"", "frame = \"flu\""));
   EXPECT_EQ(e.rfind("quad.toml:4: frame must be \"frd\"", 0), 0u) << e;
   e = refusal(replaced(kValid, "max = 7.0", "max = 3.0"));
   EXPECT_EQ(e.rfind("quad.toml: invalid vehicle: hover thrust", 0), 0u) << e;
   e = refusal(replaced(kValid, "model_factor = 0.8", "model_factor = 1.2"));
   EXPECT_EQ(e.rfind("quad.toml: invalid vehicle: thrust_model_factor must lie in [0, 1]", 0), 0u) << e;
+}
+
+// kValid with every spin reversed: a props-out X.
+std::string propsOut(std::string text) {
+  for (int i = 0; i < 2; ++i) text = replaced(text, "spin = \"ccw\"", "spin = \"CW-\"");
+  for (int i = 0; i < 2; ++i) text = replaced(text, "spin = \"cw\"", "spin = \"ccw\"");
+  for (int i = 0; i < 2; ++i) text = replaced(text, "spin = \"CW-\"", "spin = \"cw\"");
+  return text;
+}
+
+// ArduPilot's PLUS (AP_MotorsMatrix::setup_quad_matrix): 1 right and 2 left counter-clockwise,
+// 3 front and 4 back clockwise, arms of 0.25 m.
+std::string plusFrame(std::string text) {
+  text = replaced(text, "x = 0.13\ny = 0.21", "x = 0.0\ny = 0.25");
+  text = replaced(text, "x = -0.13\ny = -0.21", "x = 0.0\ny = -0.25");
+  text = replaced(text, "x = 0.13\ny = -0.21", "x = 0.25\ny = 0.0");
+  return replaced(text, "x = -0.13\ny = 0.21", "x = -0.25\ny = 0.0");
+}
+
+TEST(VehicleFile, PropsOutAndPlusFramesAreReadAsTheStandardXInTurnedAxes) {
+  // Props-out: the standard X seen from axes turned 90°; the roll and pitch levers and inertias swap.
+  const std::string props_out = replaced(propsOut(kValid), "inertia_yy = 0.03", "inertia_yy = 0.028");
+  const VehicleDescription d = vehicleDescriptionFromText(props_out, "q");
+  EXPECT_EQ(d.body_turn.eighths, 2);
+  EXPECT_NEAR(d.params.rotor_x, 0.21, 1e-15);
+  EXPECT_NEAR(d.params.rotor_y, 0.13, 1e-15);
+  EXPECT_EQ(d.params.inertia_xx, 0.028);
+  EXPECT_EQ(d.params.inertia_yy, 0.03);
+  // PX4 motor 1, front-right spinning clockwise, is quadfdi's back-right (clockwise) in the turned
+  // axes, and still named front-right for its pilot.
+  EXPECT_EQ(d.quadfdi_motor_of_autopilot_motor, (std::array<int, 4>{2, 4, 1, 3}));
+  for (int k = 0; k < 4; ++k) {
+    const int q = d.quadfdi_motor_of_autopilot_motor[static_cast<std::size_t>(k)];
+    EXPECT_EQ(d.autopilot_motor_of_quadfdi_motor[static_cast<std::size_t>(q - 1)], k + 1);
+    EXPECT_EQ(d.rotors[static_cast<std::size_t>(k)].ccw, kYawSign[static_cast<std::size_t>(q - 1)] < 0) << "motor " << k + 1;
+  }
+  EXPECT_STREQ(motorPosition(d.quadfdi_motor_of_autopilot_motor[0], d.body_turn), "front-right");
+  EXPECT_STREQ(motorPosition(d.quadfdi_motor_of_autopilot_motor[1], d.body_turn), "back-left");
+  // The file form keeps the airframe's own axes.
+  const VehicleDescription back = vehicleDescriptionFromText(vehicleDescriptionToText(d), "mem");
+  EXPECT_EQ(vehicleParamsToText(back.params), vehicleParamsToText(d.params));
+  EXPECT_EQ(back.body_turn.eighths, 2);
+  EXPECT_NE(vehicleDescriptionToText(d).find("inertia_yy = 0.028"), std::string::npos);
+
+  // A plus frame: an X in axes turned 45° one way or the other, as its spins say.
+  const VehicleDescription plus = vehicleDescriptionFromText(plusFrame(kValid), "q");
+  EXPECT_EQ(plus.body_turn.eighths, -1);
+  EXPECT_NEAR(plus.params.rotor_x, 0.25 / std::sqrt(2.0), 1e-15);
+  EXPECT_NEAR(plus.params.rotor_y, 0.25 / std::sqrt(2.0), 1e-15);
+  const char* const where[] = {"right", "left", "front", "back"};
+  for (int k = 0; k < 4; ++k) {
+    const int q = plus.quadfdi_motor_of_autopilot_motor[static_cast<std::size_t>(k)];
+    EXPECT_STREQ(motorPosition(q, plus.body_turn), where[k]) << "motor " << k + 1;
+    EXPECT_EQ(plus.rotors[static_cast<std::size_t>(k)].ccw, kYawSign[static_cast<std::size_t>(q - 1)] < 0) << "motor " << k + 1;
+  }
+  EXPECT_EQ(vehicleDescriptionFromText(plusFrame(propsOut(kValid)), "q").body_turn.eighths, 1);  // ArduPilot's PLUSREV
+  // Turned 45°, unequal roll and pitch inertias would be a product of inertia.
+  const std::string e = refusal(replaced(plusFrame(kValid), "inertia_yy = 0.03", "inertia_yy = 0.035"));
+  EXPECT_EQ(e.rfind("quad.toml:6: a plus frame with inertia_xx and inertia_yy 15.4 % apart", 0), 0u) << e;
+  // A plus frame with arms of two lengths is no X in any axes.
+  const std::string stretched =
+      refusal(replaced(replaced(plusFrame(kValid), "x = 0.25\ny = 0.0", "x = 0.28\ny = 0.0"), "x = -0.25\ny = 0.0", "x = -0.28\ny = 0.0"));
+  EXPECT_EQ(stretched.rfind("quad.toml:", 0), 0u) << stretched;
+  EXPECT_NE(stretched.find("for a plus frame every arm of one length"), std::string::npos) << stretched;
 }
 
 TEST(VehicleFile, OldParameterFilesStillLoadThroughLoadVehicleParams) {

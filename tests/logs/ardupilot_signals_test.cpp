@@ -484,9 +484,41 @@ TEST(ArdupilotSignals, EveryXNumberingPutsEachMotorInItsQuadrant) {
   }
 }
 
+TEST(ArdupilotSignals, PropsOutAndPlusFramesAreReadInTurnedAxes) {
+  // Each output carries its motor's number; each frame's motor at each quadfdi motor, and where it sits.
+  struct Frame {
+    int type;
+    int eighths;
+    std::array<int, 4> ap_motor_of;  // ArduPilot motor at quadfdi motor 1..4 in the turned axes
+    const char* motor1_at;
+  };
+  const Frame frames[] = {{3, 2, {3, 1, 4, 2}, "front-right"},  // H: the X's positions, every spin reversed
+                          {18, 2, {4, 2, 1, 3}, "back-right"},  // BF_X_REV
+                          {0, -1, {1, 4, 2, 3}, "right"},        // PLUS
+                          {6, 1, {3, 1, 4, 2}, "right"}};        // PLUSREV
+  for (const Frame& f : frames) {
+    SCOPED_TRACE(f.type);
+    DataflashWriter w = apLog();
+    w.parm(0, "FRAME_CLASS", 1);
+    w.parm(0, "FRAME_TYPE", f.type);
+    att(w, 1000, 0, 0, 0);
+    xkf1(w, 1000, 0, 0, 0, 0);
+    rcou(w, 1000, {1100, 1200, 1300, 1400});
+    FlightSignals s;
+    const LogIssue issue = extract(w, s);
+    ASSERT_TRUE(issue.ok()) << issue.message;
+    EXPECT_EQ(s.numbering.body_turn.eighths, f.eighths);
+    EXPECT_EQ(s.numbering.autopilot_motor, f.ap_motor_of);
+    ArdupilotThrustMap map;
+    for (std::size_t q = 0; q < 4; ++q) EXPECT_DOUBLE_EQ(s.command.v[0][q], map.thrustFraction(1000 + 100 * f.ap_motor_of[q]));
+    int q1 = 0;
+    for (int q = 1; q <= 4; ++q) q1 = f.ap_motor_of[static_cast<std::size_t>(q - 1)] == 1 ? q : q1;
+    EXPECT_STREQ(motorPosition(s.numbering, q1), f.motor1_at);
+  }
+}
+
 TEST(ArdupilotSignals, FramesTheModelDoesNotDescribeAreRefused) {
-  const std::pair<int, const char*> cases[] = {
-      {3, "props-out"}, {18, "props-out"}, {0, "plus frame"}, {17, "NYT_X"}, {19, "not a quad X"}, {2, "not a quad X"}};
+  const std::pair<int, const char*> cases[] = {{16, "NYT_PLUS"}, {17, "NYT_X"}, {19, "Y4"}, {2, "V, V-tail"}, {7, "not a quad frame"}};
   for (const auto& [type, expect] : cases) {
     SCOPED_TRACE(type);
     DataflashWriter w = completeLog();

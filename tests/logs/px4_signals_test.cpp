@@ -202,6 +202,43 @@ TEST(Px4Signals, MotorTableFromTheLogsRotorGeometry) {
   }
 }
 
+TEST(Px4Signals, PropsOutAndPlusFramesAreReadInTurnedAxes) {
+  const std::vector<Rotor> x = {{0.13f, 0.22f, 0.05f}, {-0.13f, -0.20f, 0.05f}, {0.13f, -0.22f, -0.05f}, {-0.13f, 0.20f, -0.05f}};
+  std::vector<Rotor> props_out = x;
+  for (Rotor& r : props_out) r.km = -r.km;
+  // A plus frame, front and back counter-clockwise.
+  const std::vector<Rotor> plus = {{0.25f, 0.0f, 0.05f}, {-0.25f, 0.0f, 0.05f}, {0.0f, 0.25f, -0.05f}, {0.0f, -0.25f, -0.05f}};
+  struct Case {
+    const std::vector<Rotor>* rotors;
+    int eighths;
+    std::array<int, 4> px4_motor_at;  // PX4 motor at quadfdi motor 1..4
+    const char* first_position;       // where PX4 motor 1 sits
+  };
+  const Case cases[] = {{&props_out, 2, {3, 1, 4, 2}, "front-right"}, {&plus, 1, {1, 3, 2, 4}, "front"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.eighths);
+    LogIssue issue;
+    const FlightSignals s = extract(writeFlight(twoLevelSamples(), withGeometry(*c.rotors)), issue);
+    ASSERT_TRUE(issue.ok()) << issue.message;
+    EXPECT_EQ(s.numbering.body_turn.eighths, c.eighths);
+    EXPECT_EQ(s.numbering.autopilot_motor, c.px4_motor_at);
+    for (std::size_t k = 0; k < 4; ++k)  // PX4 motor m's command is 0.1·m
+      EXPECT_FLOAT_EQ(static_cast<float>(s.command.v[0][k]), 0.1f * static_cast<float>(c.px4_motor_at[k]));
+    int q1 = 0;
+    for (int q = 1; q <= 4; ++q) q1 = s.numbering.autopilot_motor[static_cast<std::size_t>(q - 1)] == 1 ? q : q1;
+    EXPECT_STREQ(motorPosition(s.numbering, q1), c.first_position);
+    bool noted = false;
+    for (const std::string& line : s.conventions) noted = noted || line.find("read as the standard quad X in body axes turned") != std::string::npos;
+    EXPECT_TRUE(noted);
+  }
+  // A plus frame whose spins the log does not give: which way to turn is unknown.
+  std::vector<Rotor> unknown = plus;
+  for (Rotor& r : unknown) r.km = 0.0f;
+  LogIssue issue;
+  extract(writeFlight(twoLevelSamples(), withGeometry(unknown)), issue);
+  EXPECT_NE(issue.message.find("a plus frame with a CA_ROTORn_KM of 0"), std::string::npos) << issue.message;
+}
+
 TEST(Px4Signals, FramesTheModelDoesNotDescribeAreRefusedByTheirParameters) {
   const std::vector<Rotor> x = {{0.13f, 0.22f, 0.05f}, {-0.13f, -0.20f, 0.05f}, {0.13f, -0.22f, -0.05f}, {-0.13f, 0.20f, -0.05f}};
   struct Case {
@@ -211,18 +248,18 @@ TEST(Px4Signals, FramesTheModelDoesNotDescribeAreRefusedByTheirParameters) {
   std::vector<Rotor> hexa = x;
   hexa.push_back({0.0f, 0.25f, 0.05f});
   hexa.push_back({0.0f, -0.25f, -0.05f});
-  std::vector<Rotor> plus = x;
-  plus[0] = {0.25f, 0.0f, 0.05f};
   std::vector<Rotor> twice = x;
   twice[3] = {0.13f, 0.22f, -0.05f};  // a second front-right rotor
-  std::vector<Rotor> props_out = x;
-  for (Rotor& r : props_out) r.km = -r.km;
+  std::vector<Rotor> half_plus = x;
+  half_plus[0] = {0.25f, 0.0f, 0.05f};
+  std::vector<Rotor> spin = x;
+  spin[2].km = -spin[2].km;  // the front-left rotor spins as its diagonal neighbour does not
   const Case cases[] = {
       {withGeometry(hexa), "CA_ROTOR_COUNT is 6"},
       {withGeometry(x, 2), "CA_AIRFRAME is 2"},
-      {withGeometry(plus), "on a body axis"},
-      {withGeometry(twice), "PX4 motors 1 and 4 are both front-right"},
-      {withGeometry(props_out), "PX4 motor 1 (front-right) spins clockwise"},
+      {withGeometry(half_plus), "PX4 motor 1 (CA_ROTOR0_PX 0.25, CA_ROTOR0_PY 0) is on a body axis and PX4 motor 2"},
+      {withGeometry(twice), "and PX4 motor 4 (CA_ROTOR3_PX 0.13"},
+      {withGeometry(spin), "PX4 motors 4 and 3 spin clockwise and counter-clockwise"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.expect);

@@ -189,6 +189,38 @@ TEST(TelemetryFromLog, BodyRatesOutOfRangeRowsAreLeftOutAndCoarseRatesAreNotRead
             "rate_topic (body rates) is logged at 83.3 Hz, below the 125 Hz attitude needs: not read (a model on body rates refuses this log)");
 }
 
+TEST(TelemetryFromLog, APlusOrPropsOutFrameIsReadInItsTurnedAxes) {
+  // The extractor numbered the motors in turned axes (numbering.body_turn); the attitude and body
+  // rates are turned here, once, for every autopilot, and the report names where each motor sits.
+  FlightSignals signals = synthetic(0.004, 0.01, 0.004, 2.0);
+  for (double t = 0.0; t <= 2.0 + 1e-9; t += 0.004) {
+    signals.rates.t.push_back(t);
+    signals.rates.v.push_back({0.1 + t, 0.2, 0.3});
+  }
+  signals.rates.source = {"rate_topic", "p,q,r", ""};
+  for (const BodyTurn turn : {BodyTurn{2}, BodyTurn{-1}}) {
+    SCOPED_TRACE(turn.eighths);
+    FlightSignals turned = signals;
+    turned.numbering = {"PX4", {3, 1, 4, 2}, turn};
+    LogSampleSource plain, src;
+    ASSERT_FALSE(buildLogSampleSource(signals, LogFormat::kUlog, ImportOptions{}, plain).refused());
+    ASSERT_FALSE(buildLogSampleSource(std::move(turned), LogFormat::kUlog, ImportOptions{}, src).refused());
+    const std::vector<TelemetrySample> a = drain(plain), b = drain(src);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); i += 50) {
+      const EulerZyx want = attitudeOfTurnedAxes({a[i].y[3], a[i].y[4], a[i].y[5]}, turn);
+      EXPECT_NEAR(b[i].y[3], want.roll, 1e-9) << a[i].t;
+      EXPECT_NEAR(b[i].y[4], want.pitch, 1e-9) << a[i].t;
+      EXPECT_NEAR(std::remainder(b[i].y[5] - want.yaw, 2 * kPi), 0.0, 1e-9) << a[i].t;
+      const std::array<double, 3> w = bodyVectorInTurnedAxes(a[i].rates, turn);
+      for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(b[i].rates[k], w[k], 1e-12) << a[i].t;
+      for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(b[i].y[k], a[i].y[k]);  // the world frame is the world frame
+    }
+    EXPECT_TRUE(contains(src.report().text(), turn.eighths == 2 ? "1: front-left, PX4 motor 3" : "1: right, PX4 motor 3"))
+        << src.report().text();
+  }
+}
+
 TEST(TelemetryFromLog, PhasesFromEventsSkipMarginsAndLeaveAGapBetweenFlights) {
   FlightSignals s = synthetic(0.002, 0.02, 0.002, 20.0);
   // Two flights: 2–8 s and 11–18 s.
