@@ -24,6 +24,8 @@
 #include "data/features.h"
 #include "io/calibration_file.h"
 #include "io/model_file.h"
+#include "io/vehicle_file.h"
+#include "core/frames.h"
 
 namespace {
 
@@ -509,6 +511,65 @@ void simulateQuadMotor2Failure(const std::string& vehicle, const std::string& ou
   ASSERT_EQ(run("simulate --controller pid --params " + vehicle + " --motor 2 --theta 0 --fault-step 500 --steps 1000 --seed 3 "
                 "--output " + ours).exit_code, 0);
   writeInPx4Order(ours, px4);
+}
+
+// A props-out airframe (every propeller spinning the other way) is the standard X seen from axes
+// turned 90° (docs/vehicles.md#plus-and-props-out-frames). The quad's flight, written as the
+// props-out airframe's own telemetry (its attitude in its own axes, u1..u4 in its PX4 numbering),
+// is read through its description in the turned axes: the same Θ̂ as the X's file, the same motor,
+// named where it sits on the props-out airframe.
+TEST(DetectCli, APropsOutAirframesOwnTelemetryIsReadAsTheStandardX) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string vehicle = src + "/configs/vehicles/quad450.toml";
+  const std::string ours = temp("quad-x.csv"), px4 = temp("quad-x-px4.csv"), own = temp("quad-props-out.csv");
+  simulateQuadMotor2Failure(vehicle, ours, px4);
+  // The description with every spin reversed, under the library's file name so that the quad's model runs.
+  std::filesystem::create_directories(temp("props-out"));
+  const std::string props_out = temp("props-out") + "/quad450.toml";
+  {
+    std::string text = readFile(vehicle);
+    for (std::size_t at = 0; (at = text.find("spin = \"", at)) != std::string::npos; at += 8)
+      text.replace(at + 8, text.compare(at + 8, 3, "ccw") == 0 ? 3 : 2, text.compare(at + 8, 3, "ccw") == 0 ? "cw" : "ccw");
+    std::ofstream(props_out) << text;
+  }
+  const quadfdi::VehicleDescription d = quadfdi::loadVehicleDescription(props_out);
+  ASSERT_EQ(d.body_turn.eighths, 2);
+  rewriteRows(ours, own, [&](std::vector<std::string>& cells) {
+    const std::vector<std::string> read = cells;
+    const quadfdi::EulerZyx x_axes{std::stod(read[4]), std::stod(read[5]), std::stod(read[6])};
+    const quadfdi::EulerZyx airframe = quadfdi::attitudeOfTurnedAxes(x_axes, quadfdi::BodyTurn{-2});
+    char buf[3][32];
+    std::snprintf(buf[0], sizeof buf[0], "%.17g", airframe.roll);
+    std::snprintf(buf[1], sizeof buf[1], "%.17g", airframe.pitch);
+    std::snprintf(buf[2], sizeof buf[2], "%.17g", airframe.yaw);
+    for (int k = 0; k < 3; ++k) cells[static_cast<std::size_t>(4 + k)] = buf[k];
+    for (std::size_t m = 0; m < 4; ++m) cells[7 + m] = read[static_cast<std::size_t>(6 + d.quadfdi_motor_of_autopilot_motor[m])];
+  });
+  const CommandResult reference = run("detect -q --vehicle " + vehicle + " --input " + ours, false);
+  const CommandResult turned = run("detect -q --vehicle " + props_out + " --csv-numbering vehicle --input " + own, false);
+  ASSERT_EQ(reference.exit_code, 0);
+  ASSERT_EQ(turned.exit_code, 0) << turned.out;
+  // Line by line: Θ̂ to the printed digit, save the motor's name and number.
+  std::istringstream a(reference.out), b(turned.out);
+  std::string la, lb;
+  int lines = 0, failed = 0;
+  while (std::getline(a, la) && std::getline(b, lb)) {
+    ++lines;
+    const auto head = [](const std::string& l) { return l.substr(0, l.find(", \"motor_position\"")); };
+    ASSERT_EQ(head(lb), head(la)) << "line " << lines;
+    if (la.find("\"motor\": 2, \"severity\": \"failed\"") != std::string::npos) {
+      ++failed;
+      EXPECT_NE(la.find("\"motor_position\": \"back-right\", \"autopilot_motor\": 4}"), std::string::npos) << la;
+      EXPECT_NE(lb.find("\"motor_position\": \"front-right\", \"autopilot_motor\": 1}"), std::string::npos) << lb;
+    }
+  }
+  EXPECT_FALSE(std::getline(a, la) || std::getline(b, lb));  // as many lines
+  EXPECT_GT(lines, 200);
+  EXPECT_GT(failed, 0);
+  // Read in quadfdi's own conventions instead (no --csv-numbering), the airframe's axes are taken
+  // for the X's: the attitude is a quarter turn off, which the output shows.
+  const CommandResult unturned = run("detect -q --vehicle " + props_out + " --input " + own, false);
+  EXPECT_NE(unturned.out, turned.out);
 }
 
 // A simulator of another autopilot writes u1..u4 in that autopilot's numbering. Read as quadfdi's,

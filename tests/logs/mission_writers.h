@@ -161,8 +161,20 @@ inline constexpr std::uint8_t kApAtt = 30, kApXkf1 = 31, kApRcou = 32, kApEv = 3
 // IMUs (instance field I), the second's off by 5 rad/s so that reading it shows.
 enum class ApRates { kNone, kRate, kImu };
 // The writer holds the log as binary (`bytes`, the .BIN) and as text (`text`, Mission Planner's .log).
+// `frame_type`: FRAME_TYPE 1 (X), 3 (H: the X's positions, every spin reversed) or 0 (PLUS). The
+// mission flew the standard X; an H is that X seen from axes turned −90°, a PLUS from axes turned
+// +45° (docs/vehicles.md), so its ATT and RATE are written in those axes and its outputs in its
+// own numbering (AP_MotorsMatrix::setup_quad_matrix, worked out by hand for the test).
+struct ApFrame {
+  int frame_type;
+  int eighths;                // the turn the reader must find
+  std::array<int, 4> motor;   // ArduPilot motor at quadfdi motor 1..4 of the turned axes
+};
+inline constexpr ApFrame kApX{1, 0, {1, 4, 2, 3}};
+inline constexpr ApFrame kApH{3, 2, {3, 1, 4, 2}};
+inline constexpr ApFrame kApPlus{0, -1, {1, 4, 2, 3}};
 inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
-                                           ApRates rates = ApRates::kNone) {
+                                           ApRates rates = ApRates::kNone, const ApFrame& frame = kApX) {
   DataflashWriter w;
   w.fmt(kApAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
   w.fmt(kApXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
@@ -175,14 +187,15 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
   w.fmtu(0, kApXkf1, "s#ddhnnnnmmmkkkm", "F-BBB0000000BBBB");
   ArdupilotThrustMap map;  // MOT_PWM_MIN/MAX 1000/2000, SPIN 0.15/0.95, EXPO 0.65
   w.parm(0, "FRAME_CLASS", 1);
-  w.parm(0, "FRAME_TYPE", 1);
+  w.parm(0, "FRAME_TYPE", frame.frame_type);
   w.parm(0, "MOT_PWM_MIN", map.pwm_min);
   w.parm(0, "MOT_PWM_MAX", map.pwm_max);
   w.parm(0, "MOT_SPIN_MIN", map.spin_min);
   w.parm(0, "MOT_SPIN_MAX", map.spin_max);
   w.parm(0, "MOT_THST_EXPO", map.expo);
-  // quadfdi 1 FR, 2 BR, 3 BL, 4 FL = ArduPilot motors 1, 4, 2, 3 → AP motor n on output n.
-  const std::array<int, 4> ap_motor = {1, 4, 2, 3};
+  // The X: quadfdi 1 FR, 2 BR, 3 BL, 4 FL = ArduPilot motors 1, 4, 2, 3 → AP motor n on output n.
+  const std::array<int, 4> ap_motor = frame.motor;
+  const BodyTurn own_axes{-frame.eighths};  // from the mission's X axes to the airframe's
   const double end = m.samples.back().t;
   const double loop = 1.0 / loop_hz, ekf = 1.0 / ekf_hz;
   std::vector<std::pair<double, int>> events = {{m.armed_at, 10}, {m.takeoff_at + 0.3, 28}};
@@ -199,7 +212,12 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
       w.write(kApEv, {micros(events[next_event].first), events[next_event].second});
       ++next_event;
     }
-    const TelemetrySample s = missionAt(m, t);
+    TelemetrySample s = missionAt(m, t);
+    const EulerZyx own = attitudeOfTurnedAxes({s.y[3], s.y[4], s.y[5]}, own_axes);
+    s.y[3] = own.roll;
+    s.y[4] = own.pitch;
+    s.y[5] = own.yaw;
+    s.rates = bodyVectorInTurnedAxes(s.rates, own_axes);
     double yaw_deg = -s.y[5] * 180.0 / kMissionPi;
     yaw_deg = std::fmod(yaw_deg + 360.0, 360.0);
     w.write(kApAtt, {micros(t), 0, centi(s.y[3] * 180.0 / kMissionPi), 0, centi(-s.y[4] * 180.0 / kMissionPi), 0,
@@ -230,8 +248,8 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
 }
 
 inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
-                                                      ApRates rates = ApRates::kNone) {
-  return ardupilotMissionLog(m, loop_hz, ekf_hz, rates).bytes;
+                                                      ApRates rates = ApRates::kNone, const ApFrame& frame = kApX) {
+  return ardupilotMissionLog(m, loop_hz, ekf_hz, rates, frame).bytes;
 }
 
 // ---------- Crazyflie ----------

@@ -479,6 +479,38 @@ TEST_F(LogDetection, ArdupilotMotorFailureGivesTheCsvPathsAlarmAndMotor) {
   }
 }
 
+TEST_F(LogDetection, ArdupilotPropsOutAndPlusFramesGiveTheXsAlarmOnTheMotorWhereItSits) {
+  // One flight of the standard X, logged as an H (props-out) and as a PLUS frame would log it: each
+  // airframe's own attitude and motor numbers. Read back in the turned axes, the alarm is the X's,
+  // and the report names the motor where it sits on that airframe.
+  const test::Mission m = test::simulateMission(2, 0.0, 4.0);
+  LogSampleSource x_source;
+  ASSERT_FALSE(fromBytes(test::writeArdupilotMission(m), options(), x_source).refused());
+  const std::vector<TelemetrySample> x = drain(x_source);
+  struct Frame {
+    const test::ApFrame* frame;
+    const char* motor2;  // quadfdi motor 2 (the X's back-right) on this airframe
+  };
+  for (const Frame& f : {Frame{&test::kApH, "2: front-right, ArduPilot motor 1"}, Frame{&test::kApPlus, "2: back, ArduPilot motor 4"}}) {
+    SCOPED_TRACE(f.frame->frame_type);
+    const std::vector<std::uint8_t> bytes = test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kNone, *f.frame);
+    expectSameAlarmAsCsv(bytes, m, 2);
+    LogSampleSource src;
+    ASSERT_FALSE(fromBytes(bytes, options(), src).refused());
+    EXPECT_TRUE(contains(src.report().text(), f.motor2)) << src.report().text();
+    EXPECT_EQ(src.report().numbering.body_turn.eighths, f.frame->eighths);
+    // The samples are the X's: the attitude to ATT's centidegrees, the commands exactly.
+    const std::vector<TelemetrySample> turned = drain(src);
+    ASSERT_EQ(turned.size(), x.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      worst = std::max(worst, rotationAngleBetween({x[i].y[3], x[i].y[4], x[i].y[5]}, {turned[i].y[3], turned[i].y[4], turned[i].y[5]}));
+      for (std::size_t k = 0; k < 4; ++k) ASSERT_EQ(turned[i].u[k], x[i].u[k]) << x[i].t;
+    }
+    EXPECT_LT(worst, 4e-4);  // rad: two roundings to 0.01°, each axis
+  }
+}
+
 TEST_F(LogDetection, CrazyflieMotorFailureGivesTheCsvPathsAlarmAndMotor) {
   for (int motor : {1, 4}) {
     SCOPED_TRACE(motor);
