@@ -18,6 +18,8 @@ void writeTelemetryCsvHeader(std::ostream& out, const MotorNumbering& numbering,
   if (!numbering.isQuadfdis()) {
     out << "# motor_numbering: " << numbering.name << " =";
     for (int m : numbering.autopilot_motor) out << ' ' << m;
+    // A plus or props-out frame: the rows are in its turned axes; where each motor sits follows from the turn.
+    if (!numbering.body_turn.none()) out << " turned " << 45 * numbering.body_turn.eighths;
     out << '\n';
   }
   out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4" << (rates ? ",p,q,r\n" : "\n");

@@ -198,16 +198,18 @@ bool TelemetryReader::readLine(std::string& text) {
   return false;
 }
 
-// "# motor_numbering: NAME = A B C D": A..D a permutation of 1..4 (the autopilot's numbers of
-// quadfdi's motors 1..4). Other comments are ignored; this one, malformed, is an error.
+// "# motor_numbering: NAME = A B C D [turned DEG]": A..D a permutation of 1..4 (the autopilot's
+// numbers of quadfdi's motors 1..4); DEG, a multiple of 45, the turn of the axes a plus or
+// props-out frame was read in (core/frames.h). Other comments are ignored; this one, malformed, is an error.
 void TelemetryReader::readNumberingComment(const std::string& comment) {
   static const std::string kKey = "motor_numbering:";
   const std::string body = trim(comment.substr(1));
   if (body.compare(0, kKey.size(), kKey) != 0) return;
   const std::string value = body.substr(kKey.size());
   const std::size_t eq = value.rfind('=');
-  const std::string bad = where() + ": '# motor_numbering: NAME = A B C D' expects the autopilot's numbers of quadfdi's motors 1..4 (a "
-                                    "permutation of 1 2 3 4), got '" + trim(value) + "'";
+  const std::string bad = where() + ": '# motor_numbering: NAME = A B C D [turned DEG]' expects the autopilot's numbers of quadfdi's "
+                                    "motors 1..4 (a permutation of 1 2 3 4), then optionally the turn of the body axes (a multiple of "
+                                    "45°), got '" + trim(value) + "'";
   if (eq == std::string::npos || trim(value.substr(0, eq)).empty()) throw TelemetryError(bad);
   MotorNumbering n;
   n.name = trim(value.substr(0, eq));
@@ -216,6 +218,11 @@ void TelemetryReader::readNumberingComment(const std::string& comment) {
   for (int& m : n.autopilot_motor) {
     if (!(numbers >> m) || m < 1 || m > kMotors || seen[static_cast<std::size_t>(m - 1)]) throw TelemetryError(bad);
     seen[static_cast<std::size_t>(m - 1)] = true;
+  }
+  if (std::string word; numbers >> word) {
+    int degrees = 0;
+    if (word != "turned" || !(numbers >> degrees) || degrees % 45 != 0 || degrees <= -180 || degrees > 180) throw TelemetryError(bad);
+    n.body_turn = BodyTurn{degrees / 45};
   }
   if (std::string rest; numbers >> rest) throw TelemetryError(bad);
   numbering_ = n;

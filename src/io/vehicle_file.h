@@ -1,4 +1,5 @@
-// Vehicle description files (docs/vehicles.md): a user's own symmetric quad-X — mass, inertia,
+// Vehicle description files (docs/vehicles.md): a user's own symmetric quad — an X, a props-out X
+// or a plus frame, the last two read as the X in turned body axes (core/quad_layout.h) — mass, inertia,
 // the four rotors in the autopilot's motor numbering, thrust curve, yaw-moment coefficient,
 // motor lag and sources — turned into VehicleParams plus the motor renumbering, or refused with
 // one line "FILE:LINE: problem" when it breaks the symmetry the fault isolation relies on.

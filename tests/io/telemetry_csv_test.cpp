@@ -94,20 +94,29 @@ TEST(TelemetryCsv, TheMotorNumberingCommentRoundTrips) {
   ASSERT_TRUE(reader.numbering());
   EXPECT_EQ(reader.numbering()->name, "PX4 quad X");
   EXPECT_EQ(reader.numbering()->autopilot_motor, (std::array<int, 4>{1, 4, 2, 3}));
+  // A plus or props-out frame's turned axes come back with it.
+  std::stringstream plus;
+  writeTelemetryCsvHeader(plus, MotorNumbering{"ArduPilot", {1, 4, 2, 3}, BodyTurn{-1}});
+  EXPECT_EQ(plus.str(), "# motor_numbering: ArduPilot = 1 4 2 3 turned -45\nt,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
+  const TelemetryReader plus_reader(plus, "plus.csv");
+  ASSERT_TRUE(plus_reader.numbering());
+  EXPECT_EQ(plus_reader.numbering()->body_turn.eighths, -1);
+  EXPECT_STREQ(motorPosition(*plus_reader.numbering(), 1), "right");
   // Only before the header; other comments are ignored.
   std::stringstream late("# a note\nt,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n# motor_numbering: PX4 = 1 4 2 3\n");
   EXPECT_FALSE(TelemetryReader(late, "late.csv").numbering());
 }
 
 TEST(TelemetryCsv, AMalformedNumberingCommentNamesItsLine) {
-  for (const char* value : {"PX4 = 1 4 2", "PX4 = 1 4 2 2", "PX4 = 1 4 2 5", "= 1 2 3 4", "PX4 1 4 2 3", "PX4 = 1 4 2 3 1", "PX4 = a b c d"}) {
+  for (const char* value : {"PX4 = 1 4 2", "PX4 = 1 4 2 2", "PX4 = 1 4 2 5", "= 1 2 3 4", "PX4 1 4 2 3", "PX4 = 1 4 2 3 1", "PX4 = a b c d",
+                            "PX4 = 1 4 2 3 turned 30", "PX4 = 1 4 2 3 turned", "PX4 = 1 4 2 3 rotated 90", "PX4 = 1 4 2 3 turned 90 x"}) {
     SCOPED_TRACE(value);
     std::stringstream in(std::string("# exported\n# motor_numbering: ") + value + "\nt,x,y,z,roll,pitch,yaw,u1,u2,u3,u4\n");
     try {
       TelemetryReader reader(in, "bad.csv");
       ADD_FAILURE() << "accepted";
     } catch (const TelemetryError& e) {
-      EXPECT_EQ(std::string(e.what()).rfind("bad.csv:2: '# motor_numbering: NAME = A B C D' expects", 0), 0u) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("bad.csv:2: '# motor_numbering: NAME = A B C D [turned DEG]' expects", 0), 0u) << e.what();
     }
   }
 }
