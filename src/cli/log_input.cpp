@@ -77,7 +77,8 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
   t.add("--csv-numbering", o.csv_numbering,
         "Telemetry CSV: whose motor numbers u1..u4 are in: quadfdi (1 front-right, 2 back-right, 3 back-left, 4 "
         "front-left) or vehicle (the --vehicle description's [motor.N] numbering, e.g. PX4's, as a simulator of that "
-        "autopilot writes them); detect's outputs keep quadfdi's `motor` and add the vehicle's `autopilot_motor`, and "
+        "autopilot writes them; for a plus or props-out frame the attitude and p,q,r are then in its own body axes, "
+        "read turned onto the X: docs/vehicles.md); detect's outputs keep quadfdi's `motor` and add the vehicle's `autopilot_motor`, and "
         "import writes u1..u4 in quadfdi's order with the vehicle's numbers in its '# motor_numbering' comment")
       .choices({"quadfdi", "vehicle"});
   t.add("--max-thrust", o.import.max_thrust, "Logs with thrust-fraction commands (PX4, ArduPilot): the motor's maximum thrust [N per motor]; detect with a "
