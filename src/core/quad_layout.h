@@ -4,6 +4,7 @@
 // parameters, ArduPilot's frame tables — so that they accept and refuse the same frames.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <string>
@@ -37,7 +38,7 @@ struct QuadLayout {
   bool spins_checked = false; // every spin was known (and so matched the turned standard pattern)
   std::array<int, 4> quadfdi_motor_of{};    // quadfdi motor (1..4) of rotor i
   std::array<int, 4> rotor_of_quadfdi_motor{};  // rotor (1-based) at quadfdi motor k + 1
-  std::array<RotorPlacement, 4> turned{};   // the rotors in the turned axes (FRD), spins as given
+  std::array<RotorPlacement, 4> turned{};   // the rotors in the turned axes (FRD), spins as given (kDuplicateQuadrant: in the axes it was found in)
 };
 
 // A rotor within 2 % of its distance from a body axis is on it (about 1°: a plus frame's arm as
@@ -69,31 +70,30 @@ inline QuadLayout quadLayout(const std::array<RotorPlacement, 4>& rotors) {
   const std::array<int, 2> candidates = out.plus ? std::array<int, 2>{1, -1} : std::array<int, 2>{0, 2};
   int chosen = 0, consistent = 0;
   std::array<std::array<int, 4>, 2> quadrant_of{};
+  std::array<std::array<RotorPlacement, 4>, 2> turned{};
   for (std::size_t c = 0; c < 2; ++c) {
     const BodyTurn turn{candidates[c]};
     const double ca = std::cos(turn.radians()), sa = std::sin(turn.radians());
     std::array<int, 4> owner{};
-    for (int i = 0; i < 4; ++i) {
-      const RotorPlacement& r = rotors[static_cast<std::size_t>(i)];
+    for (std::size_t i = 0; i < 4; ++i) {
+      const RotorPlacement& r = rotors[i];
       // FRD (x, y_right) is FLU (x, −y_right); turned by −α in FLU, then back to FRD.
-      const double x = ca * r.x_forward - sa * r.y_right;
-      const double y_right = sa * r.x_forward + ca * r.y_right;
-      const int q = quadfdiMotorAtFrd(x, y_right);
-      if (q == 0) return fail(QuadLayoutStatus::kMixedAxes, i + 1, 0);  // not reached: excluded above
+      turned[c][i] = {ca * r.x_forward - sa * r.y_right, sa * r.x_forward + ca * r.y_right, r.spin};
+      const int q = quadfdiMotorAtFrd(turned[c][i].x_forward, turned[c][i].y_right);
+      if (q == 0) return fail(QuadLayoutStatus::kMixedAxes, static_cast<int>(i) + 1, 0);  // not reached: excluded above
       if (owner[static_cast<std::size_t>(q - 1)] != 0) {
-        out.turn = turn;  // the quadrant's name is in these axes
-        return fail(QuadLayoutStatus::kDuplicateQuadrant, owner[static_cast<std::size_t>(q - 1)], i + 1);
+        out.turn = turn;  // the quadrant is named in these axes
+        out.turned = turned[c];
+        return fail(QuadLayoutStatus::kDuplicateQuadrant, owner[static_cast<std::size_t>(q - 1)], static_cast<int>(i) + 1);
       }
-      owner[static_cast<std::size_t>(q - 1)] = i + 1;
-      quadrant_of[c][static_cast<std::size_t>(i)] = q;
-      if (c == 0) out.turned[static_cast<std::size_t>(i)] = {x, y_right, r.spin};
+      owner[static_cast<std::size_t>(q - 1)] = static_cast<int>(i) + 1;
+      quadrant_of[c][i] = q;
     }
     bool fits = true;
-    for (int i = 0; i < 4; ++i) {
-      const int q = quadrant_of[c][static_cast<std::size_t>(i)];
+    for (std::size_t i = 0; i < 4; ++i) {
+      const int q = quadrant_of[c][i];
       const int want = q == 1 || q == 3 ? 1 : -1;  // kYawSign: quadfdi motors 1 and 3 counter-clockwise
-      const int spin = rotors[static_cast<std::size_t>(i)].spin;
-      if (spin != 0 && spin != want) fits = false;
+      if (rotors[i].spin != 0 && rotors[i].spin != want) fits = false;
     }
     if (fits) {
       if (consistent == 0) chosen = static_cast<int>(c);
@@ -108,20 +108,20 @@ inline QuadLayout quadLayout(const std::array<RotorPlacement, 4>& rotors) {
     const auto spin = [&](int quadrant) { return rotors[static_cast<std::size_t>(at[quadrant] - 1)].spin; };
     if (spin(1) != 0 && spin(3) != 0 && spin(1) != spin(3)) return fail(QuadLayoutStatus::kWrongSpinPattern, at[1], at[3]);
     if (spin(2) != 0 && spin(4) != 0 && spin(2) != spin(4)) return fail(QuadLayoutStatus::kWrongSpinPattern, at[2], at[4]);
-    return fail(QuadLayoutStatus::kWrongSpinPattern, at[1], at[2]);
+    for (int n = 1; n <= 4; ++n) {  // neighbours n and n + 1 (4 and 1) spinning alike
+      const int m = n % 4 + 1;
+      if (spin(n) != 0 && spin(n) == spin(m)) return fail(QuadLayoutStatus::kWrongSpinPattern, at[n], at[m]);
+    }
+    return fail(QuadLayoutStatus::kWrongSpinPattern, at[1], at[2]);  // not reached: no known spin contradicts
   }
   if (consistent == 2 && out.plus) return fail(QuadLayoutStatus::kSpinsUnknown, 0, 0);
   out.turn = BodyTurn{candidates[static_cast<std::size_t>(chosen)]};
   out.quadfdi_motor_of = quadrant_of[static_cast<std::size_t>(chosen)];
+  out.turned = turned[static_cast<std::size_t>(chosen)];
   out.spins_checked = true;
-  for (const RotorPlacement& r : rotors) out.spins_checked = out.spins_checked && r.spin != 0;
-  for (int i = 0; i < 4; ++i) {
-    out.rotor_of_quadfdi_motor[static_cast<std::size_t>(out.quadfdi_motor_of[static_cast<std::size_t>(i)] - 1)] = i + 1;
-    if (chosen == 1) {
-      const double ca = std::cos(out.turn.radians()), sa = std::sin(out.turn.radians());
-      const RotorPlacement& r = rotors[static_cast<std::size_t>(i)];
-      out.turned[static_cast<std::size_t>(i)] = {ca * r.x_forward - sa * r.y_right, sa * r.x_forward + ca * r.y_right, r.spin};
-    }
+  for (std::size_t i = 0; i < 4; ++i) {
+    out.spins_checked = out.spins_checked && rotors[i].spin != 0;
+    out.rotor_of_quadfdi_motor[static_cast<std::size_t>(out.quadfdi_motor_of[i] - 1)] = static_cast<int>(i) + 1;
   }
   return out;
 }

@@ -204,11 +204,9 @@ VehicleDescription vehicleDescriptionFromText(const std::string& text, const std
                                          "plus frame (every rotor on an axis)");
       break;
     case QuadLayoutStatus::kDuplicateQuadrant: {
-      const RotorPlacement& o = placements[static_cast<std::size_t>(layout.other - 1)];  // named in the axes it was found in
-      const double ca = std::cos(layout.turn.radians()), sa = std::sin(layout.turn.radians());
-      const int q = quadfdiMotorAtFrd(ca * o.x_forward - sa * o.y_right, sa * o.x_forward + ca * o.y_right);
+      const RotorPlacement& o = layout.turned[static_cast<std::size_t>(layout.other - 1)];
       r.failAt(lineOf(layout.other), "motors " + std::to_string(layout.motor) + " and " + std::to_string(layout.other) + " are both " +
-                                         motorPosition(q, layout.turn) +
+                                         motorPosition(quadfdiMotorAtFrd(o.x_forward, o.y_right), layout.turn) +
                                          " (duplicate motor position): a quad has exactly one rotor in each quadrant" +
                                          (layout.plus ? " (a plus frame: one on each arm)" : ""));
     }
