@@ -570,6 +570,16 @@ TEST(DetectCli, APropsOutAirframesOwnTelemetryIsReadAsTheStandardX) {
   // for the X's: the attitude is a quarter turn off, which the output shows.
   const CommandResult unturned = run("detect -q --vehicle " + props_out + " --input " + own, false);
   EXPECT_NE(unturned.out, turned.out);
+  // The quad's levers swap in the turned axes (|x|/|y| 0.62 → 1.62), outside what its model flew: said.
+  const CommandResult said = run("detect --vehicle " + props_out + " --csv-numbering vehicle --input " + own + " --output " +
+                                 temp("props-out.jsonl"));
+  EXPECT_NE(said.out.find("detect: warning: the vehicle's rotor levers |x|/|y| = 1.62 (a props-out X, read in axes turned 90°: its "
+                          "x and y levers swap) lie outside those "),
+            std::string::npos)
+      << said.out;
+  EXPECT_NE(said.out.find("was trained on (0.62–0.62: quad450)"), std::string::npos) << said.out;
+  const CommandResult x = run("detect --vehicle " + vehicle + " --input " + ours + " --output " + temp("x.jsonl"));
+  EXPECT_EQ(x.out.find("rotor levers"), std::string::npos) << x.out;
 }
 
 // A simulator of another autopilot writes u1..u4 in that autopilot's numbering. Read as quadfdi's,
