@@ -70,8 +70,9 @@ std::optional<TrainedAspects> trainedAspects(const ModelMetadata& m) {
         const std::string file = vehicleFile(name, &problem);
         if (!problem.empty() || existingFile(file).empty()) return std::nullopt;
         const VehicleParams v = loadVehicleDescription(file).params;
-        widen(v.pitchLever() / v.rollLever(), v.pitchLever() / v.rollLever());
-        if (out) out->from += (out->from.empty() ? "" : ", ") + name;
+        const double aspect = v.pitchLever() / v.rollLever();
+        widen(aspect, aspect);
+        out->from += (out->from.empty() ? "" : ", ") + name;
       }
     } else if (double a = 0.0, b = 0.0; std::sscanf(line.c_str(), "airframes.aspect = [%lf, %lf]", &a, &b) == 2) {
       airframe_lo = a;
@@ -458,9 +459,7 @@ int runDetect(const DetectOptions& o) {
                      "(%.2f–%.2f: %s); its false-alarm rate and Θ̂ there are not what its calibration measured "
                      "(docs/results/props-out/: the 1.5 kg quad read as props-out, |x|/|y| 1.62, raised 141 false "
                      "alarms in 49 healthy hours with the general model against 4 as an X, and 0 with its own model)\n",
-                     aspect, vehicle->body_turn.eighths % 4 != 0 && vehicle->body_turn.eighths % 2 == 0
-                                 ? " (a props-out X, read in axes turned 90°: its x and y levers swap)"
-                                 : "",
+                     aspect, vehicle->body_turn.swapsXY() ? " (a props-out X, read in axes turned 90°: its x and y levers swap)" : "",
                      model_path.c_str(), trained->lo, trained->hi, trained->from.c_str());
     }
 

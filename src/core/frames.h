@@ -96,6 +96,8 @@ struct BodyTurn {
   int eighths = 0;  // [45°] −3 … 4
   double radians() const { return eighths * 0.78539816339744830962; }  // π/4 per eighth
   bool none() const { return eighths % 8 == 0; }
+  // An odd number of quarter turns (±90°): the body x and y axes trade places.
+  bool swapsXY() const { return eighths % 4 == 2 || eighths % 4 == -2; }
 };
 
 // The attitude of the turned axes: R' = R·Rz(α), α the turn.

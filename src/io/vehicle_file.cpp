@@ -250,7 +250,7 @@ VehicleDescription vehicleDescriptionFromText(const std::string& text, const std
   }
   // The inertia in the turned axes: a quarter turn swaps the roll and pitch axes; an eighth turn
   // (a plus frame) keeps it diagonal only when the two are equal.
-  if (layout.turn.eighths % 4 == 2 || layout.turn.eighths % 4 == -2) std::swap(p.inertia_xx, p.inertia_yy);
+  if (layout.turn.swapsXY()) std::swap(p.inertia_xx, p.inertia_yy);
   if (layout.plus) {
     const double mean = 0.5 * (p.inertia_xx + p.inertia_yy), diff = std::abs(p.inertia_xx - p.inertia_yy);
     if (diff > kRotorPositionTolerance * mean)
@@ -282,9 +282,9 @@ std::string vehicleDescriptionToText(const VehicleDescription& d) {
   out << "frame = \"frd\"\n";
   out << "mass = " << formatNumber(p.mass) << "  # [kg]\n";
   // The airframe's own axes, as the rotors are written (params hold the turned axes' inertia).
-  const bool quarter_turn = d.body_turn.eighths % 4 == 2 || d.body_turn.eighths % 4 == -2;
-  out << "inertia_xx = " << formatNumber(quarter_turn ? p.inertia_yy : p.inertia_xx) << "  # [kg·m²]\n";
-  out << "inertia_yy = " << formatNumber(quarter_turn ? p.inertia_xx : p.inertia_yy) << "  # [kg·m²]\n";
+  const bool swapped = d.body_turn.swapsXY();
+  out << "inertia_xx = " << formatNumber(swapped ? p.inertia_yy : p.inertia_xx) << "  # [kg·m²]\n";
+  out << "inertia_yy = " << formatNumber(swapped ? p.inertia_xx : p.inertia_yy) << "  # [kg·m²]\n";
   out << "inertia_zz = " << formatNumber(p.inertia_zz) << "  # [kg·m²]\n";
   out << "yaw_moment_coeff = " << formatNumber(p.yaw_moment_coeff) << "  # [m]\n";
   out << "motor_time_constant = " << formatNumber(p.motor_time_constant) << "  # [s]\n";
