@@ -65,21 +65,28 @@ inline bool eulerZyxFromQuaternion(double w, double x, double y, double z, Euler
   return true;
 }
 
+// The unit quaternion of a ZYX attitude: qz(ψ)·qy(θ)·qx(φ).
+inline Quaternion quaternionOfEuler(const EulerZyx& e) {
+  const double cr = std::cos(0.5 * e.roll), sr = std::sin(0.5 * e.roll), cp = std::cos(0.5 * e.pitch),
+               sp = std::sin(0.5 * e.pitch), cy = std::cos(0.5 * e.yaw), sy = std::sin(0.5 * e.yaw);
+  return {cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+          cr * cp * sy - sr * sp * cy};
+}
+
+// The unit quaternion of the rotation by |v| [rad] about v (a rotation vector; ω·Δt for a body
+// rate held over Δt).
+inline Quaternion quaternionOfRotationVector(const std::array<double, 3>& v) {
+  const double angle = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  // sin(a/2)/a to round-off below 1e-4 rad, where the series' next term (a⁴/3840) is below 1e-19.
+  const double k = angle < 1e-4 ? 0.5 - angle * angle / 48.0 : std::sin(0.5 * angle) / angle;
+  return {std::cos(0.5 * angle), k * v[0], k * v[1], k * v[2]};
+}
+
 // The angle [rad, 0..π] of the rotation from attitude a to attitude b: the geodesic distance, which
 // Euler differences are not (they wrap, and roll and yaw swing by π through pitch ±π/2).
 inline double rotationAngleBetween(const EulerZyx& a, const EulerZyx& b) {
-  auto quaternion = [](const EulerZyx& e, double q[4]) {  // qz(ψ)·qy(θ)·qx(φ)
-    const double cr = std::cos(0.5 * e.roll), sr = std::sin(0.5 * e.roll), cp = std::cos(0.5 * e.pitch),
-                 sp = std::sin(0.5 * e.pitch), cy = std::cos(0.5 * e.yaw), sy = std::sin(0.5 * e.yaw);
-    q[0] = cr * cp * cy + sr * sp * sy;
-    q[1] = sr * cp * cy - cr * sp * sy;
-    q[2] = cr * sp * cy + sr * cp * sy;
-    q[3] = cr * cp * sy - sr * sp * cy;
-  };
-  double qa[4], qb[4];
-  quaternion(a, qa);
-  quaternion(b, qb);
-  const double dot = std::abs(qa[0] * qb[0] + qa[1] * qb[1] + qa[2] * qb[2] + qa[3] * qb[3]);
+  const Quaternion qa = quaternionOfEuler(a), qb = quaternionOfEuler(b);
+  const double dot = std::abs(qa.w * qb.w + qa.x * qb.x + qa.y * qb.y + qa.z * qb.z);
   return 2.0 * std::acos(std::min(1.0, dot));
 }
 

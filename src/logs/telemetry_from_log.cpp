@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/frames.h"
+#include "logs/heading_resets.h"
 
 namespace quadfdi {
 namespace {
@@ -301,6 +302,9 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   // --- Body rates: optional (only a model on body rates reads them), so a log without them, or
   // with them too coarse to carry a fault's first samples, is read without them, saying so. ---
   double rates_hole_limit = 0.0;
+  // Estimator heading resets the log does not record, found with the gyro and taken out
+  // (heading_resets.h), whether or not the model reads the rates.
+  rep.conventions.push_back(headingResetsLine(takeOutHeadingResets(signals.attitude, signals.rates), signals.rates));
   if (!o.read_rates) signals.rates = {};
   {
     // A rate beyond any gyro's range (flight controllers' saturate at 2000 °/s, 35 rad/s) is a
