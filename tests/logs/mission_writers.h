@@ -173,8 +173,15 @@ struct ApFrame {
 inline constexpr ApFrame kApX{1, 0, {1, 4, 2, 3}};
 inline constexpr ApFrame kApH{3, 2, {3, 1, 4, 2}};
 inline constexpr ApFrame kApPlus{0, -1, {1, 4, 2, 3}};
+// An EKF heading reset ArduPilot does not log with its shift (EKF3's in-flight yaw alignment, a
+// compass switch): from `at` on, ATT's Yaw is `degrees` more (clockwise); the gyro does not see it.
+struct ApHeadingReset {
+  double at = -1.0;      // [s] (< 0: none)
+  double degrees = 0.0;  // [deg] added to ATT.Yaw
+};
 inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
-                                           ApRates rates = ApRates::kNone, const ApFrame& frame = kApX) {
+                                           ApRates rates = ApRates::kNone, const ApFrame& frame = kApX,
+                                           const ApHeadingReset& reset = {}) {
   DataflashWriter w;
   w.fmt(kApAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
   w.fmt(kApXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
@@ -218,8 +225,8 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
     s.y[4] = own.pitch;
     s.y[5] = own.yaw;
     s.rates = bodyVectorInTurnedAxes(s.rates, own_axes);
-    double yaw_deg = -s.y[5] * 180.0 / kMissionPi;
-    yaw_deg = std::fmod(yaw_deg + 360.0, 360.0);
+    double yaw_deg = -s.y[5] * 180.0 / kMissionPi + (reset.at >= 0.0 && t >= reset.at ? reset.degrees : 0.0);
+    yaw_deg = std::fmod(std::fmod(yaw_deg, 360.0) + 360.0, 360.0);
     w.write(kApAtt, {micros(t), 0, centi(s.y[3] * 180.0 / kMissionPi), 0, centi(-s.y[4] * 180.0 / kMissionPi), 0,
                      static_cast<long long>(std::llround(yaw_deg * 100.0)) % 36000, 0, 0, 3});
     if (rates == ApRates::kRate) {
@@ -248,8 +255,9 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
 }
 
 inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
-                                                      ApRates rates = ApRates::kNone, const ApFrame& frame = kApX) {
-  return ardupilotMissionLog(m, loop_hz, ekf_hz, rates, frame).bytes;
+                                                      ApRates rates = ApRates::kNone, const ApFrame& frame = kApX,
+                                                      const ApHeadingReset& reset = {}) {
+  return ardupilotMissionLog(m, loop_hz, ekf_hz, rates, frame, reset).bytes;
 }
 
 // ---------- Crazyflie ----------
