@@ -12,6 +12,7 @@
 
 #include "core/frames.h"
 #include "core/quad_layout.h"
+#include "logs/reset_steps.h"
 
 namespace quadfdi {
 namespace {
@@ -198,7 +199,54 @@ struct LanePosition {
   std::vector<std::array<double, 3>> v;   // x north, y west, z up [m]
   std::size_t rows = 0, invalid = 0, resets = 0;
   double largest = 0.0;                   // [m] largest reset shift taken out
+  // Resets ArduPilot does not log (height; horizontal where OFN, OFE are not usable), found as
+  // position steps the EKF's own velocity (VN, VE, VD of the same row) does not explain.
+  bool velocity_checked = false, horizontal_checked = false;
+  std::size_t unlogged[2] = {0, 0};       // horizontal, height
+  double unlogged_largest[2] = {0.0, 0.0};  // [m]
+  double unlogged_largest_t[2] = {0.0, 0.0};  // [s]
+  double unexplained_left[2] = {0.0, 0.0};  // [m] largest unexplained step left in
 };
+
+// [m] The smallest position step taken for a reset ArduPilot does not log. A step left in reads as
+// a burst of speed between two EKF rows: a 0.3 m horizontal one put Θ̂ at 0.42 for a window on a
+// PX4 log (docs/logs/ulog.md); a tenth of that moves it by less than its noise.
+constexpr double kMinPositionReset = 0.05;
+// [s] EKF rows further apart (a hole, skipped invalid rows) are not compared.
+constexpr double kMaxEkfInterval = 0.2;
+
+// Takes out of `lane` the steps its velocity does not explain: per axis, row k's change less the
+// mean of the two rows' velocities times the interval (exact for a constant acceleration).
+// `horizontal` false: the height only (the horizontal resets were taken out with OFN, OFE).
+void takeOutUnloggedResets(LanePosition& lane, const std::vector<std::array<double, 3>>& velocity, bool horizontal) {
+  const std::size_t n = lane.t.size();
+  if (n < 2 || velocity.size() != n) return;
+  lane.velocity_checked = true;
+  lane.horizontal_checked = horizontal;
+  for (std::size_t axis = horizontal ? 0 : 2; axis < 3; ++axis) {
+    std::vector<double> unexplained(n, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t k = 1; k < n; ++k) {
+      const double dt = lane.t[k] - lane.t[k - 1];
+      if (dt > 0.0 && dt <= kMaxEkfInterval)
+        unexplained[k] = (lane.v[k][axis] - lane.v[k - 1][axis]) - 0.5 * (velocity[k][axis] + velocity[k - 1][axis]) * dt;
+    }
+    ResetStepRule rule;
+    rule.min_step = kMinPositionReset;
+    const ResetSteps steps = findResetSteps(unexplained, rule);
+    const std::size_t which = axis == 2 ? 1 : 0;
+    lane.unlogged[which] += steps.count;
+    if (steps.count > 0 && steps.largest > lane.unlogged_largest[which]) {
+      lane.unlogged_largest[which] = steps.largest;
+      lane.unlogged_largest_t[which] = lane.t[steps.largest_row];
+    }
+    lane.unexplained_left[which] = std::max(lane.unexplained_left[which], steps.largest_left);
+    double shift = 0.0;
+    for (std::size_t k = 1; k < n; ++k) {
+      shift += steps.step[k];
+      lane.v[k][axis] -= shift;
+    }
+  }
+}
 
 // The status rows of core `core` are checked against its position rows: rows it flags without
 // a position estimate are skipped (without GPS, flow or beacons EKF3 holds PN, PE in
@@ -215,6 +263,10 @@ LanePosition lanePosition(const DecodedLog& log, const char* pos_name, const std
   const double* pe = column(*pos, "PE");
   const double* pd = column(*pos, "PD");
   if (!pn || !pe || !pd) return lane;
+  const double* vn = column(*pos, "VN");
+  const double* ve = column(*pos, "VE");
+  const double* vd = column(*pos, "VD");
+  std::vector<std::array<double, 3>> velocity;  // of the rows kept, as lane.v
   const EkfStatus status = ekfStatus(log, status_name, core);
   std::size_t k = 0;
   double north = 0.0, east = 0.0;  // [m] sum of the reset shifts so far
@@ -245,7 +297,9 @@ LanePosition lanePosition(const DecodedLog& log, const char* pos_name, const std
     }
     lane.t.push_back(t);
     lane.v.push_back({pn[r] - north, -(pe[r] - east), -pd[r]});
+    if (vn && ve && vd) velocity.push_back({vn[r], -ve[r], -vd[r]});
   }
+  takeOutUnloggedResets(lane, velocity, status.north.empty());
   return lane;
 }
 
@@ -386,14 +440,28 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
     std::map<int, LanePosition> tracks;
     std::size_t rows = 0, invalid = 0, resets = 0;
     double largest = 0.0;
+    bool velocity_checked = false, horizontal_checked = false;
+    std::size_t unlogged[2] = {0, 0};
+    double unlogged_largest[2] = {0.0, 0.0}, unlogged_largest_t[2] = {0.0, 0.0}, unexplained_left[2] = {0.0, 0.0};
     for (std::size_t i = 0; i < lanes.size(); ++i) {
       auto it = tracks.find(lanes[i].core);
       if (it == tracks.end()) {
         it = tracks.emplace(lanes[i].core, lanePosition(log, pos_name, status_name, lanes[i].core, dropped)).first;
-        rows += it->second.rows;
-        invalid += it->second.invalid;
-        resets += it->second.resets;
-        largest = std::max(largest, it->second.largest);
+        const LanePosition& lane = it->second;
+        rows += lane.rows;
+        invalid += lane.invalid;
+        resets += lane.resets;
+        largest = std::max(largest, lane.largest);
+        velocity_checked = velocity_checked || lane.velocity_checked;
+        horizontal_checked = horizontal_checked || lane.horizontal_checked;
+        for (int a = 0; a < 2; ++a) {
+          unlogged[a] += lane.unlogged[a];
+          if (lane.unlogged_largest[a] > unlogged_largest[a]) {
+            unlogged_largest[a] = lane.unlogged_largest[a];
+            unlogged_largest_t[a] = lane.unlogged_largest_t[a];
+          }
+          unexplained_left[a] = std::max(unexplained_left[a], lane.unexplained_left[a]);
+        }
       }
       const LanePosition& lane = it->second;
       const double until = i + 1 < lanes.size() ? lanes[i + 1].from : std::numeric_limits<double>::infinity();
@@ -427,6 +495,32 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
       char buf[200];
       std::snprintf(buf, sizeof buf, "position: %zu horizontal position reset%s (largest %.3g m) taken out with %s OFN, OFE, "
                     "so the track is continuous", resets, resets == 1 ? "" : "s", largest, status_name.c_str());
+      out.conventions.push_back(buf);
+    }
+    {
+      // The resets ArduPilot does not log (EKF3 ResetHeight on a change of height source; a
+      // horizontal reset in a log without usable OFN, OFE), found with the EKF's own velocity.
+      char buf[400];
+      const char* which = horizontal_checked ? "height or horizontal" : "height";
+      if (!velocity_checked)
+        std::snprintf(buf, sizeof buf, "position: not checked for resets ArduPilot does not log (height resets): %s has no VN, VE, VD",
+                      pos_name);
+      else if (unlogged[0] + unlogged[1] == 0)
+        std::snprintf(buf, sizeof buf, "position: each %s row checked against the EKF's own velocity (VN, VE, VD): no %s reset "
+                      "ArduPilot does not log (largest step the velocity does not explain %.2g m)",
+                      pos_name, which, std::max(unexplained_left[0], unexplained_left[1]));
+      else {
+        std::string found;
+        for (int a : {1, 0}) {
+          if (unlogged[a] == 0) continue;
+          char part[120];
+          std::snprintf(part, sizeof part, "%zu %s step%s (largest %.3g m at %.3f s)", unlogged[a], a == 1 ? "height" : "horizontal",
+                        unlogged[a] == 1 ? "" : "s", unlogged_largest[a], unlogged_largest_t[a]);
+          found += (found.empty() ? "" : " and ") + std::string(part);
+        }
+        std::snprintf(buf, sizeof buf, "position: %s that the EKF's own velocity (VN, VE, VD) does not explain — resets ArduPilot "
+                      "does not log — taken out, so the track is continuous", found.c_str());
+      }
       out.conventions.push_back(buf);
     }
     out.position.source = {pos_name, "PN,PE,PD", "NED → x north, y west, z up: (PN, −PE, −PD), " + of_cores};

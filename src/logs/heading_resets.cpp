@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/frames.h"
+#include "logs/reset_steps.h"
 
 namespace quadfdi {
 namespace {
@@ -92,43 +93,16 @@ HeadingResets takeOutHeadingResets(SignalSeries<3>& attitude, const SignalSeries
   if (found.steps == 0) return found;
   found.checked = true;
 
-  // Each row's unexplained yaw beyond the median of its neighbours' (the smooth part: lag, bias,
-  // a time offset between the topics).
-  std::vector<double> beyond(n, nan), around, sizes;
-  const std::size_t w = static_cast<std::size_t>(std::max(1, o.neighbours));
-  for (std::size_t k = 1; k < n; ++k) {
-    if (!std::isfinite(unexplained[k])) continue;
-    around.clear();
-    for (std::size_t j = k > w ? k - w : 1; j <= std::min(n - 1, k + w); ++j)
-      if (j != k && std::isfinite(unexplained[j])) around.push_back(unexplained[j]);
-    double smooth = 0.0;
-    if (around.size() >= 2) {
-      std::nth_element(around.begin(), around.begin() + static_cast<std::ptrdiff_t>(around.size() / 2), around.end());
-      smooth = around[around.size() / 2];
-    }
-    beyond[k] = unexplained[k] - smooth;
-    sizes.push_back(std::abs(beyond[k]));
-  }
-  // The attitude's own row-to-row noise (a simulator's white noise, an estimator's corrections): a
-  // reset must stand out of it, not only exceed min_step. 1.4826·median |x| is σ for Gaussian x.
-  std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2), sizes.end());
-  found.noise = 1.4826 * sizes[sizes.size() / 2];
-  found.threshold = std::max(o.min_step, o.noise_multiple * found.noise);
-
+  const ResetSteps steps = findResetSteps(unexplained, {o.min_step, o.noise_multiple, o.neighbours});
+  found.count = steps.count;
+  found.largest = steps.largest;
+  if (steps.count > 0) found.largest_t = attitude.t[steps.largest_row];
+  found.largest_left = steps.largest_left;
+  found.noise = steps.noise;
+  found.threshold = steps.threshold;
   double shift = 0.0;  // [rad] sum of the resets so far
   for (std::size_t k = 1; k < n; ++k) {
-    if (std::isfinite(beyond[k])) {
-      if (std::abs(beyond[k]) > found.threshold) {
-        shift += beyond[k];
-        ++found.count;
-        if (std::abs(beyond[k]) > found.largest) {
-          found.largest = std::abs(beyond[k]);
-          found.largest_t = attitude.t[k];
-        }
-      } else {
-        found.largest_left = std::max(found.largest_left, std::abs(beyond[k]));
-      }
-    }
+    shift += steps.step[k];
     if (shift != 0.0) attitude.v[k][2] = wrapAngle(attitude.v[k][2] - shift);
   }
   return found;

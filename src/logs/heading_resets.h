@@ -11,10 +11,9 @@
 //
 // Each attitude row is compared with the one before it turned by the gyro over the same interval
 // (the body rates integrated, R̂ₖ = Rₖ₋₁·exp([ω]×·Δt)). The rotation about the world's vertical
-// that the gyro does not explain is a filter lag, a bias or a time offset between the two topics
-// where it changes smoothly from row to row, and a reset where one row stands out: so a row's
-// unexplained yaw is measured against the median of its neighbours', and a step beyond
-// `min_step` is taken out of that row's yaw and every later one (a rotation about the world's
+// that the gyro does not explain is a row's unexplained yaw; a row that stands out of its
+// neighbours' by more than `min_step` and the attitude's own noise (logs/reset_steps.h) is a reset,
+// taken out of that row's yaw and every later one (a rotation about the world's
 // vertical leaves roll and pitch as they are). Docs: docs/logs/README.md "Heading resets".
 #pragma once
 

@@ -173,15 +173,22 @@ struct ApFrame {
 inline constexpr ApFrame kApX{1, 0, {1, 4, 2, 3}};
 inline constexpr ApFrame kApH{3, 2, {3, 1, 4, 2}};
 inline constexpr ApFrame kApPlus{0, -1, {1, 4, 2, 3}};
-// An EKF heading reset ArduPilot does not log with its shift (EKF3's in-flight yaw alignment, a
-// compass switch): from `at` on, ATT's Yaw is `degrees` more (clockwise); the gyro does not see it.
-struct ApHeadingReset {
-  double at = -1.0;      // [s] (< 0: none)
-  double degrees = 0.0;  // [deg] added to ATT.Yaw
+// EKF resets ArduPilot does not log with their shift: a heading reset (EKF3's in-flight yaw
+// alignment, a compass switch), after which ATT's Yaw is `heading_degrees` more (clockwise), and a
+// height reset (EKF3 ResetHeight, a change of height source), after which XKF1's PD is
+// `height_metres` less (the vehicle higher), and a horizontal one as a log without XKF4's OFN, OFE
+// would hold it. Neither the gyro nor the EKF's velocity shows them.
+struct ApResets {
+  double heading_at = -1.0;      // [s] (< 0: none)
+  double heading_degrees = 0.0;  // [deg] added to ATT.Yaw
+  double height_at = -1.0;       // [s] (< 0: none)
+  double height_metres = 0.0;    // [m] taken from XKF1.PD
+  double north_at = -1.0;        // [s] (< 0: none) a horizontal reset, in a log without XKF4 OFN, OFE
+  double north_metres = 0.0;     // [m] added to XKF1.PN
 };
 inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
                                            ApRates rates = ApRates::kNone, const ApFrame& frame = kApX,
-                                           const ApHeadingReset& reset = {}) {
+                                           const ApResets& reset = {}) {
   DataflashWriter w;
   w.fmt(kApAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
   w.fmt(kApXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
@@ -225,7 +232,7 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
     s.y[4] = own.pitch;
     s.y[5] = own.yaw;
     s.rates = bodyVectorInTurnedAxes(s.rates, own_axes);
-    double yaw_deg = -s.y[5] * 180.0 / kMissionPi + (reset.at >= 0.0 && t >= reset.at ? reset.degrees : 0.0);
+    double yaw_deg = -s.y[5] * 180.0 / kMissionPi + (reset.heading_at >= 0.0 && t >= reset.heading_at ? reset.heading_degrees : 0.0);
     yaw_deg = std::fmod(std::fmod(yaw_deg, 360.0) + 360.0, 360.0);
     w.write(kApAtt, {micros(t), 0, centi(s.y[3] * 180.0 / kMissionPi), 0, centi(-s.y[4] * 180.0 / kMissionPi), 0,
                      static_cast<long long>(std::llround(yaw_deg * 100.0)) % 36000, 0, 0, 3});
@@ -247,7 +254,14 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
     while (static_cast<double>(e) * ekf <= t + 1e-9) {
       const double te = static_cast<double>(e) * ekf;
       const TelemetrySample p = missionAt(m, te);
-      w.write(kApXkf1, {micros(te), 0u, 0, 0, 0, 0.0, 0.0, 0.0, 0.0, p.y[0], -p.y[1], -p.y[2], 0, 0, 0, 0});
+      // The EKF's velocity: the flight's own, by central differences over ±1 ms (one-sided at the ends).
+      const double h = 0.001, before = std::max(0.0, te - h), after = std::min(end, te + h);
+      const TelemetrySample p0 = missionAt(m, before), p1 = missionAt(m, after);
+      std::array<double, 3> v{};
+      for (std::size_t i = 0; i < 3; ++i) v[i] = after > before ? (p1.y[i] - p0.y[i]) / (after - before) : 0.0;
+      const double up = reset.height_at >= 0.0 && te >= reset.height_at ? reset.height_metres : 0.0;
+      const double north = reset.north_at >= 0.0 && te >= reset.north_at ? reset.north_metres : 0.0;
+      w.write(kApXkf1, {micros(te), 0u, 0, 0, 0, v[0], -v[1], -v[2], 0.0, p.y[0] + north, -p.y[1], -p.y[2] - up, 0, 0, 0, 0});
       ++e;
     }
   }
@@ -256,7 +270,7 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
 
 inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
                                                       ApRates rates = ApRates::kNone, const ApFrame& frame = kApX,
-                                                      const ApHeadingReset& reset = {}) {
+                                                      const ApResets& reset = {}) {
   return ardupilotMissionLog(m, loop_hz, ekf_hz, rates, frame, reset).bytes;
 }
 

@@ -517,7 +517,9 @@ TEST_F(LogDetection, ArdupilotPropsOutAndPlusFramesGiveTheXsAlarmOnTheMotorWhere
 // and so are the detector's Θ̂ and alarm; without RATE it cannot be told from a turn: left in, and
 // the report says the check was not made.
 TEST_F(LogDetection, ArdupilotHeadingResetIsFoundWithTheGyroAndTakenOut) {
-  const test::ApHeadingReset reset{3.0, 10.0};
+  test::ApResets reset;
+  reset.heading_at = 3.0;
+  reset.heading_degrees = 10.0;
   for (int motor : {0, 2}) {
     SCOPED_TRACE(motor);
     const test::Mission m = motor == 0 ? test::simulateMission(0, 1.0, -1.0) : test::simulateMission(motor, 0.0, 4.0);
@@ -569,6 +571,60 @@ TEST_F(LogDetection, ArdupilotHeadingResetIsFoundWithTheGyroAndTakenOut) {
                 motor == 0 ? "healthy" : "motor 2 failing at 4 s", static_cast<double>(with_reset.lowest),
                 with_reset.summary.alarms_raised, static_cast<double>(without.lowest), without.summary.alarms_raised,
                 static_cast<double>(left_in.lowest), left_in.summary.alarms_raised);
+  }
+}
+
+// A height reset ArduPilot does not log (EKF3 ResetHeight: a change of height source, a baro
+// glitch): XKF1's PD steps by 0.8 m mid-hover, its VD does not; and a 0.5 m horizontal one, in a
+// log without XKF4's OFN, OFE to say so (older firmware). Found with the EKF's own velocity and
+// taken out, the samples are the reset-free log's, and so is the detection.
+TEST_F(LogDetection, ArdupilotPositionResetsAreFoundWithTheEkfVelocityAndTakenOut) {
+  test::ApResets reset;
+  reset.height_at = 3.0;
+  reset.height_metres = 0.8;
+  reset.north_at = 3.5;
+  reset.north_metres = 0.5;
+  for (int motor : {0, 2}) {
+    SCOPED_TRACE(motor);
+    const test::Mission m = motor == 0 ? test::simulateMission(0, 1.0, -1.0) : test::simulateMission(motor, 0.0, 4.0);
+    const std::vector<std::uint8_t> plain_bytes = test::writeArdupilotMission(m);
+    LogSampleSource plain_source;
+    ASSERT_FALSE(fromBytes(plain_bytes, options(), plain_source).refused());
+    std::string conventions;
+    for (const std::string& c : plain_source.report().conventions) conventions += c + "\n";
+    // The healthy mission lands by setting the vehicle on the ground from its last 0.12 m hover
+    // (sim_flights.h): a step the velocity does not show, found too, after the evaluated phase.
+    char touchdown[96];
+    std::snprintf(touchdown, sizeof touchdown, "1 height step (largest 0.124 m at %.3f s)",
+                  std::ceil(m.landed_at * 25.0 - 1e-9) / 25.0);  // the first 25 Hz XKF1 row after touchdown
+    EXPECT_TRUE(motor == 0 ? contains(conventions, touchdown)
+                           : contains(conventions, "position: each XKF1 row checked against the EKF's own velocity (VN, VE, "
+                                                   "VD): no height or horizontal reset ArduPilot does not log")) << conventions;
+    const std::vector<TelemetrySample> plain = drain(plain_source);
+    const std::vector<std::uint8_t> bytes = test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kNone, test::kApX, reset);
+    LogSampleSource src;
+    ASSERT_FALSE(fromBytes(bytes, options(), src).refused());
+    conventions.clear();
+    for (const std::string& c : src.report().conventions) conventions += c + "\n";
+    EXPECT_TRUE(contains(conventions, std::string(motor == 0 ? "position: 2 height steps" : "position: 1 height step") +
+                                          " (largest 0.8 m at 3.000 s) and 1 horizontal step (largest 0.5 m at 3.520 s) that "
+                                          "the EKF's own velocity (VN, VE, VD) does not explain")) << conventions;
+    const std::vector<TelemetrySample> read = drain(src);
+    ASSERT_EQ(read.size(), plain.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < read.size(); ++i)
+      for (std::size_t k = 0; k < 3; ++k) worst = std::max(worst, std::abs(read[i].y[k] - plain[i].y[k]));
+    EXPECT_LT(worst, 1e-4);  // m: the step measured against the velocity, through XKF1's floats
+    LogSampleSource again, plain_again;
+    ASSERT_FALSE(fromBytes(bytes, options(), again).refused());
+    ASSERT_FALSE(fromBytes(plain_bytes, options(), plain_again).refused());
+    const Result with_reset = detect(again), without = detect(plain_again);
+    EXPECT_EQ(with_reset.summary.alarms_raised, without.summary.alarms_raised);
+    EXPECT_EQ(with_reset.summary.first_alarm_motor, without.summary.first_alarm_motor);
+    EXPECT_NEAR(with_reset.summary.first_alarm_t, without.summary.first_alarm_t, 1e-9);
+    std::printf("[ measured ] ArduPilot, %s, 0.8 m height and 0.5 m horizontal resets taken out: position within %.2g m of the reset-free log's, "
+                "lowest Θ̂ %.2f (no reset %.2f)\n", motor == 0 ? "healthy" : "motor 2 failing at 4 s", worst,
+                static_cast<double>(with_reset.lowest), static_cast<double>(without.lowest));
   }
 }
 
