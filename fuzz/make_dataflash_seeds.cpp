@@ -79,6 +79,30 @@ DataflashWriter copter(int rows, bool fmtu, int frame_type = 1, bool ekf_status 
   return w;
 }
 
+// A copter that turns at 40 °/s with RATE logged, whose ATT yaw steps by 5° at row 120 and whose
+// XKF1 PD steps by 0.5 m at row 160 (resets ArduPilot does not log, which the extractor and the
+// conventions layer find against the EKF's velocity and the gyro).
+DataflashWriter copterWithResets(int rows) {
+  DataflashWriter w;
+  w.fmt(30, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
+  w.fmt(31, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
+  w.fmt(32, "RCOU", "QHHHHHHHHHHHHHH", "TimeUS,C1,C2,C3,C4,C5,C6,C7,C8,C9,C10,C11,C12,C13,C14");
+  w.fmt(33, "EV", "QB", "TimeUS,Id");
+  w.fmt(36, "RATE", "Qffffffffffff", "TimeUS,RDes,R,ROut,PDes,P,POut,YDes,Y,YOut,ADes,A,AOut");
+  w.parm(0, "FRAME_TYPE", 1);
+  w.write(33, {100ull, 10});
+  w.write(33, {200ull, 28});
+  for (int k = 0; k < rows; ++k) {
+    const unsigned long long t = 1000000ull + 2500ull * static_cast<unsigned long long>(k);
+    const double yaw = 0.1 * k + (k >= 120 ? 5.0 : 0.0);
+    w.write(30, {t, 0, centi(0.5), 0, centi(-0.5), 0, static_cast<long long>(std::lround(yaw * 100.0)), 0, 0, 3});
+    w.write(36, {t, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 40.0, 0.0, 0.0, 0.0, 0.0});
+    w.write(31, {t, 0u, 0, 0, 0, 1.0, 0.0, 0.0, 0.0, 0.0025 * k, 0.0, k >= 160 ? -1.5 : -1.0, 0, 0, 0, 0});
+    w.write(32, {t, 1500, 1500, 1500, 1500, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  }
+  return w;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -113,5 +137,6 @@ int main(int argc, char** argv) {
     save(dir, "damaged.bin", w.bytes);
   }
   save(dir, "fmt-only.bin", DataflashWriter(false));
+  save(dir, "copter-unlogged-resets.bin", copterWithResets(240));
   return 0;
 }
