@@ -76,7 +76,8 @@ MergedTelemetryCounts readMergedTelemetry(TelemetryReader& reader, FlightSignals
       if (counts.first_problem.empty()) counts.first_problem = row.dropped + "; that signal left out of the row";
     }
     const bool some_command = std::find(row.has_u.begin(), row.has_u.end(), true) != row.has_u.end();
-    if (!row.has_position && !row.has_attitude && !some_command) {
+    // A row of the gyro alone is a signal too (a ROS bag's IMU topic has rows of its own).
+    if (!row.has_position && !row.has_attitude && !row.has_rates && !some_command) {
       ++counts.without_signal;
       continue;
     }

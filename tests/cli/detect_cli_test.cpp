@@ -672,6 +672,62 @@ TEST(DetectCli, AnglesInDegreesAreReadWithTheirUnit) {
   EXPECT_TRUE(misread.out.find("(degrees? --csv-angle-unit deg") != std::string::npos) << misread.out;
 }
 
+// A merged export of an estimator that reset its heading by 8° at 1.2 s (a ROS bag of an EKF's
+// pose and its gyro): the gyro (p, q, r rows) does not show the step, so the conventions layer
+// finds it and takes it out; import says so and writes the reset-free yaw.
+TEST(DetectCli, AMergedExportsHeadingResetIsTakenOutWithItsGyro) {
+  const std::string flight = temp("rates-flight.csv"), merged = temp("merged-heading-reset.csv"),
+                    reference = temp("merged-no-reset.csv");
+  ASSERT_EQ(run("simulate --rates --steps 1000 --seed 6 --output " + flight).exit_code, 0);
+  {
+    std::istringstream in(readFile(flight));
+    std::ofstream out(merged), plain(reference);
+    std::string line;
+    std::getline(in, line);
+    out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,p,q,r\n";
+    plain << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,p,q,r\n";
+    for (int k = 0; std::getline(in, line); ++k) {
+      std::vector<std::string> c;
+      std::istringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) c.push_back(cell);
+      ASSERT_EQ(c.size(), 14u);
+      const double t = std::stod(c[0]);
+      char yaw[32];
+      std::snprintf(yaw, sizeof yaw, "%.17g", std::stod(c[6]) + (t >= 1.2 ? 8.0 * M_PI / 180.0 : 0.0));
+      for (int file = 0; file < 2; ++file) {
+        std::ofstream& o = file == 0 ? out : plain;
+        if (k % 10 == 0) o << c[0] << "," << c[1] << "," << c[2] << "," << c[3] << ",,,,,,,,,,\n";
+        if (k % 2 == 0) o << c[0] << ",,,," << c[4] << "," << c[5] << "," << (file == 0 ? std::string(yaw) : c[6]) << ",,,,,,,\n";
+        o << c[0] << ",,,,,,," << c[7] << "," << c[8] << "," << c[9] << "," << c[10] << ",,,\n";
+        if (k % 2 == 1) o << c[0] << ",,,,,,,,,,," << c[11] << "," << c[12] << "," << c[13] << "\n";
+      }
+    }
+  }
+  const CommandResult read = run("import --format csv-merged " + merged + " -o " + temp("merged-reset-imported.csv"));
+  ASSERT_EQ(read.exit_code, 0) << read.out;
+  EXPECT_TRUE(read.out.find("heading: 1 yaw step that the gyro (columns p,q,r) does not show") != std::string::npos) << read.out;
+  EXPECT_TRUE(read.out.find("(largest 8° at 1.200 s;") != std::string::npos) << read.out;
+  const CommandResult clean = run("import --format csv-merged " + reference + " -o " + temp("merged-clean-imported.csv"));
+  ASSERT_EQ(clean.exit_code, 0) << clean.out;
+  EXPECT_TRUE(clean.out.find("no estimator reset the log does not record") != std::string::npos) << clean.out;
+  // The yaw written: the reset-free file's, to the step's estimate through the 250 Hz rows.
+  const std::vector<std::string> a = lines(readFile(temp("merged-reset-imported.csv"))),
+                                 b = lines(readFile(temp("merged-clean-imported.csv")));
+  ASSERT_EQ(a.size(), b.size());
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].empty() || a[i][0] == '#' || a[i][0] == 't') continue;
+    std::vector<double> x, y;
+    for (const auto& [l, v] : {std::pair{&a[i], &x}, std::pair{&b[i], &y}}) {
+      std::istringstream row(*l);
+      for (std::string cell; std::getline(row, cell, ',');) v->push_back(std::stod(cell));
+    }
+    ASSERT_EQ(x.size(), y.size());
+    worst = std::max(worst, std::abs(std::remainder(x[6] - y[6], 2.0 * M_PI)));
+  }
+  EXPECT_LT(worst, 1e-6);
+}
+
 // A merged export (PlotJuggler, a ROS bag): each row holds one signal — position at 50 Hz,
 // attitude at 250 Hz, commands at 500 Hz — and another topic's column has rows of its own.
 // Refused as plain CSV with what to do; read with --format csv-merged, each signal from its own

@@ -65,6 +65,24 @@ TEST(MergedTelemetry, EachSignalComesFromTheRowsThatHoldItWhole) {
   EXPECT_TRUE(s.numbering.isQuadfdis());
 }
 
+// Body rates on rows of their own (a ROS bag's IMU topic) are a signal like the others: read, not
+// skipped as rows without a signal (they were, until 2026-12-06).
+TEST(MergedTelemetry, BodyRatesOnRowsOfTheirOwnAreRead) {
+  const std::string text =
+      "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,p,q,r\n"
+      "0.000,1,2,3,,,,,,,,,,\n"
+      "0.001,,,,,,,,,,,0.1,0.2,0.3\n"
+      "0.002,,,,0.1,0.2,0.3,,,,,,,\n"
+      "0.003,,,,,,,,,,,0.4,0.5,0.6\n"
+      "0.004,,,,,,,0.5,0.6,0.7,0.8,,,\n";
+  MergedTelemetryCounts c;
+  const FlightSignals s = readMerged(text, &c);
+  EXPECT_EQ(c.without_signal, 0u);
+  ASSERT_EQ(s.rates.t, (std::vector<double>{0.001, 0.003}));
+  EXPECT_EQ(s.rates.v[1], (std::array<double, 3>{0.4, 0.5, 0.6}));
+  EXPECT_EQ(s.rates.source.topic, "columns p,q,r");
+}
+
 // A row of every signal is read as the plain reader reads it, frames and quantities included.
 TEST(MergedTelemetry, WholeRowsReadAsThePlainReaderReadsThem) {
   const std::string text =
