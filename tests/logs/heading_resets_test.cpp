@@ -169,21 +169,28 @@ TEST(HeadingResets, ACrashThroughTheEstimatorModelHasNone) {
   }
 }
 
+// A PX4 sample log from ../shared/logs/px4, decoded, its position flagged valid (both were flown
+// without horizontal aiding; the attitude is what counts here); false when absent.
+bool readRealPx4Log(const std::string& name, DecodedLog& log) {
+  std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/" + name, std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.empty()) return false;
+  EXPECT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok()) << name;
+  for (LogTopic& t : log.topics)
+    if (t.name == "vehicle_local_position")
+      for (const char* flag : {"xy_valid", "z_valid"})
+        if (const int f = t.fieldIndex(flag); f >= 0)
+          for (double& v : t.columns[static_cast<std::size_t>(f)]) v = 1.0;
+  return true;
+}
+
 // The real PX4 logs (vehicle_attitude ~200 Hz, vehicle_angular_velocity): PX4 records its resets
 // and its extractor takes them out, so nothing is left to find; how well the gyro explains a real
 // estimator's attitude is what the default threshold stands on.
 TEST(HeadingResets, RealPx4LogsHaveNoneLeft) {
   for (const char* name : {"sample_log_small.ulg", "sample_logging_tagged_and_default_params.ulg"}) {
-    std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/" + name, std::ios::binary);
-    const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (bytes.empty()) GTEST_SKIP() << "../shared/logs/px4/" << name << " not found";
     DecodedLog log;
-    ASSERT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok());
-    for (LogTopic& t : log.topics)  // flown without horizontal aiding: read as if valid (the attitude is what counts here)
-      if (t.name == "vehicle_local_position")
-        for (const char* flag : {"xy_valid", "z_valid"})
-          if (const int f = t.fieldIndex(flag); f >= 0)
-            for (double& v : t.columns[static_cast<std::size_t>(f)]) v = 1.0;
+    if (!readRealPx4Log(name, log)) GTEST_SKIP() << "../shared/logs/px4/" << name << " not found";
     FlightSignals s;
     const LogIssue issue = extractPx4Signals(log, Px4SignalOptions{}, s);
     ASSERT_TRUE(issue.ok()) << name << ": " << issue.message;
@@ -204,20 +211,12 @@ TEST(HeadingResets, RealPx4LogsHaveNoneLeft) {
 // min_step and stays.
 TEST(HeadingResets, RealPx4ResetIsFoundWithoutItsRecord) {
   const char* name = "sample_logging_tagged_and_default_params.ulg";
-  std::ifstream in(std::string(QUADFDI_SOURCE_DIR) + "/../shared/logs/px4/" + name, std::ios::binary);
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.empty()) GTEST_SKIP() << "../shared/logs/px4/" << name << " not found";
   DecodedLog log;
-  ASSERT_TRUE(readUlog(ByteSpan{bytes.data(), bytes.size()}, log).ok());
-  for (LogTopic& t : log.topics) {
-    if (t.name == "vehicle_local_position")
-      for (const char* flag : {"xy_valid", "z_valid"})
-        if (const int f = t.fieldIndex(flag); f >= 0)
-          for (double& v : t.columns[static_cast<std::size_t>(f)]) v = 1.0;
+  if (!readRealPx4Log(name, log)) GTEST_SKIP() << "../shared/logs/px4/" << name << " not found";
+  for (LogTopic& t : log.topics)
     if (t.name == "vehicle_attitude")
       if (const int f = t.fieldIndex("quat_reset_counter"); f >= 0)
         for (double& v : t.columns[static_cast<std::size_t>(f)]) v = 0.0;
-  }
   FlightSignals s;
   ASSERT_TRUE(extractPx4Signals(log, Px4SignalOptions{}, s).ok());
   const HeadingResets found = takeOutHeadingResets(s.attitude, s.rates);
