@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -24,6 +25,7 @@
 #include "io/calibration_file.h"
 #include "io/key_value.h"
 #include "io/model_file.h"
+#include "io/randomisation_file.h"
 #include "io/telemetry_reader.h"
 #include "io/vehicle_file.h"
 
@@ -50,43 +52,34 @@ struct TrainedAspects {
   double lo = 0.0, hi = 0.0;  // [-]
   std::string from;           // "crazyflie2, racer250, quad450; synthetic airframes 0.75–1.33"
 };
-std::optional<TrainedAspects> trainedAspects(const ModelMetadata& m) {
-  std::istringstream lines(m.randomisation);
-  std::optional<TrainedAspects> out;
-  double airframe_lo = 0.0, airframe_hi = 0.0;
-  bool airframes = false;
-  const auto widen = [&](double lo, double hi) {
-    if (!out) out = TrainedAspects{lo, hi, ""};
-    out->lo = std::min(out->lo, lo);
-    out->hi = std::max(out->hi, hi);
-  };
-  for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("vehicles = [", 0) == 0) {
-      for (std::size_t open = line.find('"'); open != std::string::npos; open = line.find('"', line.find('"', open + 1) + 1)) {
-        const std::size_t close = line.find('"', open + 1);
-        if (close == std::string::npos) return std::nullopt;
-        const std::string name = line.substr(open + 1, close - open - 1);
-        std::string problem;
-        const std::string file = vehicleFile(name, &problem);
-        if (!problem.empty() || existingFile(file).empty()) return std::nullopt;
-        const VehicleParams v = loadVehicleDescription(file).params;
-        const double aspect = v.pitchLever() / v.rollLever();
-        widen(aspect, aspect);
-        out->from += (out->from.empty() ? "" : ", ") + name;
-      }
-    } else if (double a = 0.0, b = 0.0; std::sscanf(line.c_str(), "airframes.aspect = [%lf, %lf]", &a, &b) == 2) {
-      airframe_lo = a;
-      airframe_hi = b;
-    } else if (int count = 0; std::sscanf(line.c_str(), "airframes.count = %d", &count) == 1) {
-      airframes = count > 0;
-    }
+std::optional<TrainedAspects> trainedAspects(const ModelMetadata& m, const std::string& model_path) {
+  if (m.randomisation.empty()) return std::nullopt;
+  Randomisation r;
+  try {
+    // The model file records the library's vehicles by name: found where quadfdi finds --vehicle NAME.
+    r = randomisationFromText(m.randomisation, model_path + " (its randomisation)", [](const std::string& name) {
+      std::string problem;
+      const std::string file = vehicleFile(name, &problem);
+      return problem.empty() ? file : std::string();
+    });
+  } catch (const std::exception&) {
+    return std::nullopt;  // a randomisation this quadfdi cannot read back (its vehicles moved): no claim
   }
-  if (out && airframes) {
-    widen(airframe_lo, airframe_hi);
+  TrainedAspects out{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(), ""};
+  for (std::size_t i = 0; i < r.vehicles.size(); ++i) {
+    const double aspect = r.vehicles[i].pitchLever() / r.vehicles[i].rollLever();
+    out.lo = std::min(out.lo, aspect);
+    out.hi = std::max(out.hi, aspect);
+    out.from += (out.from.empty() ? "" : ", ") + (i < r.vehicle_names.size() ? r.vehicle_names[i] : std::string("?"));
+  }
+  if (r.airframes.enabled()) {
+    out.lo = std::min(out.lo, r.airframes.aspect.lo);
+    out.hi = std::max(out.hi, r.airframes.aspect.hi);
     char range[64];
-    std::snprintf(range, sizeof range, "; synthetic airframes %.2f–%.2f", airframe_lo, airframe_hi);
-    out->from += range;
+    std::snprintf(range, sizeof range, "; synthetic airframes %.2f–%.2f", r.airframes.aspect.lo, r.airframes.aspect.hi);
+    out.from += range;
   }
+  if (!(out.lo <= out.hi)) return std::nullopt;
   return out;
 }
 
@@ -451,7 +444,7 @@ int runDetect(const DetectOptions& o) {
   // A vehicle whose rotor levers the model never flew (a props-out stretched X is the transposed
   // one): said, with what it measured, since the calibration's numbers do not carry over.
   if (vehicle && !o.quiet)
-    if (const std::optional<TrainedAspects> trained = trainedAspects(m)) {
+    if (const std::optional<TrainedAspects> trained = trainedAspects(m, model_path)) {
       const double aspect = vehicle->params.pitchLever() / vehicle->params.rollLever();
       if (aspect < trained->lo * (1.0 - kAspectMargin) || aspect > trained->hi * (1.0 + kAspectMargin))
         std::fprintf(stderr,

@@ -66,27 +66,29 @@ std::string vehicleName(const std::string& spec) { return std::filesystem::path(
 // [-] Most files one `base` chain may read: a chain this long is a cycle (a → b → a) or a mistake.
 constexpr int kMaxBaseDepth = 8;
 
-Randomisation parseRandomisation(const std::string& text, const std::string& source, int depth);
+Randomisation parseRandomisation(const std::string& text, const std::string& source, int depth,
+                                  const VehicleNameResolver& resolve);
 
 // `base = "FILE"` (the file's first key): the randomisation this file starts from. Relative paths
 // are relative to the file's folder, so a recipe beside the file it extends names it alone.
-Randomisation loadBase(const KeyValueDocument& doc, const KeyValueEntry& e, int depth) {
+Randomisation loadBase(const KeyValueDocument& doc, const KeyValueEntry& e, int depth, const VehicleNameResolver& resolve) {
   if (depth >= kMaxBaseDepth)
     doc.fail(e, "base: more than " + std::to_string(kMaxBaseDepth) + " files deep (does a base name this file again?)");
   std::filesystem::path path = doc.string(e);
   if (path.empty()) doc.fail(e, "base must name a randomisation file");
   if (path.is_relative()) path = std::filesystem::path(doc.source).parent_path() / path;
   try {  // readTextFile refuses a folder, a device and a file past the configs' size bound
-    return parseRandomisation(readTextFile(path.string(), "a randomisation file"), path.string(), depth + 1);
+    return parseRandomisation(readTextFile(path.string(), "a randomisation file"), path.string(), depth + 1, resolve);
   } catch (const std::exception& ex) {
     doc.fail(e, std::string("base: ") + ex.what());
   }
 }
 
-Randomisation parseRandomisation(const std::string& text, const std::string& source, int depth) {
+Randomisation parseRandomisation(const std::string& text, const std::string& source, int depth,
+                                  const VehicleNameResolver& resolve) {
   const KeyValueDocument doc = parseKeyValue(text, source);
   Randomisation r;
-  if (!doc.entries.empty() && doc.entries.front().key == "base") r = loadBase(doc, doc.entries.front(), depth);
+  if (!doc.entries.empty() && doc.entries.front().key == "base") r = loadBase(doc, doc.entries.front(), depth, resolve);
   const auto intervals = intervalFields(r);
   const auto numbers = numberFields(r);
   for (const KeyValueEntry& e : doc.entries) {
@@ -143,6 +145,8 @@ Randomisation parseRandomisation(const std::string& text, const std::string& sou
         if (!isNamedParamSet(spec) && !std::filesystem::exists(spec, ignored)) {
           const std::filesystem::path near = std::filesystem::path(source).parent_path() / spec;
           if (std::filesystem::exists(near, ignored)) spec = near.string();
+          else if (resolve)
+            if (std::string named = resolve(spec); !named.empty()) spec = std::move(named);
         }
         try {
           r.vehicles.push_back(loadVehicleParams(spec));
@@ -166,7 +170,9 @@ Randomisation parseRandomisation(const std::string& text, const std::string& sou
 
 }  // namespace
 
-Randomisation randomisationFromText(const std::string& text, const std::string& source) { return parseRandomisation(text, source, 0); }
+Randomisation randomisationFromText(const std::string& text, const std::string& source, const VehicleNameResolver& resolve) {
+  return parseRandomisation(text, source, 0, resolve);
+}
 
 Randomisation loadRandomisation(const std::string& path) { return randomisationFromText(readTextFile(path, "a randomisation file"), path); }
 

@@ -2,6 +2,7 @@
 // to fly and how widely to spread the plant, the estimator, the controllers and the manoeuvres.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,12 @@ namespace quadfdi {
 // and every key of this file overrides it — `vehicles` replaces the base's list. Throws
 // ConfigError("FILE:LINE: problem") on unknown keys, bad values, a vehicle or a base that cannot be
 // loaded (a base's own error follows "FILE:LINE: base: ").
-Randomisation randomisationFromText(const std::string& text, const std::string& source);
+// `resolve`, when given, finds a vehicle that is neither a file nor beside this one by its name:
+// the model files record the library's vehicles by name ("quad450"), which only the executable
+// knows where to find (cli::vehicleFile); it returns the description's path, or "" for none.
+using VehicleNameResolver = std::function<std::string(const std::string& name)>;
+Randomisation randomisationFromText(const std::string& text, const std::string& source,
+                                    const VehicleNameResolver& resolve = {});
 Randomisation loadRandomisation(const std::string& path);
 
 // `--vehicle FILE …` of train and calibrate: these vehicles are flown instead of the file's, and

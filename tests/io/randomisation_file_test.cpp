@@ -36,6 +36,27 @@ TEST(RandomisationFile, LoadsTheShippedRandomisationWithItsVehicles) {
   EXPECT_NE(text.find("vehicles = [\"crazyflie2\", \"racer250\", \"quad450\"]"), std::string::npos) << text;
 }
 
+// A model file's randomisation names its vehicles ("quad450"), not their files: read back with a
+// resolver (the executable's: the vehicle library), the same vehicles and ranges; without one, or
+// when it knows no such vehicle, refused naming the vehicle.
+TEST(RandomisationFile, VehiclesByNameAreReadBackThroughAResolver) {
+  const Randomisation shipped = loadRandomisation(kAirframes);
+  const std::string text = randomisationToText(shipped);
+  const auto library = [](const std::string& name) {
+    const std::string file = std::string(QUADFDI_SOURCE_DIR) + "/configs/vehicles/" + name + ".toml";
+    return std::filesystem::exists(file) ? file : std::string();
+  };
+  const Randomisation back = randomisationFromText(text, "model.qfdw", library);
+  EXPECT_EQ(back.vehicle_names, shipped.vehicle_names);
+  ASSERT_EQ(back.vehicles.size(), shipped.vehicles.size());
+  for (std::size_t i = 0; i < back.vehicles.size(); ++i) EXPECT_EQ(back.vehicles[i].mass, shipped.vehicles[i].mass);
+  EXPECT_EQ(back.airframes.count, shipped.airframes.count);
+  EXPECT_EQ(back.airframes.aspect.hi, shipped.airframes.aspect.hi);
+  EXPECT_EQ(randomisationToText(back), text);
+  EXPECT_NE(refusalOf(text).find("r.toml:1: vehicle: "), std::string::npos) << refusalOf(text);
+  EXPECT_THROW(randomisationFromText(text, "model.qfdw", [](const std::string&) { return std::string(); }), ConfigError);
+}
+
 // The held-out airframes (configs/vehicles/held-out/, docs/results/held-out-vehicles/) are held
 // out only if the shipped training never flies them: not by name, and no training vehicle is the
 // same airframe under another name (mass or inertia within the randomisation's spread).
