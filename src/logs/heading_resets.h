@@ -5,7 +5,7 @@
 // or on a compass switch or a GSF yaw reset, none of which ArduPilot logs with its shift; any
 // estimator behind a CSV export. The vehicle did not turn, so the gyro does not show the step,
 // but the detector would read it as a violent yaw (measured on a PX4 log with the shift left in:
-// a 2.9° step puts Θ̂ of every motor near 0.27 for a window; docs/logs/ulog.md). PX4 logs its
+// a 2.9° step put the lowest Θ̂ at 0.27 for a window; docs/logs/ulog.md). PX4 logs its
 // resets and its extractor takes them out; this check is what every log gets, before the
 // conventions layer puts it on the model's clock.
 //
