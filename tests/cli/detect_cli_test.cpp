@@ -56,6 +56,14 @@ std::string withoutAutopilotNumbers(std::string s) {
   return s;
 }
 
+// The cells of one CSV row (no quoting in telemetry CSV).
+std::vector<std::string> csvCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::istringstream row(line);
+  for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+  return cells;
+}
+
 // A faulty flight of motor 3 (complete failure at 1.0 s), simulated once for the suite.
 const std::string& faultyCsv() {
   static const std::string path = [] {
@@ -687,9 +695,7 @@ TEST(DetectCli, AMergedExportsHeadingResetIsTakenOutWithItsGyro) {
     out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,p,q,r\n";
     plain << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,p,q,r\n";
     for (int k = 0; std::getline(in, line); ++k) {
-      std::vector<std::string> c;
-      std::istringstream row(line);
-      for (std::string cell; std::getline(row, cell, ',');) c.push_back(cell);
+      const std::vector<std::string> c = csvCells(line);
       ASSERT_EQ(c.size(), 14u);
       const double t = std::stod(c[0]);
       char yaw[32];
@@ -717,13 +723,9 @@ TEST(DetectCli, AMergedExportsHeadingResetIsTakenOutWithItsGyro) {
   double worst = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     if (a[i].empty() || a[i][0] == '#' || a[i][0] == 't') continue;
-    std::vector<double> x, y;
-    for (const auto& [l, v] : {std::pair{&a[i], &x}, std::pair{&b[i], &y}}) {
-      std::istringstream row(*l);
-      for (std::string cell; std::getline(row, cell, ',');) v->push_back(std::stod(cell));
-    }
+    const std::vector<std::string> x = csvCells(a[i]), y = csvCells(b[i]);
     ASSERT_EQ(x.size(), y.size());
-    worst = std::max(worst, std::abs(std::remainder(x[6] - y[6], 2.0 * M_PI)));
+    worst = std::max(worst, std::abs(std::remainder(std::stod(x[6]) - std::stod(y[6]), 2.0 * M_PI)));
   }
   EXPECT_LT(worst, 1e-6);
 }
@@ -744,9 +746,7 @@ TEST(DetectCli, AMergedExportIsReadSignalBySignal) {
     out << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,battery\n";
     ned << "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,battery\n";
     for (int k = 0; std::getline(in, line); ++k) {
-      std::vector<std::string> c;
-      std::istringstream row(line);
-      for (std::string cell; std::getline(row, cell, ',');) c.push_back(cell);
+      const std::vector<std::string> c = csvCells(line);
       ASSERT_EQ(c.size(), 11u);
       auto flip = [](const std::string& v) { return v[0] == '-' ? v.substr(1) : "-" + v; };
       if (k % 10 == 0) {
@@ -878,9 +878,7 @@ TEST(DetectCli, MotorsOnRowsOfTheirOwnAreReadEachAlone) {
     std::string line;
     std::getline(in, line);
     for (int k = 0; std::getline(in, line); ++k) {
-      std::vector<std::string> c;
-      std::istringstream row(line);
-      for (std::string cell; std::getline(row, cell, ',');) c.push_back(cell);
+      const std::vector<std::string> c = csvCells(line);
       const double t = std::stod(c[0]);
       if (k % 10 == 0) rows.emplace_back(t, c[0] + "," + c[1] + "," + c[2] + "," + c[3] + ",,,,,,,");
       rows.emplace_back(t, c[0] + ",,,," + c[4] + "," + c[5] + "," + c[6] + ",,,,");
