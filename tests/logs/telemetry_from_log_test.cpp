@@ -32,6 +32,13 @@ constexpr double kPi = 3.14159265358979323846;
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
+// The import report's convention lines, one a line.
+std::string conventionsOf(const LogSampleSource& src) {
+  std::string text;
+  for (const std::string& c : src.report().conventions) text += c + "\n";
+  return text;
+}
+
 // A synthetic flight: signals at the given periods, airborne (armed, not landed) from `takeoff`.
 FlightSignals synthetic(double att_dt, double pos_dt, double cmd_dt, double span, CommandKind kind = CommandKind::kThrustNewton) {
   FlightSignals s;
@@ -529,8 +536,7 @@ TEST_F(LogDetection, ArdupilotHeadingResetIsFoundWithTheGyroAndTakenOut) {
     const std::vector<std::uint8_t> bytes = test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kRate, test::kApX, reset);
     LogSampleSource src;
     ASSERT_FALSE(fromBytes(bytes, options(), src).refused());
-    std::string conventions;
-    for (const std::string& c : src.report().conventions) conventions += c + "\n";
+    std::string conventions = conventionsOf(src);
     EXPECT_TRUE(contains(conventions, "heading: 1 yaw step that the gyro (RATE) does not show")) << conventions;
     EXPECT_TRUE(contains(conventions, "largest 10° at 3.000 s")) << conventions;
     const std::vector<TelemetrySample> read = drain(src);
@@ -556,8 +562,7 @@ TEST_F(LogDetection, ArdupilotHeadingResetIsFoundWithTheGyroAndTakenOut) {
     const std::vector<std::uint8_t> blind_bytes = test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kNone, test::kApX, reset);
     LogSampleSource blind;
     ASSERT_FALSE(fromBytes(blind_bytes, options(), blind).refused());
-    conventions.clear();
-    for (const std::string& c : blind.report().conventions) conventions += c + "\n";
+    conventions = conventionsOf(blind);
     EXPECT_TRUE(contains(conventions, "heading: not checked for estimator resets the log does not record: the log has no body rates"))
         << conventions;
     const std::vector<TelemetrySample> left = drain(blind);
@@ -590,8 +595,7 @@ TEST_F(LogDetection, ArdupilotPositionResetsAreFoundWithTheEkfVelocityAndTakenOu
     const std::vector<std::uint8_t> plain_bytes = test::writeArdupilotMission(m);
     LogSampleSource plain_source;
     ASSERT_FALSE(fromBytes(plain_bytes, options(), plain_source).refused());
-    std::string conventions;
-    for (const std::string& c : plain_source.report().conventions) conventions += c + "\n";
+    std::string conventions = conventionsOf(plain_source);
     // The healthy mission lands by setting the vehicle on the ground from its last 0.12 m hover
     // (sim_flights.h): a step the velocity does not show, found too, after the evaluated phase.
     char touchdown[96];
@@ -604,8 +608,7 @@ TEST_F(LogDetection, ArdupilotPositionResetsAreFoundWithTheEkfVelocityAndTakenOu
     const std::vector<std::uint8_t> bytes = test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kNone, test::kApX, reset);
     LogSampleSource src;
     ASSERT_FALSE(fromBytes(bytes, options(), src).refused());
-    conventions.clear();
-    for (const std::string& c : src.report().conventions) conventions += c + "\n";
+    conventions = conventionsOf(src);
     EXPECT_TRUE(contains(conventions, std::string(motor == 0 ? "position: 2 height steps" : "position: 1 height step") +
                                           " (largest 0.8 m at 3.000 s) and 1 horizontal step (largest 0.5 m at 3.520 s) that "
                                           "the EKF's own velocity (VN, VE, VD) does not explain")) << conventions;
@@ -673,8 +676,7 @@ TEST_F(LogDetection, Px4EstimatorResetInAHealthyFlightRaisesNoAlarm) {
   expectQuietLanding(bytes, m, "armed/landed events");
   LogSampleSource src;
   ASSERT_FALSE(fromBytes(bytes, options(), src).refused());
-  std::string conventions;
-  for (const std::string& c : src.report().conventions) conventions += c + "\n";
+  std::string conventions = conventionsOf(src);
   EXPECT_TRUE(contains(conventions, "1 horizontal position reset (largest 3.61 m) and 1 height reset (largest 0.5 m)")) << conventions;
   EXPECT_TRUE(contains(conventions, "1 attitude reset (largest 20.1°)")) << conventions;
   // The same jumps without their logged shifts.
