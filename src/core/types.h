@@ -12,6 +12,10 @@ namespace quadfdi {
 inline constexpr int kMotors = 4;     // quad-X
 inline constexpr int kInputDim = 4;   // per-motor thrusts f1..f4 [N], quadfdi (Crazyflie) numbering
 inline constexpr int kOutputDim = 6;  // y = position (3) then attitude or rates (3), see OutputKind
+// [rad/s] A logged body rate beyond this is no flight but a corrupt row or another unit (degrees per
+// second read as radians per second, most often): flight controllers' MEMS gyros saturate at
+// 2000 °/s (35 rad/s). The one bound of the CSV reader, the conventions layer and its reset check.
+inline constexpr double kMaxBodyRate = 100.0;
 
 // One measured sample of a flight: what a flight controller has, in quadfdi's conventions.
 struct TelemetrySample {

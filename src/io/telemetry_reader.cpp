@@ -158,9 +158,6 @@ const char* const TelemetryReader::kColumns[kColumnCount] = {"t",  "x",  "y",  "
 namespace {
 constexpr int kRoll = 4, kU1 = 7, kQw = 11, kP = 15;  // indices into kColumns
 constexpr int kColumnCount = TelemetryReader::kColumnCount;
-// A body rate beyond this is no flight: MEMS gyros of flight controllers saturate at 2000 °/s
-// (35 rad/s); degrees per second read as radians per second are, most often.
-constexpr double kMaxBodyRate = 100.0;  // [rad/s]
 // [bytes] Longest line: a CSV exported from a ROS bag or PlotJuggler with a thousand columns is
 // ~30 kB a line; a longer one is no telemetry (a device or a binary file read as CSV, which
 // std::getline would read into memory without end).

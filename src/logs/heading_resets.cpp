@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "core/frames.h"
+#include "core/types.h"
 #include "logs/reset_steps.h"
 
 namespace quadfdi {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
-constexpr double kMaxBodyRate = 100.0;  // [rad/s] beyond any gyro's range: a corrupt row (as telemetry_from_log)
 
 bool usableRate(const std::array<double, 3>& w) {
   for (double c : w)

@@ -308,8 +308,7 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   if (!o.read_rates) signals.rates = {};
   {
     // A rate beyond any gyro's range (flight controllers' saturate at 2000 °/s, 35 rad/s) is a
-    // corrupt row or another unit, not flight, as the CSV reader holds: left out, counted.
-    constexpr double kMaxBodyRate = 100.0;  // [rad/s]
+    // corrupt row or another unit, not flight, as the CSV reader holds (kMaxBodyRate): left out, counted.
     SignalSeries<3>& r = signals.rates;
     std::size_t kept = 0;
     for (std::size_t i = 0; i < r.t.size(); ++i) {
