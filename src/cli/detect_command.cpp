@@ -547,6 +547,19 @@ int runDetect(const DetectOptions& o) {
                          (r.skipped > 0 ? ": all " + std::to_string(r.skipped) + " rows have an empty or non-finite cell; " +
                                               merged_hint
                                         : std::string()));
+  // The motor columns against the flight's rotation (detection/numbering_check.h): a numbering
+  // that does not fit gets every fault named on the wrong motor, so it is a warning, in the summary too.
+  if (r.numbering.verdict == NumberingVerdict::kOtherNumbering) {
+    warnings.push_back(name + ": motor numbering: " + r.numbering.text() +
+                       (log.source ? "; the log's motor outputs do not sit where its frame puts them (its frame parameters, or outputs "
+                                     "mapped to other motors?)"
+                                   : "; a file in that order is read with --csv-numbering vehicle and a --vehicle description of it, or "
+                                     "with u1..u4 put in quadfdi's order") +
+                       " (docs/conventions.md#checking-the-motor-numbering)");
+    if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
+  } else if (!o.quiet) {
+    std::fprintf(stderr, "detect: motor numbering: %s\n", r.numbering.text().c_str());
+  }
   if (format == "csv" && r.skipped >= r.samples) {
     warnings.push_back(name + ": " + std::to_string(r.skipped) + " of " + std::to_string(r.skipped + r.samples) +
                        " rows skipped for an empty or non-finite cell; " + merged_hint);
@@ -564,6 +577,7 @@ int runDetect(const DetectOptions& o) {
     in.detector = &detector->summary();
     in.episodes = &episodes;
     in.numbering = &numbering;
+    in.numbering_check = &r.numbering;
     if (log.source)
       for (const PhaseReport& p : log.source->report().phases)
         if (p.evaluated) in.evaluated_phases.emplace_back(p.eval_begin, p.eval_end);

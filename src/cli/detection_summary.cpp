@@ -96,6 +96,17 @@ std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
   j["vehicle"] = in.vehicle.empty() ? json(nullptr) : json(in.vehicle);
   j["rule"] = in.rule;
   j["motor_numbering"] = in.numbering->isQuadfdis() ? std::string("quadfdi") : in.numbering->name;
+  if (in.numbering_check) {
+    const NumberingCheckResult& c = *in.numbering_check;
+    json check;
+    check["verdict"] = toString(c.verdict);
+    check["seconds"] = c.seconds;
+    check["from"] = c.rates_used ? "body rates" : "attitude";
+    check["fit"] = c.fit;
+    check["fits_best"] = c.verdict == NumberingVerdict::kOtherNumbering ? json(c.best.describe()) : json(nullptr);
+    check["text"] = c.text();
+    j["motor_numbering_check"] = std::move(check);
+  }
   j["samples"] = s.input_samples;
   j["decisions"] = s.outputs;
   j["decided_seconds"] = in.episodes->decidedSeconds();

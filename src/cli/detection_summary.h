@@ -10,6 +10,7 @@
 
 #include "core/motor_numbering.h"
 #include "detection/detector.h"
+#include "detection/numbering_check.h"
 
 namespace quadfdi::cli {
 
@@ -51,6 +52,7 @@ struct DetectionSummaryInputs {
   const DetectorSummary* detector = nullptr;
   const AlarmEpisodes* episodes = nullptr;
   const MotorNumbering* numbering = nullptr;
+  const NumberingCheckResult* numbering_check = nullptr;  // the motor columns against the flight (optional)
   std::vector<std::pair<double, double>> evaluated_phases;  // [s] a flight log's; empty for a CSV
   std::vector<std::string> warnings;
 };

@@ -82,6 +82,17 @@ inline Quaternion quaternionOfRotationVector(const std::array<double, 3>& v) {
   return {std::cos(0.5 * angle), k * v[0], k * v[1], k * v[2]};
 }
 
+// Its inverse: the rotation vector [rad] (axis × angle, the angle in [0, π]) of a unit quaternion;
+// of R_aᵀ·R_b, the turn from attitude a to b in a's body axes.
+inline std::array<double, 3> rotationVectorOfQuaternion(const Quaternion& q) {
+  const double s = q.w < 0.0 ? -1.0 : 1.0;  // q and −q are one rotation: take the one turning ≤ π
+  const double v = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z);
+  const double angle = 2.0 * std::atan2(v, s * q.w);
+  // angle / sin(angle/2) → 2 as v → 0 (series 2 + angle²/12 below 1e-4 rad, to round-off).
+  const double k = v < 1e-12 ? 2.0 : (angle < 1e-4 ? 2.0 + angle * angle / 12.0 : angle / v);
+  return {s * k * q.x, s * k * q.y, s * k * q.z};
+}
+
 // The angle [rad, 0..π] of the rotation from attitude a to attitude b: the geodesic distance, which
 // Euler differences are not (they wrap, and roll and yaw swing by π through pitch ±π/2).
 inline double rotationAngleBetween(const EulerZyx& a, const EulerZyx& b) {

@@ -10,6 +10,8 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
   TelemetrySample sample;
   std::string problem;
   DetectorOutput d;
+  NumberingCheck numbering;
+  numbering.setup(source.carriesRates());
   double last_t = 0.0;  // [s] of the last sample read
   if (detector.readsRates() && !source.carriesRates()) {  // zeros read as rates would be a vehicle at rest
     result.status = SessionStatus::kNoRates;
@@ -33,6 +35,7 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
     last_t = sample.t;
     if (result.samples++ == 0) result.first_t = sample.t;
     if (sample.u[0] <= 0.0 && sample.u[1] <= 0.0 && sample.u[2] <= 0.0 && sample.u[3] <= 0.0) ++result.no_thrust;
+    numbering.step(sample);
     const bool look_ahead = !config.live || source.moreReady();
     const ResampleStatus status = detector.push(sample, look_ahead);
     if (status == ResampleStatus::kNotIncreasing || status == ResampleStatus::kTooCoarse) {
@@ -49,11 +52,15 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
                     j.position, j.angle * 180.0 / M_PI, j.interval * 1e3);
       sink.warning(source.where() + text);
     }
-    while (detector.pop(d)) sink.output(d);
+    while (detector.pop(d)) {
+      numbering.alarm(d.alarm);
+      sink.output(d);
+    }
     if (config.live && !look_ahead) sink.idle();
   }
   detector.finish();
   while (detector.pop(d)) sink.output(d);
+  result.numbering = numbering.result();
   if (result.skipped > config.max_warnings)
     sink.warning(std::to_string(result.skipped) + " rows skipped in all (non-finite or empty cells)");
   if (result.repeated > config.max_warnings)

@@ -6,6 +6,7 @@
 
 #include "core/sample_source.h"
 #include "detection/detector.h"
+#include "detection/numbering_check.h"
 
 namespace quadfdi {
 
@@ -33,6 +34,7 @@ struct SessionResult {
   double first_t = 0.0;  // [s] time of the first sample read
   long samples = 0;      // samples read (not skipped), the offending one included
   long no_thrust = 0;    // of those, samples whose four commands are all ≤ 0 N
+  NumberingCheckResult numbering;  // the motor columns checked against the flight's rotation
 };
 
 struct SessionConfig {

@@ -18,6 +18,8 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "cli/cli_support.h"
 #include "cli/detect_command.h"
 #include "cli/shipped_files.h"
@@ -635,6 +637,48 @@ TEST(DetectCli, ACsvInTheVehiclesOwnNumberingIsReorderedByItsDescription) {
   EXPECT_EQ(alone.exit_code, 1);
   EXPECT_NE(alone.out.find("--csv-numbering vehicle: needs --vehicle FILE"), std::string::npos) << alone.out;
   EXPECT_EQ(countLines(alone.out), 1) << alone.out;
+}
+
+// Telemetry in another autopilot's motor order, read as quadfdi's, names every fault on the wrong
+// motor and is otherwise a consistent file. The check of the columns against the flight's rotation
+// (detection/numbering_check.h) says so: a warning naming PX4's order, in the summary too; the same
+// rows in quadfdi's order, or read through the vehicle's numbering, are consistent.
+TEST(DetectCli, AMotorOrderThatDoesNotTurnTheVehicleIsWarnedAbout) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string vehicle = src + "/configs/vehicles/quad450.toml";  // written in PX4's numbering
+  const std::string ours = temp("quad-circle.csv"), px4 = temp("quad-circle-px4.csv");
+  // In turbulence, as every real flight is: a smooth reference flown on the true state alone
+  // excites too little to tell (docs/conventions.md#checking-the-motor-numbering).
+  ASSERT_EQ(run("simulate --controller pid --params " + vehicle + " --trajectory circle --speed 1.5 --steps 6000 --seed 3 "
+                "--attitude-noise 0.002 --rotor-drag 0.2 --wind-speed 3 --turbulence 1.5 --output " + ours).exit_code, 0);
+  writeInPx4Order(ours, px4);
+  const CommandResult right = run("detect --input " + ours + " --output " + temp("circle.jsonl"));
+  ASSERT_EQ(right.exit_code, 0) << right.out;
+  EXPECT_NE(right.out.find("detect: motor numbering: consistent over 11."), std::string::npos) << right.out;
+  const std::string summary = temp("circle-px4-summary.json");
+  const CommandResult wrong = run("detect --input " + px4 + " --output " + temp("circle-px4.jsonl") + " --summary " + summary);
+  ASSERT_EQ(wrong.exit_code, 0) << wrong.out;
+  EXPECT_NE(wrong.out.find("detect: warning: " + px4 + ": motor numbering: another numbering over 11."), std::string::npos) << wrong.out;
+  EXPECT_NE(wrong.out.find(": PX4's and ArduPilot's quad X order (u1..u4 = front-right, back-left, front-left, back-right) ("),
+            std::string::npos)
+      << wrong.out;
+  EXPECT_NE(wrong.out.find("a file in that order is read with --csv-numbering vehicle"), std::string::npos) << wrong.out;
+  const nlohmann::json j = nlohmann::json::parse(readFile(summary));
+  EXPECT_EQ(j["motor_numbering_check"]["verdict"], "another numbering");
+  EXPECT_EQ(j["motor_numbering_check"]["from"], "attitude");
+  EXPECT_EQ(j["motor_numbering_check"]["fits_best"], "PX4's and ArduPilot's quad X order (u1..u4 = front-right, back-left, front-left, back-right)");
+  EXPECT_LT(j["motor_numbering_check"]["fit"][0][0].get<double>(), 0.1);
+  ASSERT_EQ(j["warnings"].size(), 1u);
+  EXPECT_NE(j["warnings"][0].get<std::string>().find("motor numbering: another numbering"), std::string::npos);
+  const CommandResult reordered = run("detect --vehicle " + vehicle + " --csv-numbering vehicle --input " + px4 + " --output " +
+                                      temp("circle-reordered.jsonl") + " --summary " + temp("circle-reordered.json"));
+  ASSERT_EQ(reordered.exit_code, 0) << reordered.out;
+  EXPECT_NE(reordered.out.find("detect: motor numbering: consistent"), std::string::npos) << reordered.out;
+  EXPECT_EQ(nlohmann::json::parse(readFile(temp("circle-reordered.json")))["motor_numbering_check"]["verdict"], "consistent");
+  // A flight too short to tell (1.6 s) is said to be so, and warns of nothing.
+  const CommandResult short_flight = run("detect --input " + faultyCsv() + " --output " + temp("short.jsonl"));
+  EXPECT_NE(short_flight.out.find("detect: motor numbering: too short to check ("), std::string::npos) << short_flight.out;
+  EXPECT_EQ(short_flight.out.find("warning"), std::string::npos) << short_flight.out;
 }
 
 // A simulator of PX4 or ArduPilot writes NED positions and FRD angles. Read with --csv-frame ned,
