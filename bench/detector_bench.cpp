@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "control/controller_factory.h"
+#include "detection/numbering_check.h"
 #include "detection/sequential.h"
 #include "io/calibration_file.h"
 #include "detection/session.h"
@@ -133,6 +134,24 @@ BENCHMARK(detectLog)
     ->Args({3, 0, 1, 0, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The motor-numbering check alone (detection/numbering_check.h), which every detection session
+// runs beside the detector: its cost per sample on the 10 s flight. Arg: 1 from the body rates,
+// 0 from the attitude (a rotation vector per node).
+void numberingCheck(benchmark::State& state) {
+  const std::vector<TelemetrySample> log = flight(0, 5000);
+  NumberingCheckResult r;
+  for (auto _ : state) {
+    NumberingCheck check;
+    check.setup(state.range(0) != 0);
+    for (const TelemetrySample& s : log) check.step(s);
+    r = check.result();
+    benchmark::DoNotOptimize(r);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<long>(log.size()));
+  state.SetLabel(std::string(toString(r.verdict)) + (state.range(0) ? " from rates" : " from attitude"));
+}
+BENCHMARK(numberingCheck)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 // The sequential rule alone, one update with an alarm held (the estimate and its interval are
 // stated every update then). Arg: the interval (0 the spread per range, 1 the confidence belt

@@ -2,6 +2,7 @@
 // conversion every reader uses, and the NED/FRD ↔ z-up/FLU turn.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -92,6 +93,32 @@ TEST(Frames, QuaternionProductComposesAndConjugateUndoes) {
   const Quaternion undone = conjugate(step) * reset;
   EXPECT_NEAR(undone.w, q.w, 1e-12);
   EXPECT_NEAR(undone.z, q.z, 1e-12);
+}
+
+// The rotation vector of a quaternion undoes quaternionOfRotationVector: tiny turns (the series),
+// ordinary ones, and turns near π, where q and −q are one rotation and the shorter way is taken.
+TEST(Frames, RotationVectorOfAQuaternionUndoesItsQuaternion) {
+  for (const std::array<double, 3>& v : {std::array<double, 3>{1e-9, -2e-9, 3e-9}, std::array<double, 3>{2e-5, 0.0, -1e-5},
+                                         std::array<double, 3>{0.3, -0.2, 0.1}, std::array<double, 3>{0.0, 0.0, 3.1},
+                                         std::array<double, 3>{-1.5, 1.5, 2.0}}) {
+    const Quaternion q = quaternionOfRotationVector(v);
+    for (const double sign : {1.0, -1.0}) {  // −q is the same rotation
+      const std::array<double, 3> back = rotationVectorOfQuaternion({sign * q.w, sign * q.x, sign * q.y, sign * q.z});
+      const double angle = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      // Beyond π the shorter turn is the other way round the same axis.
+      const double k = angle > kPi ? (angle - 2.0 * kPi) / angle : 1.0;
+      for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(back[i], k * v[i], 1e-12 * std::max(1.0, angle)) << i << " of " << angle;
+    }
+  }
+  const std::array<double, 3> none = rotationVectorOfQuaternion(Quaternion{});
+  EXPECT_EQ(none[0] * none[0] + none[1] * none[1] + none[2] * none[2], 0.0);
+  // The body-axes turn between two attitudes: a yaw of 0.2 rad after a roll of 0.5 is a turn about
+  // the body's own tilted z.
+  const Quaternion a = quaternionOfEuler({0.5, 0.0, 0.0}), b = quaternionOfEuler({0.5, 0.0, 0.2});
+  const std::array<double, 3> turn = rotationVectorOfQuaternion(conjugate(a) * b);
+  EXPECT_NEAR(turn[0], 0.0, 1e-12);
+  EXPECT_NEAR(turn[1], 0.2 * std::sin(0.5), 1e-12);
+  EXPECT_NEAR(turn[2], 0.2 * std::cos(0.5), 1e-12);
 }
 
 namespace {
