@@ -209,5 +209,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   session.live = live;
   const SessionResult r = runDetection(*detector, source, sink, session);
   QUADFDI_FUZZ_CHECK(r.status == SessionStatus::kDone || !r.where.empty());
+  // The motor-numbering check the session runs beside the detector: finite, and a verdict only
+  // on flight it has.
+  const NumberingCheckResult& n = r.numbering;
+  QUADFDI_FUZZ_CHECK(std::isfinite(n.seconds) && n.seconds >= 0.0);
+  QUADFDI_FUZZ_CHECK(n.verdict == NumberingVerdict::kTooShort || n.seconds >= NumberingCheckConfig{}.min_seconds);
+  for (const auto& row : n.fit)
+    for (const double v : row) QUADFDI_FUZZ_CHECK(std::isfinite(v));
+  QUADFDI_FUZZ_CHECK(!n.text().empty());
   return 0;
 }

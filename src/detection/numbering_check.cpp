@@ -331,7 +331,8 @@ NumberingCheckResult NumberingCheck::result() const {
   }
   // The best's roll and pitch fits must clear the floor; to name another numbering, they must also
   // stand clear of what it leaves unexplained: a false "renumber your motors" costs a user more
-  // than a missed one, and every flight of the measurements that named a wrong one was such a fit.
+  // than a missed one, and most flights of the measurements that named a wrong one were such fits
+  // (docs/conventions.md#checking-the-motor-numbering).
   const Mat3 pattern = predictedPattern(r.best);
   double explained = 1e300, unexplained = 0.0;
   for (std::size_t a = 0; a < 2; ++a)
