@@ -100,4 +100,53 @@ inline Mission simulateMission(int fault_motor, double theta, double fault_at, d
   return m;
 }
 
+// A healthy mission that manoeuvres: take-off as above, then 12 s of hover goals stepped 0.4 m
+// around a square every second (each step a sharp roll and pitch), then the descent and landing.
+// What the motor-numbering check needs to see the motors turn the vehicle.
+inline Mission simulateManoeuvringMission(double yaw0 = 0.3) {
+  Mission m;
+  const double dt = m.dt, ground = 1.0;
+  m.armed_at = 0.5;
+  m.takeoff_at = ground;
+  const VehicleParams params = nominalParams();
+  auto push = [&](long k, const Output& y, const Input& u, const Vec3& rates) {
+    TelemetrySample s;
+    s.t = static_cast<double>(k) * dt;
+    for (int i = 0; i < 6; ++i) s.y[static_cast<std::size_t>(i)] = y(i);
+    for (int i = 0; i < 4; ++i) s.u[static_cast<std::size_t>(i)] = u(i);
+    for (int i = 0; i < 3; ++i) s.rates[static_cast<std::size_t>(i)] = rates(i);
+    m.samples.push_back(s);
+  };
+  Output rest = Output::Zero();
+  rest(5) = yaw0;
+  long k = 0;
+  for (; static_cast<double>(k) * dt < ground - 1e-9; ++k) push(k, rest, Input::Zero(), Vec3::Zero());
+  State x = State::Zero();
+  x(idx::kYaw) = yaw0;
+  ControllerBuild build = makeController(params, ControllerConfig{}, dt);
+  std::vector<Vec3> goals = {Vec3(0, 0, 1.0)};
+  const double corner[4][2] = {{0.4, 0.0}, {0.4, 0.4}, {0.0, 0.4}, {0.0, 0.0}};
+  for (int i = 0; i < 12; ++i) goals.push_back(Vec3(corner[i % 4][0], corner[i % 4][1], 1.0));
+  for (const double z : {0.6, 0.3, 0.12}) goals.push_back(Vec3(0, 0, z));
+  for (std::size_t leg = 0; leg < goals.size(); ++leg) {
+    SimulationSettings settings;
+    settings.dt = dt;
+    settings.steps = static_cast<int>(std::lround((leg == 0 ? 3.0 : 1.0) / dt));
+    build.controller->setGoal(goals[leg]);
+    FlightLog log;
+    const FlightSummary summary = ClosedLoopSimulator(params, settings).run(*build.controller, x, &log);
+    for (int i = 0; i < log.size(); ++i, ++k)
+      push(k, log.outputs[static_cast<std::size_t>(i)], log.controls[static_cast<std::size_t>(i)].u_cmd,
+           log.states[static_cast<std::size_t>(i)].segment<3>(idx::kRate));
+    x = summary.final_state;
+  }
+  m.landed_at = static_cast<double>(k) * dt;
+  Output y = Output::Zero();
+  y(0) = x(idx::kPx);
+  y(1) = x(idx::kPy);
+  y(5) = x(idx::kYaw);
+  for (int i = 0; i < 500; ++i, ++k) push(k, y, Input::Zero(), Vec3::Zero());
+  return m;
+}
+
 }  // namespace quadfdi::test

@@ -486,6 +486,44 @@ TEST_F(LogDetection, ArdupilotMotorFailureGivesTheCsvPathsAlarmAndMotor) {
   }
 }
 
+// Each reader's motor order, checked against the physics: a manoeuvring flight logged as PX4,
+// ArduPilot (X, H and PLUS frames) and the Crazyflie write it, read back, turns the vehicle as
+// the reader numbers its motors (detection/numbering_check.h). An ArduPilot log whose FRAME_TYPE
+// says Betaflight's order while its outputs are in the X's is caught.
+TEST_F(LogDetection, EachAutopilotsMotorOutputsTurnTheVehicleAsItsReaderNumbersThem) {
+  const test::Mission m = test::simulateManoeuvringMission();
+  auto check = [](const std::vector<std::uint8_t>& bytes) {
+    LogSampleSource src;
+    EXPECT_FALSE(fromBytes(bytes, options(), src).refused());
+    DetectorConfig c;
+    c.symmetry = model_->metadata.symmetry;
+    c.resampler.dt = model_->metadata.dt;
+    Detector d(c, *model_);
+    CountingSink sink;
+    return runDetection(d, src, sink, SessionConfig{}).numbering;
+  };
+  struct Case {
+    const char* name;
+    std::vector<std::uint8_t> bytes;
+  };
+  const Case cases[] = {{"PX4", test::writePx4Mission(m)},
+                        {"ArduPilot X", test::writeArdupilotMission(m)},
+                        {"ArduPilot H", test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kNone, test::kApH)},
+                        {"ArduPilot PLUS", test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kRate, test::kApPlus)},
+                        {"Crazyflie", test::writeCrazyflieMission(m)}};
+  for (const Case& c : cases) {
+    const NumberingCheckResult r = check(c.bytes);
+    std::printf("[ measured ] %s: %s\n", c.name, r.text().c_str());
+    EXPECT_EQ(r.verdict, NumberingVerdict::kConsistent) << c.name << ": " << r.text();
+    EXPECT_GT(r.seconds, 8.0) << c.name;
+  }
+  // FRAME_TYPE 12 (Betaflight's order: ArduPilot motor 1 back-right, 2 front-right, 3 back-left,
+  // 4 front-left) on outputs wired as the X's: the reader puts them on the wrong rotors.
+  const test::ApFrame lying{12, 0, test::kApX.motor};
+  const NumberingCheckResult r = check(test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kNone, lying));
+  EXPECT_EQ(r.verdict, NumberingVerdict::kOtherNumbering) << r.text();
+}
+
 TEST_F(LogDetection, ArdupilotPropsOutAndPlusFramesGiveTheXsAlarmOnTheMotorWhereItSits) {
   // One flight of the standard X, logged as an H (props-out) and as a PLUS frame would log it: each
   // airframe's own attitude and motor numbers. Read back in the turned axes, the alarm is the X's,
