@@ -216,6 +216,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   QUADFDI_FUZZ_CHECK(n.verdict == NumberingVerdict::kTooShort || n.seconds >= NumberingCheckConfig{}.min_seconds);
   for (const auto& row : n.fit)
     for (const double v : row) QUADFDI_FUZZ_CHECK(std::isfinite(v));
+  QUADFDI_FUZZ_CHECK(std::isfinite(n.tilt_fit) && std::abs(n.tilt_fit) <= 1.0 + 1e-9);
   QUADFDI_FUZZ_CHECK(!n.text().empty());
   return 0;
 }

@@ -549,7 +549,14 @@ int runDetect(const DetectOptions& o) {
                                         : std::string()));
   // The motor columns against the flight's rotation (detection/numbering_check.h): a numbering
   // that does not fit gets every fault named on the wrong motor, so it is a warning, in the summary too.
-  if (r.numbering.verdict == NumberingVerdict::kOtherNumbering) {
+  if (r.numbering.verdict == NumberingVerdict::kUpsideDown) {
+    warnings.push_back(name + ": motor numbering: " + r.numbering.text() +
+                       (log.source ? "; the log is not in the frames its reader takes it to be in"
+                        : o.log.csv_frame == "ned" ? "; read it without --csv-frame ned"
+                                               : "; read it with --csv-frame ned") +
+                       " (docs/conventions.md#checking-the-motor-numbering)");
+    if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
+  } else if (r.numbering.verdict == NumberingVerdict::kOtherNumbering) {
     warnings.push_back(name + ": motor numbering: " + r.numbering.text() +
                        (log.source ? "; the log's motor outputs do not sit where its frame puts them (its frame parameters, or outputs "
                                      "mapped to other motors?)"

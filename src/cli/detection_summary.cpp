@@ -103,6 +103,7 @@ std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
     check["seconds"] = c.seconds;
     check["from"] = c.rates_used ? "body rates" : "attitude";
     check["fit"] = c.fit;
+    check["tilt_fit"] = c.tilt_fit;
     check["fits_best"] = c.verdict == NumberingVerdict::kOtherNumbering ? json(c.best.describe()) : json(nullptr);
     check["text"] = c.text();
     j["motor_numbering_check"] = std::move(check);

@@ -28,10 +28,14 @@
 
 namespace quadfdi {
 
+// The defaults were chosen on simulated randomised flights, each by what it did to the verdicts
+// (docs/conventions.md#checking-the-motor-numbering: 80-ms halves against 20–120 ms, the 0.3-s
+// trend against 0.05–1 s, the dominance 2 against 0–3); none is a property of a vehicle.
 struct NumberingCheckConfig {
   double node_interval = 0.005;  // [s] samples are averaged into nodes this long (200 Hz: a 125 Hz log's rows are nodes of their own)
   int window_nodes = 16;         // [-] rates are taken over this many nodes (80 ms) and the acceleration as their change
   double trend_seconds = 0.3;    // [s] time constant of the two high-passes (slower content is left out: below ~0.5 Hz)
+  double translation_trend_seconds = 2.0;  // [s] the same for the position's acceleration against the tilt
   double max_gap = 0.05;         // [s] a longer hole between samples (or an estimator reset) starts the differences again
   double min_seconds = 5.0;      // [s] of differenced flight before any verdict
   double min_correlation = 0.1;  // [-] the roll and pitch fits a numbering needs to count as shown by the flight
@@ -50,9 +54,10 @@ enum class NumberingVerdict {
   kConsistent,      // the numbering read fits best: roll and pitch fits ≥ min_correlation
   kInconclusive,    // no numbering fits clearly (little manoeuvring, weak fits, or torques collinear)
   kOtherNumbering,  // another numbering (or the rotors' spin reversed) fits better by ≥ min_margin
+  kUpsideDown,      // the vehicle accelerates against its tilt as read: its frames are upside down (NED read as z-up)
 };
 
-// "consistent", "inconclusive", "too short", "another numbering" (detect --summary's words).
+// "consistent", "inconclusive", "too short", "another numbering", "upside down" (detect --summary's words).
 const char* toString(NumberingVerdict v);
 
 // One way the columns can relate to the rotors: column j holds the rotor that quadfdi numbers
@@ -75,6 +80,11 @@ struct NumberingCheckResult {
   // pair, and the regression parts them): the diagonal is what the numbering read predicts.
   std::array<std::array<double, 3>, 3> fit{};
   double torque_independence = 0.0;  // [-] det of the torque patterns' correlation matrix: 1 independent, 0 collinear
+  // [-] the position's horizontal acceleration against the tilt of the thrust (the body's z axis,
+  // as read) that drives it (correlation, both filtered alike): positive where the frames are
+  // read the right way up; 0 where the position does not move.
+  double tilt_fit = 0.0;
+  bool upright_shown = false;  // tilt_fit ≥ the config's min_correlation: the frames are read the right way up
   double read_score = 0.0;  // [-] the numbering read: fit's trace
   ColumnHypothesis best;    // the best-fitting hypothesis (the read one when consistent)
   double best_score = 0.0;  // [-] its summed signed fits
@@ -103,17 +113,22 @@ class NumberingCheck {
     Quaternion attitude;               // its last sample's attitude
     std::array<double, 3> rates{};     // [rad/s] mean body rates over the node
     std::array<double, 3> torque{};    // [N] mean of the three torque patterns of the commands
+    std::array<double, 3> position{};  // [m] its last sample's position (world, as read)
+    std::array<double, 2> tilt{};      // [-] the body z axis's horizontal part over its vertical one, world x and y
   };
   // One differenced node's contribution, held for pending_seconds before it joins the sums.
   struct Contribution {
     double t = 0.0, seconds = 0.0;             // [s] node time, and the flight it adds
     std::array<double, 3> acc{};    // [rad/s²] angular acceleration, body roll, pitch, yaw, high-passed
     std::array<double, 3> tau{};    // [N] the commands' torque patterns as read, filtered alike
+    std::array<double, 2> lateral{};   // [m/s²] the position's horizontal acceleration, filtered
+    std::array<double, 2> tilt{};      // [-] the tilt that drives it (g · tilt would hold the height), filtered alike
   };
   struct Sums {
     double n = 0.0, seconds = 0.0;
     std::array<double, 3> a{}, aa{}, tau{};
     Mat3 atau{}, tautau{};
+    double n_lateral = 0.0, l = 0.0, ll = 0.0, g = 0.0, gg = 0.0, lg = 0.0;  // both horizontal axes pooled
     void add(const Contribution& c);
   };
   // Two first-order high-passes in series (exponential means taken out), one per channel.
@@ -137,7 +152,7 @@ class NumberingCheck {
   // Closed nodes since the last restart (a ring), and the high-passes of the accelerations and torques.
   std::array<Node, kHistory> nodes_{};
   int node_count_ = 0;
-  HighPass acc_trend_, torque_trend_;
+  HighPass acc_trend_, torque_trend_, lateral_trend_, tilt_trend_;
   // Contributions not yet committed (a ring: pending_begin_ … pending_end_), and the committed sums.
   std::array<Contribution, kPending> pending_{};
   long pending_begin_ = 0, pending_end_ = 0;

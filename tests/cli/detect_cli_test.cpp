@@ -675,6 +675,21 @@ TEST(DetectCli, AMotorOrderThatDoesNotTurnTheVehicleIsWarnedAbout) {
   ASSERT_EQ(reordered.exit_code, 0) << reordered.out;
   EXPECT_NE(reordered.out.find("detect: motor numbering: consistent"), std::string::npos) << reordered.out;
   EXPECT_EQ(nlohmann::json::parse(readFile(temp("circle-reordered.json")))["motor_numbering_check"]["verdict"], "consistent");
+  // The same rows written as a NED/FRD simulator writes them, read as z-up: upside down, and the
+  // flag to give; read with it, consistent.
+  const std::string ned = temp("quad-circle-ned.csv");
+  rewriteRows(ours, ned, [](std::vector<std::string>& cells) {
+    for (std::size_t i : {2u, 3u, 5u, 6u}) cells[i] = cells[i][0] == '-' ? cells[i].substr(1) : "-" + cells[i];
+  });
+  const CommandResult misread = run("detect --input " + ned + " --output " + temp("circle-ned.jsonl"));
+  ASSERT_EQ(misread.exit_code, 0) << misread.out;
+  EXPECT_NE(misread.out.find("motor numbering: upside down over 11."), std::string::npos) << misread.out;
+  EXPECT_NE(misread.out.find("its frames are upside down (a NED/FRD file read as z-up, or a z-up one read as NED); read it with "
+                             "--csv-frame ned"),
+            std::string::npos)
+      << misread.out;
+  const CommandResult as_ned = run("detect --csv-frame ned --input " + ned + " --output " + temp("circle-ned-read.jsonl"));
+  EXPECT_NE(as_ned.out.find("detect: motor numbering: consistent"), std::string::npos) << as_ned.out;
   // A flight too short to tell (1.6 s) is said to be so, and warns of nothing.
   const CommandResult short_flight = run("detect --input " + faultyCsv() + " --output " + temp("short.jsonl"));
   EXPECT_NE(short_flight.out.find("detect: motor numbering: too short to check ("), std::string::npos) << short_flight.out;

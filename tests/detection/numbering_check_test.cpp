@@ -29,6 +29,7 @@ std::vector<TelemetrySample> drivenBody(const ColumnHypothesis& truth, double se
   const double dt = 0.002;
   std::array<double, 4> wander{};  // [N] each rotor's command about hover, an Ornstein–Uhlenbeck walk (0.1 s)
   std::array<double, 3> w{};       // [rad/s]
+  std::array<double, 2> position{}, velocity{};  // [m, m/s] horizontal
   Quaternion q;
   std::vector<TelemetrySample> out;
   for (int k = 0; k * dt < seconds; ++k) {
@@ -48,8 +49,15 @@ std::vector<TelemetrySample> drivenBody(const ColumnHypothesis& truth, double se
     }
     for (std::size_t a = 0; a < 3; ++a) w[a] += torque[a] * dt - 0.5 * w[a] * dt;  // a little damping keeps it bounded
     q = q * quaternionOfRotationVector({w[0] * dt, w[1] * dt, w[2] * dt});
+    // Its height held, it accelerates where its thrust (the body z axis) leans, against some drag.
+    const double up = 1.0 - 2.0 * (q.x * q.x + q.y * q.y);
+    const std::array<double, 2> lean{2.0 * (q.x * q.z + q.w * q.y) / up, 2.0 * (q.y * q.z - q.w * q.x) / up};
+    for (std::size_t i = 0; i < 2; ++i) {
+      velocity[i] += (9.81 * lean[i] - 0.3 * velocity[i]) * dt;
+      position[i] += velocity[i] * dt;
+    }
     const EulerZyx e = eulerZyxFromUnitQuaternion(q.w, q.x, q.y, q.z);
-    s.y = {0.0, 0.0, 1.0, e.roll, e.pitch, e.yaw};
+    s.y = {position[0], position[1], 1.0, e.roll, e.pitch, e.yaw};
     s.rates = {w[0], w[1], w[2]};
     out.push_back(s);
   }
@@ -105,6 +113,41 @@ TEST(NumberingCheck, NamesTheAutopilotsOrders) {
   EXPECT_NE(text.find("Betaflight's order (u1..u4 = back-right, front-right, back-left, front-left), with every rotor spinning the other way"),
             std::string::npos)
       << text;
+}
+
+// A NED/FRD file read as z-up (both frames turned 180° about x: y, z, pitch, yaw, q and r the other
+// way) turns pitch and yaw against their torques exactly as the front–back mirrored order of the
+// columns does; the position, accelerating away from where the vehicle leans as read, tells them
+// apart.
+TEST(NumberingCheck, FramesReadUpsideDownAreToldFromAMirroredOrder) {
+  const ColumnHypothesis read;
+  std::vector<TelemetrySample> flight = drivenBody(read, 20.0, 6u);
+  const NumberingCheckResult right = check(flight, false);
+  ASSERT_EQ(right.verdict, NumberingVerdict::kConsistent) << right.text();
+  EXPECT_GT(right.tilt_fit, 0.5) << right.text();
+  for (TelemetrySample& s : flight)
+    for (double* v : {&s.y[1], &s.y[2], &s.y[4], &s.y[5], &s.rates[1], &s.rates[2]}) *v = -*v;
+  for (const bool rates : {false, true}) {
+    const NumberingCheckResult turned = check(flight, rates);
+    EXPECT_EQ(turned.verdict, NumberingVerdict::kUpsideDown) << turned.text();
+    EXPECT_LT(turned.tilt_fit, -0.5) << turned.text();
+    EXPECT_TRUE(turned.best.isRead()) << turned.text();
+    EXPECT_NE(turned.text().find("its frames are upside down (a NED/FRD file read as z-up"), std::string::npos) << turned.text();
+  }
+  // The mirrored order itself, the frames right: another numbering; the look-alike is said only
+  // where the position did not show the frames the right way up.
+  ColumnHypothesis mirrored;
+  mirrored.rotor_of_column = {2, 1, 4, 3};
+  std::vector<TelemetrySample> mirrored_flight = drivenBody(mirrored, 20.0, 6u);
+  const NumberingCheckResult other = check(mirrored_flight, false);
+  EXPECT_EQ(other.verdict, NumberingVerdict::kOtherNumbering) << other.text();
+  EXPECT_GT(other.tilt_fit, 0.5) << other.text();
+  EXPECT_EQ(other.text().find("upside down"), std::string::npos) << other.text();
+  for (TelemetrySample& s : mirrored_flight) s.y[0] = s.y[1] = 0.0;  // a position that does not move
+  const NumberingCheckResult unsure = check(mirrored_flight, false);
+  EXPECT_EQ(unsure.verdict, NumberingVerdict::kOtherNumbering) << unsure.text();
+  EXPECT_EQ(unsure.tilt_fit, 0.0);
+  EXPECT_NE(unsure.text().find(", or the file's frames are upside down (a NED/FRD file read as z-up)"), std::string::npos) << unsure.text();
 }
 
 TEST(NumberingCheck, AShortOrMotionlessFlightDecidesNothing) {
@@ -167,7 +210,9 @@ TrajectoryBatch randomisedFlights(int flights, double seconds, double theta, dou
 
 // One flight of the batch through the check, its columns in `order`, from the rates or the
 // attitude; an alarm raised `alarm_after` seconds after the fault step when ≥ 0.
-NumberingCheckResult checkFlight(const TrajectoryBatch& b, int t, const std::array<int, 4>& order, bool rates, double alarm_after = -1.0) {
+// `upside_down`: the flight read as a NED/FRD file is read as z-up (y, z, pitch, yaw, q and r the other way).
+NumberingCheckResult checkFlight(const TrajectoryBatch& b, int t, const std::array<int, 4>& order, bool rates, double alarm_after = -1.0,
+                                 bool upside_down = false) {
   NumberingCheck c;
   c.setup(rates);
   const double dt = 0.002;
@@ -179,6 +224,8 @@ NumberingCheckResult checkFlight(const TrajectoryBatch& b, int t, const std::arr
     for (std::size_t i = 0; i < kOutputDim; ++i) s.y[i] = b.outputs[o * kOutputDim + i];
     for (std::size_t j = 0; j < 4; ++j) s.u[j] = b.inputs[o * kInputDim + static_cast<std::size_t>(order[j] - 1)];
     for (std::size_t i = 0; i < 3; ++i) s.rates[i] = b.rates[o * 3 + i];
+    if (upside_down)
+      for (double* v : {&s.y[1], &s.y[2], &s.y[4], &s.y[5], &s.rates[1], &s.rates[2]}) *v = -*v;
     c.step(s);
     if (alarm_after >= 0.0 && s.t >= alarm_at) c.alarm(true);
   }
@@ -186,17 +233,20 @@ NumberingCheckResult checkFlight(const TrajectoryBatch& b, int t, const std::arr
 }
 
 struct Tally {
-  int consistent = 0, other = 0, px4 = 0, inconclusive = 0, too_short = 0;
+  int consistent = 0, other = 0, px4 = 0, mirrored = 0, inconclusive = 0, too_short = 0, upside_down = 0;
   void add(const NumberingCheckResult& r) {
     consistent += r.verdict == NumberingVerdict::kConsistent;
     inconclusive += r.verdict == NumberingVerdict::kInconclusive;
     too_short += r.verdict == NumberingVerdict::kTooShort;
     other += r.verdict == NumberingVerdict::kOtherNumbering;
+    upside_down += r.verdict == NumberingVerdict::kUpsideDown;
+    mirrored += r.verdict == NumberingVerdict::kOtherNumbering && r.best.rotor_of_column == std::array<int, 4>{2, 1, 4, 3} && !r.best.spins_reversed;
     px4 += r.verdict == NumberingVerdict::kOtherNumbering && r.best.rotor_of_column == std::array<int, 4>{1, 3, 4, 2} && !r.best.spins_reversed;
   }
   std::string text() const {
     return std::to_string(consistent) + " consistent, " + std::to_string(other) + " another (" + std::to_string(px4) + " PX4's), " +
-           std::to_string(inconclusive) + " inconclusive, " + std::to_string(too_short) + " too short";
+           std::to_string(inconclusive) + " inconclusive, " + std::to_string(too_short) + " too short, " + std::to_string(upside_down) +
+           " upside down";
   }
 };
 
@@ -209,8 +259,10 @@ int flightCount(int fallback) {
 TEST(NumberingCheck, RandomisedFlightsKeepTheirNumberingAndNamePx4sOrder) {
   const int flights = flightCount(16);
   const TrajectoryBatch b = randomisedFlights(flights, 20.0, 1.0, 0.2);
-  Tally read_attitude, read_rates, px4_attitude, px4_rates;
+  Tally read_attitude, read_rates, px4_attitude, px4_rates, ned_attitude, ned_rates;
   for (int t = 0; t < b.count; ++t) {
+    ned_attitude.add(checkFlight(b, t, {1, 2, 3, 4}, false, -1.0, true));
+    ned_rates.add(checkFlight(b, t, {1, 2, 3, 4}, true, -1.0, true));
     read_attitude.add(checkFlight(b, t, {1, 2, 3, 4}, false));
     read_rates.add(checkFlight(b, t, {1, 2, 3, 4}, true));
     px4_attitude.add(checkFlight(b, t, {1, 3, 4, 2}, false));
@@ -219,6 +271,7 @@ TEST(NumberingCheck, RandomisedFlightsKeepTheirNumberingAndNamePx4sOrder) {
   std::printf("[ measured ] %d randomised 20 s flights: as read, attitude: %s; rates: %s\n", flights, read_attitude.text().c_str(),
               read_rates.text().c_str());
   std::printf("[ measured ] in PX4's order, attitude: %s; rates: %s\n", px4_attitude.text().c_str(), px4_rates.text().c_str());
+  std::printf("[ measured ] NED read as z-up, attitude: %s; rates: %s\n", ned_attitude.text().c_str(), ned_rates.text().c_str());
   // No wrong verdict in these 16; the right one in nearly every flight. Measured on 2 000 (the
   // attitude / the rates): 1 965 / 1 973 kept, 3 / 2 wrongly named another; in PX4's order 1 890 /
   // 1 893 named, never kept (docs/conventions.md#checking-the-motor-numbering).
@@ -230,6 +283,12 @@ TEST(NumberingCheck, RandomisedFlightsKeepTheirNumberingAndNamePx4sOrder) {
     EXPECT_EQ(t->consistent, 0) << t->text();
     EXPECT_EQ(t->other, t->px4) << t->text();
     EXPECT_GE(t->px4, flights * 7 / 8) << t->text();
+  }
+  for (const Tally* t : {&read_attitude, &read_rates, &px4_attitude, &px4_rates}) EXPECT_EQ(t->upside_down, 0) << t->text();
+  for (const Tally* t : {&ned_attitude, &ned_rates}) {  // 400 flights: 366 / 369 said so, 29 / 30 the mirrored order
+    EXPECT_EQ(t->consistent, 0) << t->text();
+    EXPECT_EQ(t->other, t->mirrored) << t->text();
+    EXPECT_GE(t->upside_down, flights * 3 / 4) << t->text();
   }
 }
 
