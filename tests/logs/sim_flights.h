@@ -25,6 +25,16 @@ struct Mission {
   double dt = 0.002;
 };
 
+// One sample of a mission, in quadfdi's conventions.
+inline void appendSample(Mission& m, double t, const Output& y, const Input& u, const Vec3& rates) {
+  TelemetrySample s;
+  s.t = t;
+  for (int i = 0; i < 6; ++i) s.y[static_cast<std::size_t>(i)] = y(i);
+  for (int i = 0; i < 4; ++i) s.u[static_cast<std::size_t>(i)] = u(i);
+  for (int i = 0; i < 3; ++i) s.rates[static_cast<std::size_t>(i)] = rates(i);
+  m.samples.push_back(s);
+}
+
 // `fault_motor` 0: healthy, lands. Otherwise motor `fault_motor` gets Θ = `theta` at `fault_at`
 // and the flight runs on until the simulator cuts it (a crash) or 1 s later.
 inline Mission simulateMission(int fault_motor, double theta, double fault_at, double yaw0 = 0.3) {
@@ -34,14 +44,7 @@ inline Mission simulateMission(int fault_motor, double theta, double fault_at, d
   m.armed_at = 0.5;
   m.takeoff_at = ground;
   const VehicleParams params = nominalParams();
-  auto push = [&](double t, const Output& y, const Input& u, const Vec3& rates = Vec3::Zero()) {
-    TelemetrySample s;
-    s.t = t;
-    for (int i = 0; i < 6; ++i) s.y[static_cast<std::size_t>(i)] = y(i);
-    for (int i = 0; i < 4; ++i) s.u[static_cast<std::size_t>(i)] = u(i);
-    for (int i = 0; i < 3; ++i) s.rates[static_cast<std::size_t>(i)] = rates(i);
-    m.samples.push_back(s);
-  };
+  auto push = [&](double t, const Output& y, const Input& u, const Vec3& rates = Vec3::Zero()) { appendSample(m, t, y, u, rates); };
   Output rest = Output::Zero();
   rest(5) = yaw0;
   rest(0) = 0.2;
@@ -109,14 +112,7 @@ inline Mission simulateManoeuvringMission(double yaw0 = 0.3) {
   m.armed_at = 0.5;
   m.takeoff_at = ground;
   const VehicleParams params = nominalParams();
-  auto push = [&](long k, const Output& y, const Input& u, const Vec3& rates) {
-    TelemetrySample s;
-    s.t = static_cast<double>(k) * dt;
-    for (int i = 0; i < 6; ++i) s.y[static_cast<std::size_t>(i)] = y(i);
-    for (int i = 0; i < 4; ++i) s.u[static_cast<std::size_t>(i)] = u(i);
-    for (int i = 0; i < 3; ++i) s.rates[static_cast<std::size_t>(i)] = rates(i);
-    m.samples.push_back(s);
-  };
+  auto push = [&](long k, const Output& y, const Input& u, const Vec3& rates) { appendSample(m, static_cast<double>(k) * dt, y, u, rates); };
   Output rest = Output::Zero();
   rest(5) = yaw0;
   long k = 0;
