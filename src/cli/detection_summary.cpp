@@ -102,7 +102,9 @@ std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
     check["verdict"] = toString(c.verdict);
     check["seconds"] = c.seconds;
     check["from"] = c.rates_used ? "body rates" : "attitude";
-    check["fit"] = c.fit;
+    json fit = json::array();  // row by row: GCC 12 at -O3 warns (wrongly) inside nlohmann's std::array conversion
+    for (const std::array<double, 3>& row : c.fit) fit.push_back({row[0], row[1], row[2]});
+    check["fit"] = std::move(fit);
     check["tilt_fit"] = c.tilt_fit;
     check["fits_best"] = c.verdict == NumberingVerdict::kOtherNumbering ? json(c.best.describe()) : json(nullptr);
     check["text"] = c.text();
