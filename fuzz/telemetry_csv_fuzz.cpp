@@ -17,6 +17,7 @@
 #include "detection/session.h"
 #include "fuzz_support.h"
 #include "io/merged_telemetry.h"
+#include "io/telemetry_heading.h"
 #include "io/telemetry_reader.h"
 #include "networks/model.h"
 
@@ -158,6 +159,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.csv", 0) == 0);
   }
+  // As `quadfdi detect` checks a file for heading resets (io/telemetry_heading.h): the whole file
+  // read with its p,q,r; resets, each finite and at a row's time in order, or one TelemetryError.
+  HeadingResets heading;
+  try {
+    std::istringstream whole(fuzz::text(data, size));
+    heading = findTelemetryHeadingResets(whole, "fuzz.csv", reading);
+    QUADFDI_FUZZ_CHECK(heading.resets.size() == heading.count && (heading.checked || heading.count == 0));
+    for (std::size_t i = 0; i < heading.resets.size(); ++i) {
+      QUADFDI_FUZZ_CHECK(std::isfinite(heading.resets[i].t) && std::isfinite(heading.resets[i].shift));
+      QUADFDI_FUZZ_CHECK(std::abs(heading.resets[i].shift) >= heading.threshold && heading.threshold > 0.0);
+      QUADFDI_FUZZ_CHECK(i == 0 || heading.resets[i].t > heading.resets[i - 1].t);
+    }
+  } catch (const TelemetryError& e) {
+    fuzz::report(e);
+    QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.csv", 0) == 0);
+  }
   // As a merged export: signals from the rows that hold them, or one TelemetryError naming a line.
   try {
     std::istringstream merged_in(fuzz::text(data, size));
@@ -203,7 +220,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fuzz::report(e);
     return 0;
   }
-  ReplaySource source(samples, rates);
+  ReplaySource replay(samples, rates);
+  HeadingCorrectedSource corrected(replay, heading.resets);  // the resets taken out, as detect streams a file
+  SampleSource& source = heading.resets.empty() ? static_cast<SampleSource&>(replay) : corrected;
   CheckingSink sink;
   SessionConfig session;
   session.live = live;

@@ -26,6 +26,7 @@
 #include "io/key_value.h"
 #include "io/model_file.h"
 #include "io/randomisation_file.h"
+#include "io/telemetry_heading.h"
 #include "io/telemetry_reader.h"
 #include "io/vehicle_file.h"
 
@@ -86,6 +87,8 @@ std::optional<TrainedAspects> trainedAspects(const ModelMetadata& m, const std::
 // A lever aspect this far outside the trained range (relative) is worth a warning: the library's
 // own vehicles sit 2 % inside the rotor-position tolerance of one another (kRotorPositionTolerance).
 constexpr double kAspectMargin = 0.05;  // [-]
+// How detect's heading lines name a CSV's gyro (logs/heading_resets.h headingResetsLine).
+constexpr const char* kCsvGyro = "the gyro (columns p,q,r)";  // as the merged export's line names it
 }  // namespace
 
 std::string generalModelPath() { return (std::filesystem::path(shippedModelsDir()) / kGeneralModelName).string(); }
@@ -390,6 +393,9 @@ int runDetect(const DetectOptions& o) {
   std::ifstream file;
   const std::string name = o.input == "-" ? std::string("<stdin>") : o.input;
   std::unique_ptr<TelemetryReader> reader;
+  HeadingResets heading;                             // a CSV file's, checked with its p,q,r
+  std::string heading_unread;                        // why its rows could not all be read for the check
+  std::unique_ptr<HeadingCorrectedSource> corrected;  // the reader with them taken out
   OpenedLog log;
   SampleSource* source = nullptr;
   if (format == "csv") {
@@ -401,6 +407,21 @@ int runDetect(const DetectOptions& o) {
     source = reader.get();
     // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
     if (reader->numbering() && !renumber) numbering = *reader->numbering();
+    // Estimator heading resets the file does not record (io/telemetry_heading.h): a file is read
+    // whole once to find them with its own p,q,r, then streamed with them taken out. A pipe, named
+    // or not, is read once.
+    if (!live && std::filesystem::is_regular_file(o.input)) {
+      std::ifstream whole(o.input);
+      try {
+        heading = findTelemetryHeadingResets(whole, name, csv_reading);
+      } catch (const TelemetryError& e) {
+        heading_unread = e.what();  // a row the detector would refuse is refused below; a rates cell only stops the check
+      }
+      if (!heading.resets.empty()) {
+        corrected = std::make_unique<HeadingCorrectedSource>(*reader, heading.resets);
+        source = corrected.get();
+      }
+    }
   } else {
     // throws one line naming file, byte, topic
     log = openFlightLog(o.input, format, o.log, vehicle, csv_reading, model.metadata.dt, o.max_gap,
@@ -547,6 +568,13 @@ int runDetect(const DetectOptions& o) {
                          (r.skipped > 0 ? ": all " + std::to_string(r.skipped) + " rows have an empty or non-finite cell; " +
                                               merged_hint
                                         : std::string()));
+  // A CSV file's heading resets: taken out, so said as a warning; a check that ran and found none, in a line.
+  if (heading.count > 0) {
+    warnings.push_back(name + ": " + headingResetsLine(heading, kCsvGyro, ""));
+    if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
+  } else if (!o.quiet && (heading.checked || !heading_unread.empty())) {
+    std::fprintf(stderr, "detect: %s\n", headingResetsLine(heading, kCsvGyro, "p,q,r not read: " + heading_unread).c_str());
+  }
   // The motor columns against the flight's rotation (detection/numbering_check.h): a numbering
   // that does not fit gets every fault named on the wrong motor, so it is a warning, in the summary too.
   if (r.numbering.verdict == NumberingVerdict::kUpsideDown) {

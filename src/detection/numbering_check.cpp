@@ -13,8 +13,6 @@ namespace {
 // roll, pitch, yaw rows; columns motors 1..4.
 constexpr int kTorqueSign[3][kMotors] = {{-1, -1, 1, 1}, {-1, 1, 1, -1}, {-1, 1, -1, 1}};
 
-constexpr double kMaxNodeRate = kMaxBodyRate;  // [rad/s] a faster turn between two nodes is an estimator reset
-
 // S[a][b]: the correlation pattern hypothesis h predicts between the acceleration about axis a and
 // the torque pattern b computed as read (each entry −1, 0 or 1 for an X: the patterns are
 // orthogonal).
@@ -284,7 +282,7 @@ void NumberingCheck::closeNode() {
   if (node_count_ > 0) {
     const Node& prev = nodes_[static_cast<std::size_t>((node_count_ - 1) % kHistory)];
     const double dt = open_.t - prev.t;
-    if (!(dt > 0.0) || rotationAngle(conjugate(prev.attitude) * open_.attitude) > kMaxNodeRate * dt) restart();
+    if (!(dt > 0.0) || rotationAngle(conjugate(prev.attitude) * open_.attitude) > kMaxBodyRate * dt) restart();
   }
   nodes_[static_cast<std::size_t>(node_count_ % kHistory)] = open_;
   ++node_count_;

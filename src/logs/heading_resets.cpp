@@ -101,7 +101,9 @@ HeadingResets takeOutHeadingResets(SignalSeries<3>& attitude, const SignalSeries
   found.noise = steps.noise;
   found.threshold = steps.threshold;
   double shift = 0.0;  // [rad] sum of the resets so far
+  found.resets.reserve(steps.count);
   for (std::size_t k = 1; k < n; ++k) {
+    if (steps.step[k] != 0.0) found.resets.push_back({attitude.t[k], steps.step[k]});
     shift += steps.step[k];
     if (shift != 0.0) attitude.v[k][2] = wrapAngle(attitude.v[k][2] - shift);
   }
@@ -109,10 +111,12 @@ HeadingResets takeOutHeadingResets(SignalSeries<3>& attitude, const SignalSeries
 }
 
 std::string headingResetsLine(const HeadingResets& found, const SignalSeries<3>& rates) {
-  const std::string gyro = rates.source.topic.empty() ? "the body rates" : "the gyro (" + rates.source.topic + ")";
-  if (!found.checked)
-    return "heading: not checked for estimator resets the log does not record: " +
-           std::string(rates.empty() ? "the log has no body rates" : "the body rates do not cover the attitude's rows");
+  return headingResetsLine(found, rates.source.topic.empty() ? "the body rates" : "the gyro (" + rates.source.topic + ")",
+                           rates.empty() ? "the log has no body rates" : "the body rates do not cover the attitude's rows");
+}
+
+std::string headingResetsLine(const HeadingResets& found, const std::string& gyro, const std::string& why_unchecked) {
+  if (!found.checked) return "heading: not checked for estimator resets the log does not record: " + why_unchecked;
   char buf[320];
   if (found.count == 0)
     std::snprintf(buf, sizeof buf,

@@ -19,6 +19,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "logs/flight_signals.h"
 
@@ -38,6 +39,12 @@ struct HeadingResetOptions {
   int neighbours = 4;          // [rows] on each side whose median unexplained yaw is the smooth part
 };
 
+// One reset taken out: the estimator's heading moved by `shift` at `t`.
+struct HeadingShift {
+  double t = 0.0;      // [s] the first row whose yaw it moved (it stays in every later one)
+  double shift = 0.0;  // [rad] taken out of that row's yaw and every later one's
+};
+
 struct HeadingResets {
   bool checked = false;          // the body rates covered the attitude rows (false: no rates in the log)
   std::size_t steps = 0;         // attitude steps compared with the gyro
@@ -47,6 +54,7 @@ struct HeadingResets {
   double largest_left = 0.0;     // [rad] the largest |unexplained step| left in (below the threshold)
   double noise = 0.0;            // [rad] σ of the unexplained steps beyond their neighbours'
   double threshold = 0.0;        // [rad] max(min_step, noise_multiple·noise): larger steps were resets
+  std::vector<HeadingShift> resets;  // the `count` resets taken out, in time order
 };
 
 // Takes the resets out of `attitude`'s yaw (both series in the same body axes: body rates FLU
@@ -57,5 +65,7 @@ HeadingResets takeOutHeadingResets(SignalSeries<3>& attitude, const SignalSeries
 
 // One line for the import report's conventions: what was found, or why nothing was checked.
 std::string headingResetsLine(const HeadingResets& found, const SignalSeries<3>& rates);
+// The same, naming the rates `gyro` ("the gyro (RATE)") and giving `why_unchecked` where nothing was checked.
+std::string headingResetsLine(const HeadingResets& found, const std::string& gyro, const std::string& why_unchecked);
 
 }  // namespace quadfdi

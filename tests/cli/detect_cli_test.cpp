@@ -515,6 +515,14 @@ void writeInPx4Order(const std::string& ours, const std::string& px4) {
   });
 }
 
+// A quadfdi telemetry CSV rewritten as a NED/FRD simulator writes it: y, z, pitch and yaw change
+// sign (both frames turned 180° about x).
+void writeAsNed(const std::string& ours, const std::string& ned) {
+  rewriteRows(ours, ned, [](std::vector<std::string>& cells) {
+    for (std::size_t i : {2u, 3u, 5u, 6u}) cells[i] = cells[i][0] == '-' ? cells[i].substr(1) : "-" + cells[i];
+  });
+}
+
 // The library quad450 (`vehicle`) flown by the PID with motor 2 failing at 1 s: `ours` in quadfdi's
 // motor order, `px4` the same rows in PX4's (writeInPx4Order).
 void simulateQuadMotor2Failure(const std::string& vehicle, const std::string& ours, const std::string& px4) {
@@ -678,9 +686,7 @@ TEST(DetectCli, AMotorOrderThatDoesNotTurnTheVehicleIsWarnedAbout) {
   // The same rows written as a NED/FRD simulator writes them, read as z-up: upside down, and the
   // flag to give; read with it, consistent.
   const std::string ned = temp("quad-circle-ned.csv");
-  rewriteRows(ours, ned, [](std::vector<std::string>& cells) {
-    for (std::size_t i : {2u, 3u, 5u, 6u}) cells[i] = cells[i][0] == '-' ? cells[i].substr(1) : "-" + cells[i];
-  });
+  writeAsNed(ours, ned);
   const CommandResult misread = run("detect --input " + ned + " --output " + temp("circle-ned.jsonl"));
   ASSERT_EQ(misread.exit_code, 0) << misread.out;
   EXPECT_NE(misread.out.find("motor numbering: upside down over 11."), std::string::npos) << misread.out;
@@ -701,10 +707,7 @@ TEST(DetectCli, AMotorOrderThatDoesNotTurnTheVehicleIsWarnedAbout) {
 // a flight log (whose frames its reader knows).
 TEST(DetectCli, ANedCsvIsReadInItsFrame) {
   const std::string ours = faultyCsv(), ned = temp("faulty-ned.csv");
-  rewriteRows(ours, ned, [](std::vector<std::string>& cells) {
-    for (std::size_t i : {2u, 3u, 5u, 6u})  // y, z, pitch, yaw change sign: both frames turned 180° about x
-      cells[i] = cells[i][0] == '-' ? cells[i].substr(1) : "-" + cells[i];
-  });
+  writeAsNed(ours, ned);
   const CommandResult reference = run("detect -q --input " + ours, false);
   const CommandResult turned = run("detect -q --csv-frame ned --input " + ned, false);
   ASSERT_EQ(reference.exit_code, 0);
@@ -787,6 +790,58 @@ TEST(DetectCli, AMergedExportsHeadingResetIsTakenOutWithItsGyro) {
     worst = std::max(worst, std::abs(std::remainder(std::stod(x[6]) - std::stod(y[6]), 2.0 * M_PI)));
   }
   EXPECT_LT(worst, 1e-6);
+}
+
+// The same reset in a plain telemetry CSV with its gyro columns, which detect reads row by row: a
+// file is first read whole to find it (io/telemetry_heading.h), then streamed with it taken out —
+// the same JSON Lines as the reset-free file, and a warning that says what was taken out. A pipe
+// is read once and not checked; a file without p,q,r has nothing to check with.
+TEST(DetectCli, APlainCsvsHeadingResetIsTakenOutWithItsGyro) {
+  const std::string flight = temp("rates-failure.csv"), stepped = temp("rates-failure-reset.csv");
+  ASSERT_EQ(run("simulate --rates --motor 2 --theta 0 --fault-step 1500 --steps 2000 --seed 6 --output " + flight).exit_code, 0);
+  {
+    std::istringstream in(readFile(flight));
+    std::ofstream out(stepped);
+    std::string line;
+    std::getline(in, line);
+    out << line << "\n";
+    while (std::getline(in, line)) {
+      std::vector<std::string> c = csvCells(line);
+      ASSERT_EQ(c.size(), 14u);
+      char yaw[32];
+      std::snprintf(yaw, sizeof yaw, "%.17g", std::stod(c[6]) + (std::stod(c[0]) >= 1.2 ? 8.0 * M_PI / 180.0 : 0.0));
+      c[6] = yaw;
+      for (std::size_t i = 0; i < c.size(); ++i) out << (i ? "," : "") << c[i];
+      out << "\n";
+    }
+  }
+  const CommandResult clean = run("detect --input " + flight + " --output " + temp("rates-failure.jsonl"));
+  ASSERT_EQ(clean.exit_code, 0) << clean.out;
+  EXPECT_NE(clean.out.find("detect: heading: each of 1723 attitude steps checked against the gyro (columns p,q,r): no estimator "
+                           "reset"),
+            std::string::npos)
+      << clean.out;
+  const std::string summary = temp("rates-failure-reset.json");
+  const CommandResult taken_out =
+      run("detect --input " + stepped + " --output " + temp("rates-failure-reset.jsonl") + " --summary " + summary);
+  ASSERT_EQ(taken_out.exit_code, 0) << taken_out.out;
+  EXPECT_NE(taken_out.out.find("detect: warning: " + stepped + ": heading: 1 yaw step that the gyro (columns p,q,r) does not show"),
+            std::string::npos)
+      << taken_out.out;
+  EXPECT_NE(taken_out.out.find("(largest 8° at 1.200 s;"), std::string::npos) << taken_out.out;
+  EXPECT_NE(taken_out.out.find("FAULT in motor 2"), std::string::npos) << taken_out.out;
+  EXPECT_EQ(readFile(temp("rates-failure-reset.jsonl")), readFile(temp("rates-failure.jsonl")));
+  const nlohmann::json j = nlohmann::json::parse(readFile(summary));
+  ASSERT_EQ(j["warnings"].size(), 1u);
+  EXPECT_NE(j["warnings"][0].get<std::string>().find("heading: 1 yaw step"), std::string::npos);
+  // Piped, the step stays in: other Θ̂ around it, and no heading line.
+  const CommandResult piped = run("detect --input - --output " + temp("rates-failure-piped.jsonl") + " < " + stepped);
+  ASSERT_EQ(piped.exit_code, 0) << piped.out;
+  EXPECT_EQ(piped.out.find("heading:"), std::string::npos) << piped.out;
+  EXPECT_NE(readFile(temp("rates-failure-piped.jsonl")), readFile(temp("rates-failure.jsonl")));
+  const CommandResult no_rates = run("detect --input " + faultyCsv() + " --output " + temp("no-rates.jsonl"));
+  ASSERT_EQ(no_rates.exit_code, 0) << no_rates.out;
+  EXPECT_EQ(no_rates.out.find("heading:"), std::string::npos) << no_rates.out;
 }
 
 // A merged export (PlotJuggler, a ROS bag): each row holds one signal — position at 50 Hz,

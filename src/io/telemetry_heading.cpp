@@ -1,0 +1,41 @@
+// Heading resets in a telemetry CSV: see telemetry_heading.h.
+#include "io/telemetry_heading.h"
+
+#include <utility>
+
+#include "core/frames.h"
+#include "logs/flight_signals.h"
+
+namespace quadfdi {
+
+HeadingResets findTelemetryHeadingResets(std::istream& in, const std::string& name, TelemetryReaderOptions options,
+                                         const HeadingResetOptions& check) {
+  options.read_rates = true;
+  TelemetryReader reader(in, name, options);
+  if (!reader.carriesRates()) return {};
+  SignalSeries<3> attitude, rates;
+  TelemetrySample s;
+  std::string problem;
+  for (SampleSource::Next row; (row = reader.next(s, problem)) != SampleSource::Next::kEnd;) {
+    if (row != SampleSource::Next::kSample) continue;
+    if (!attitude.t.empty() && !(s.t > attitude.t.back())) break;  // the detector refuses the file here (time going back)
+    attitude.t.push_back(s.t);
+    attitude.v.push_back({s.y[3], s.y[4], s.y[5]});
+    rates.t.push_back(s.t);
+    rates.v.push_back(s.rates);
+  }
+  return takeOutHeadingResets(attitude, rates, check);
+}
+
+HeadingCorrectedSource::HeadingCorrectedSource(SampleSource& inner, std::vector<HeadingShift> resets)
+    : inner_(inner), resets_(std::move(resets)) {}
+
+SampleSource::Next HeadingCorrectedSource::next(TelemetrySample& sample, std::string& problem) {
+  const Next row = inner_.next(sample, problem);
+  if (row != Next::kSample) return row;
+  for (; applied_ < resets_.size() && resets_[applied_].t <= sample.t; ++applied_) shift_ += resets_[applied_].shift;
+  if (shift_ != 0.0) sample.y[5] = wrapAngle(sample.y[5] - shift_);
+  return row;
+}
+
+}  // namespace quadfdi

@@ -1,0 +1,45 @@
+// Estimator heading resets in a telemetry CSV (logs/heading_resets.h), for `detect` on a file.
+//
+// The check needs the whole file: the attitude's own row-to-row noise sets its threshold, and a
+// row is judged against its neighbours on both sides. A CSV is read row by row into the detector,
+// so a file is read twice: once here, whole, to find the resets with its own p,q,r columns, then
+// row by row through a HeadingCorrectedSource that takes them out of each sample's yaw. A live
+// pipe is read once and not checked. Docs: docs/conventions.md#heading-resets-in-a-csv.
+#pragma once
+
+#include <cstddef>
+#include <istream>
+#include <string>
+#include <vector>
+
+#include "core/sample_source.h"
+#include "io/telemetry_reader.h"
+#include "logs/heading_resets.h"
+
+namespace quadfdi {
+
+// Every row of `in` read as `options` say, with p,q,r read too (whatever options.read_rates says),
+// up to its end or the first row whose t does not increase (where the detector refuses the file):
+// the resets its attitude shows and its rates do not, in time order. Not checked (checked false, no resets) where
+// the header has no p,q,r. Throws TelemetryError as TelemetryReader does (a bad header or row).
+HeadingResets findTelemetryHeadingResets(std::istream& in, const std::string& name, TelemetryReaderOptions options,
+                                         const HeadingResetOptions& check = {});
+
+// `inner`'s samples with each reset of `resets` taken out of the yaw of every sample at or after its t
+// (as takeOutHeadingResets does to a log's attitude). `inner` outlives it.
+class HeadingCorrectedSource : public SampleSource {
+ public:
+  HeadingCorrectedSource(SampleSource& inner, std::vector<HeadingShift> resets);
+  Next next(TelemetrySample& sample, std::string& problem) override;
+  std::string where() const override { return inner_.where(); }
+  bool moreReady() const override { return inner_.moreReady(); }
+  bool carriesRates() const override { return inner_.carriesRates(); }
+
+ private:
+  SampleSource& inner_;
+  std::vector<HeadingShift> resets_;
+  std::size_t applied_ = 0;  // resets_[0, applied_) are in `shift_`
+  double shift_ = 0.0;       // [rad] their sum
+};
+
+}  // namespace quadfdi
