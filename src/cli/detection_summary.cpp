@@ -106,7 +106,8 @@ std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
     for (const std::array<double, 3>& row : c.fit) fit.push_back({row[0], row[1], row[2]});
     check["fit"] = std::move(fit);
     check["tilt_fit"] = c.tilt_fit;
-    check["fits_best"] = c.verdict == NumberingVerdict::kOtherNumbering ? json(c.best.describe()) : json(nullptr);
+    const bool another = c.verdict == NumberingVerdict::kOtherNumbering || (c.verdict == NumberingVerdict::kUpsideDown && !c.best.isRead());
+    check["fits_best"] = another ? json(c.best.describe()) : json(nullptr);
     check["text"] = c.text();
     j["motor_numbering_check"] = std::move(check);
   }

@@ -160,7 +160,9 @@ std::string NumberingCheckResult::text() const {
   if (verdict == NumberingVerdict::kUpsideDown) {
     s += ": it accelerates away from where it leans as read, and its pitch and yaw turn against their torques: its frames "
          "are upside down (a NED/FRD file read as z-up, or a z-up one read as NED)";
-    return s;
+    if (best.isRead()) return s;
+    std::snprintf(buf, sizeof buf, " (%.2f) fits better than the numbering read (%.2f)", best_score, read_score);
+    return s + "; turned back, " + best.describe() + buf;
   }
   if (verdict != NumberingVerdict::kOtherNumbering) return s;
   std::snprintf(buf, sizeof buf, "%.2f", best_score);
@@ -403,11 +405,17 @@ NumberingCheckResult NumberingCheck::result() const {
   // said where both agree: the vehicle accelerates away from where it leans, and turned back its
   // rotation fits the order read (the tilt alone dipped to −0.15 in 4 of 2 000 simulated flights
   // read the right way up, each losing a motor after 10 s; docs/conventions.md#checking-the-motor-numbering).
+  // Both errors at once (a NED file in another autopilot's order) leave neither reading with the
+  // order read: then the tilt decides, where turned back another order fits as clearly as an
+  // upright file's must to be named (the rotation alone cannot tell them: the turned fit of an
+  // order scores what the upright fit of its front–back mirror does).
   Mat3 turned = r.fit;
   for (std::size_t a = 1; a < 3; ++a)
     for (double& v : turned[a]) v = -v;
   const Judgement upright = judge(r.fit, config_), over = judge(turned, config_);
-  const bool upside_down = r.tilt_fit <= -config_.min_correlation && over.best.isRead();
+  const bool turned_names_another =
+      !upright.best.isRead() && over.dominant && over.best_score - over.read_score >= config_.min_margin;
+  const bool upside_down = r.tilt_fit <= -config_.min_correlation && (over.best.isRead() || turned_names_another);
   const Judgement& j = upside_down ? over : upright;
   r.read_score = j.read_score;
   r.best = j.best;

@@ -54,7 +54,8 @@ enum class NumberingVerdict {
   kConsistent,      // the numbering read fits best: roll and pitch fits ≥ min_correlation
   kInconclusive,    // no numbering fits clearly (little manoeuvring, weak fits, or torques collinear)
   kOtherNumbering,  // another numbering (or the rotors' spin reversed) fits better by ≥ min_margin
-  kUpsideDown,      // the vehicle accelerates against its tilt as read: its frames are upside down (NED read as z-up)
+  kUpsideDown,      // the vehicle accelerates against its tilt as read: its frames are upside down (NED read as z-up);
+                    // `best` is the order that fits turned back (another than read where the file has both errors)
 };
 
 // "consistent", "inconclusive", "too short", "another numbering", "upside down" (detect --summary's words).

@@ -696,6 +696,22 @@ TEST(DetectCli, AMotorOrderThatDoesNotTurnTheVehicleIsWarnedAbout) {
       << misread.out;
   const CommandResult as_ned = run("detect --csv-frame ned --input " + ned + " --output " + temp("circle-ned-read.jsonl"));
   EXPECT_NE(as_ned.out.find("detect: motor numbering: consistent"), std::string::npos) << as_ned.out;
+  // Both errors at once (a NED file in PX4's order): upside down, and turned back PX4's order; read
+  // with both flags, consistent.
+  const std::string ned_px4 = temp("quad-circle-ned-px4.csv"), both_summary = temp("circle-ned-px4.json");
+  writeAsNed(px4, ned_px4);
+  const CommandResult both = run("detect --input " + ned_px4 + " --output " + temp("circle-ned-px4.jsonl") + " --summary " + both_summary);
+  ASSERT_EQ(both.exit_code, 0) << both.out;
+  EXPECT_NE(both.out.find("motor numbering: upside down over 11."), std::string::npos) << both.out;
+  EXPECT_NE(both.out.find("; turned back, PX4's and ArduPilot's quad X order (u1..u4 = front-right, back-left, front-left, back-right) ("),
+            std::string::npos)
+      << both.out;
+  const nlohmann::json b = nlohmann::json::parse(readFile(both_summary));
+  EXPECT_EQ(b["motor_numbering_check"]["verdict"], "upside down");
+  EXPECT_EQ(b["motor_numbering_check"]["fits_best"], "PX4's and ArduPilot's quad X order (u1..u4 = front-right, back-left, front-left, back-right)");
+  const CommandResult both_read = run("detect --csv-frame ned --vehicle " + vehicle + " --csv-numbering vehicle --input " + ned_px4 +
+                                      " --output " + temp("circle-ned-px4-read.jsonl"));
+  EXPECT_NE(both_read.out.find("detect: motor numbering: consistent"), std::string::npos) << both_read.out;
   // A flight too short to tell (1.6 s) is said to be so, and warns of nothing.
   const CommandResult short_flight = run("detect --input " + faultyCsv() + " --output " + temp("short.jsonl"));
   EXPECT_NE(short_flight.out.find("detect: motor numbering: too short to check ("), std::string::npos) << short_flight.out;
