@@ -81,7 +81,8 @@ DataflashWriter copter(int rows, bool fmtu, int frame_type = 1, bool ekf_status 
 
 // A copter that turns at 40 °/s with RATE logged, whose ATT yaw steps by 5° at row 120 and whose
 // XKF1 PD steps by 0.5 m at row 160 (resets ArduPilot does not log, which the extractor and the
-// conventions layer find against the EKF's velocity and the gyro).
+// conventions layer find against the EKF's velocity and the gyro), and MOTB every 10 rows with the
+// battery voltage ratio draining from 1 to 0.8 — one row's BatVolt in volts (12.6), read from LiftMax.
 DataflashWriter copterWithResets(int rows) {
   DataflashWriter w;
   w.fmt(30, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
@@ -89,6 +90,7 @@ DataflashWriter copterWithResets(int rows) {
   w.fmt(32, "RCOU", "QHHHHHHHHHHHHHH", "TimeUS,C1,C2,C3,C4,C5,C6,C7,C8,C9,C10,C11,C12,C13,C14");
   w.fmt(33, "EV", "QB", "TimeUS,Id");
   w.fmt(36, "RATE", "Qffffffffffff", "TimeUS,RDes,R,ROut,PDes,P,POut,YDes,Y,YOut,ADes,A,AOut");
+  w.fmt(37, "MOTB", "QffffB", "TimeUS,LiftMax,BatVolt,ThLimit,ThrAvMx,FailFlags");
   w.parm(0, "FRAME_TYPE", 1);
   w.write(33, {100ull, 10});
   w.write(33, {200ull, 28});
@@ -98,6 +100,10 @@ DataflashWriter copterWithResets(int rows) {
     w.write(30, {t, 0, centi(0.5), 0, centi(-0.5), 0, static_cast<long long>(std::lround(yaw * 100.0)), 0, 0, 3});
     w.write(36, {t, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 40.0, 0.0, 0.0, 0.0, 0.0});
     w.write(31, {t, 0u, 0, 0, 0, 1.0, 0.0, 0.0, 0.0, 0.0025 * k, 0.0, k >= 160 ? -1.5 : -1.0, 0, 0, 0, 0});
+    if (k % 10 == 0) {
+      const double v = 1.0 - 0.2 * k / rows, lift = 0.35 * v + 0.65 * v * v;  // MOT_THST_EXPO 0.65
+      w.write(37, {t, lift, k == 50 ? 12.6 : v, 1.0, 0.5, 0u});
+    }
     w.write(32, {t, 1500, 1500, 1500, 1500, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
   }
   return w;

@@ -303,23 +303,91 @@ LanePosition lanePosition(const DecodedLog& log, const char* pos_name, const std
   return lane;
 }
 
+// ArduPilot's battery voltage ratio v over the log (MOTB rows, each kept where it is one), and the
+// conventions line that says where it came from.
+struct BatteryRatios {
+  std::vector<std::int64_t> t;  // [µs] TimeUS of each usable MOTB row
+  std::vector<double> v;        // [-] its voltage ratio
+  std::string line;
+};
+
+// ArduPilot keeps v in [0.6, 1] (MOT_BAT_VOLT_MIN raised to 0.6 × MAX, the resting voltage
+// clamped between them) or at 1 without compensation; a little slack for float rounding.
+constexpr double kMinVoltageRatio = 0.55, kMaxVoltageRatio = 1.0 + 1e-4;
+
+BatteryRatios batteryRatios(const DecodedLog& log, const ArdupilotThrustMap& map) {
+  BatteryRatios out;
+  const LogTopic* motb = log.find("MOTB");
+  const double* bat_volt = motb ? column(*motb, "BatVolt") : nullptr;
+  const double* lift_max = motb ? column(*motb, "LiftMax") : nullptr;
+  if (!bat_volt && !lift_max) {
+    out.line = "battery: voltage compensation not undone: the log has no MOTB (LOG_BITMASK bit 17, MOTBATT); the thrust fractions "
+               "are as on a full battery, so a sagging battery reads as more thrust on every motor";
+    return out;
+  }
+  std::size_t from_lift = 0, refused = 0, dropped = 0;
+  for (std::size_t r : usableRows(*motb, nullptr, 0.0, dropped)) {
+    double v = bat_volt ? bat_volt[r] : std::nan("");
+    if (!(v >= kMinVoltageRatio && v <= kMaxVoltageRatio) && lift_max) {  // BatVolt missing or not a ratio: from LiftMax
+      v = map.voltageRatioOfLiftMax(lift_max[r]);
+      ++from_lift;
+    }
+    if (!(v >= kMinVoltageRatio && v <= kMaxVoltageRatio)) {
+      ++refused;
+      continue;
+    }
+    out.t.push_back(motb->timestamp_us[r]);
+    out.v.push_back(std::min(v, 1.0));
+  }
+  if (out.v.empty()) {
+    out.line = "battery: voltage compensation not undone: no MOTB row holds a voltage ratio in [0.55, 1] (" + std::to_string(refused) +
+               " rows)";
+    return out;
+  }
+  const auto [lo, hi] = std::minmax_element(out.v.begin(), out.v.end());
+  if (*lo == 1.0) {
+    out.line = "battery: MOTB shows no voltage compensation (v = 1 in its " + std::to_string(out.v.size()) +
+               " rows: MOT_BAT_VOLT_MAX 0, or no voltage reading); the thrust fractions are as on a full battery";
+    return out;
+  }
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "%.3f … %.3f", *lo, *hi);
+  out.line = "battery: ArduPilot's voltage compensation undone: each throttle × v before the thrust curve, v = " + std::string(buf) +
+             " (MOTB " + (from_lift == out.v.size() ? "LiftMax = v(1 − e) + e·v²" : from_lift > 0 ? "BatVolt, else LiftMax" : "BatVolt") +
+             ": the 0.5 Hz filtered resting voltage over MOT_BAT_VOLT_MAX; " + std::to_string(out.v.size()) + " rows" +
+             (refused > 0 ? ", " + std::to_string(refused) + " without a ratio in [0.55, 1] left out" : "") +
+             "), so the thrust fractions are of a full battery's maximum";
+  return out;
+}
+
+
+double usableVoltageRatio(double v) { return v > 0.0 && v <= 1.0 ? v : 1.0; }
+
 }  // namespace
 
-double ArdupilotThrustMap::thrustFraction(double pwm) const {
+double ArdupilotThrustMap::thrustFraction(double pwm, double voltage_ratio) const {
   const double e = std::clamp(expo, -1.0, 1.0);
   if (!(pwm_max > pwm_min) || !(spin_max > spin_min) || !std::isfinite(pwm)) return 0.0;
   const double a = (pwm - pwm_min) / (pwm_max - pwm_min);
-  const double x = std::clamp((a - spin_min) / (spin_max - spin_min), 0.0, 1.0);
+  const double x = std::clamp((a - spin_min) / (spin_max - spin_min), 0.0, 1.0) * usableVoltageRatio(voltage_ratio);
   return std::clamp((1.0 - e) * x + e * x * x, 0.0, 1.0);
 }
 
-double ArdupilotThrustMap::pwmFor(double thrust_fraction) const {
+double ArdupilotThrustMap::pwmFor(double thrust_fraction, double voltage_ratio) const {
+  // thrust_fraction = lift_max · the controller's demand: apply_thrust_curve_and_volt_scaling's
+  // root of e·x² + (1 − e)·x = lift_max·thrust, divided by the voltage ratio.
   const double t = std::clamp(thrust_fraction, 0.0, 1.0);
   const double e = std::clamp(expo, -1.0, 1.0);
-  // apply_thrust_curve_and_volt_scaling with lift_max = 1, battery scale 1.
   const double x = std::fabs(e) < 1e-9 ? t : ((e - 1.0) + std::sqrt(std::max(0.0, (1.0 - e) * (1.0 - e) + 4.0 * e * t))) / (2.0 * e);
-  const double actuator = spin_min + (spin_max - spin_min) * std::clamp(x, 0.0, 1.0);  // thrust_to_actuator
-  return pwm_min + (pwm_max - pwm_min) * actuator;                                      // output_to_pwm
+  const double throttle = std::clamp(x / usableVoltageRatio(voltage_ratio), 0.0, 1.0);
+  const double actuator = spin_min + (spin_max - spin_min) * throttle;  // thrust_to_actuator
+  return pwm_min + (pwm_max - pwm_min) * actuator;                      // output_to_pwm
+}
+
+double ArdupilotThrustMap::voltageRatioOfLiftMax(double lift_max) const {
+  const double e = std::clamp(expo, -1.0, 1.0);
+  if (std::fabs(e) < 1e-9) return lift_max;
+  return ((e - 1.0) + std::sqrt(std::max(0.0, (1.0 - e) * (1.0 - e) + 4.0 * e * lift_max))) / (2.0 * e);
 }
 
 LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOptions& options, FlightSignals& out) {
@@ -597,14 +665,21 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
     return LogIssue{LogStatus::kCorrupt, 0, "PARM",
                     "motor output range unusable: PWM " + shortNumber(map.pwm_min) + ".." + shortNumber(map.pwm_max) + ", spin " +
                         shortNumber(map.spin_min) + ".." + shortNumber(map.spin_max) + ", expo " + shortNumber(map.expo)};
+  // The battery's voltage ratio ArduPilot compensates its throttle for (MOTB; LOG_BITMASK bit 17):
+  // each RCOU row's from the last MOTB row at or before it (the first before any).
+  const BatteryRatios battery = batteryRatios(log, map);
+  std::size_t motb_row = 0;
   for (std::size_t r : usableRows(*rcou, nullptr, 0.0, dropped)) {
+    while (motb_row + 1 < battery.t.size() && battery.t[motb_row + 1] <= rcou->timestamp_us[r]) ++motb_row;
+    const double v = battery.v.empty() ? 1.0 : battery.v[motb_row];
     std::array<double, kMotors> u{};
-    for (std::size_t k = 0; k < u.size(); ++k) u[k] = map.thrustFraction(pwm[k][r]);
+    for (std::size_t k = 0; k < u.size(); ++k) u[k] = map.thrustFraction(pwm[k][r], v);
     out.command.t.push_back(seconds(rcou->timestamp_us[r]));
     out.command.v.push_back(u);
   }
   out.command.source = {"RCOU", pwm_fields,
-                        "PWM → thrust fraction (MOT_THST_EXPO curve inverted); AP quad-X order → quadfdi"};
+                        std::string("PWM → thrust fraction (MOT_THST_EXPO curve inverted") +
+                            (battery.v.empty() ? "" : ", battery voltage compensation undone with MOTB") + "); AP quad-X order → quadfdi"};
   out.conventions.push_back("motors: ArduPilot quad " + std::string(frame->name) + " (" + layout_text +
                             ") → quadfdi (1 FR, 2 BR, 3 BL, 4 FL): " + channel_note);
   out.conventions.push_back("commands: RCOU PWM [µs] → a = (pwm − " + shortNumber(map.pwm_min) + ")/(" + shortNumber(map.pwm_max) + " − " +
@@ -612,7 +687,8 @@ LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOpt
                             shortNumber(map.spin_max) + " − " + shortNumber(map.spin_min) + ") in [0, 1] (MOT_SPIN_MIN/MAX " +
                             (smin_found && smax_found ? "from the log" : "defaults") + "), thrust fraction = (1 − e)x + e·x², e = " +
                             shortNumber(std::clamp(map.expo, -1.0, 1.0)) + " (MOT_THST_EXPO " + (expo_found ? "from the log" : "default") +
-                            "); battery voltage compensation not modelled");
+                            ")");
+  out.conventions.push_back(battery.line);
 
   // Armed / landed states.
   struct Change {

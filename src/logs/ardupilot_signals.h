@@ -57,15 +57,23 @@ struct ArdupilotSignalOptions {
   double earth_radius = 6378137.0;  // [m] WGS-84 equatorial radius, for the POS fallback only
 };
 
-// ArduPilot's thrust model, exposed for tests: PWM [µs] → thrust fraction [0, 1].
+// ArduPilot's thrust model, exposed for tests: PWM [µs] → thrust fraction [0, 1] of the motor's
+// maximum on a full battery. `voltage_ratio` v is ArduPilot's battery voltage ratio (MOTB BatVolt:
+// its 0.5 Hz filtered resting voltage over MOT_BAT_VOLT_MAX, in [0.6, 1]; 1 without voltage
+// compensation): a motor's throttle drives it as the throttle × v would on a full battery, which is
+// what ArduPilot's compensation assumes when it divides the throttle by v
+// (AP_MotorsMulticopter::apply_thrust_curve_and_volt_scaling). A v outside (0, 1] counts as 1.
 struct ArdupilotThrustMap {
   double pwm_min = 1000.0;   // [µs]
   double pwm_max = 2000.0;   // [µs]
   double spin_min = 0.15;    // [-] of the PWM range
   double spin_max = 0.95;    // [-] of the PWM range
   double expo = 0.65;        // [-] MOT_THST_EXPO, clamped to [−1, 1] as ArduPilot does
-  double thrustFraction(double pwm) const;
-  double pwmFor(double thrust_fraction) const;  // ArduPilot's forward direction (thrust_to_actuator, output_to_pwm)
+  double thrustFraction(double pwm, double voltage_ratio = 1.0) const;
+  // ArduPilot's forward direction (thrust_to_actuator, apply_thrust_curve_and_volt_scaling, output_to_pwm).
+  double pwmFor(double thrust_fraction, double voltage_ratio = 1.0) const;
+  // v from MOTB's LiftMax = v(1 − e) + e·v² (update_lift_max_from_batt_voltage), for logs without BatVolt.
+  double voltageRatioOfLiftMax(double lift_max) const;
 };
 
 LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOptions& options, FlightSignals& out);

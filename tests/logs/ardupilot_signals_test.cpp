@@ -205,6 +205,70 @@ TEST(ArdupilotSignals, ThrustMapInvertsArdupilotsCurve) {
   }
 }
 
+// ArduPilot divides each throttle by its battery voltage ratio v (MOTB BatVolt) so that a sagging
+// battery gives the same thrust: the extractor multiplies it back, from BatVolt or, in a log
+// without it, from LiftMax; without MOTB the PWM reads as more thrust and the report says so.
+TEST(ArdupilotSignals, BatteryVoltageCompensationIsUndoneWithMotb) {
+  const ArdupilotThrustMap map;
+  EXPECT_NEAR(map.thrustFraction(map.pwmFor(0.3, 0.8), 0.8), 0.3, 1e-12);
+  EXPECT_GT(map.pwmFor(0.3, 0.8), map.pwmFor(0.3));      // a weaker battery needs a higher throttle
+  EXPECT_DOUBLE_EQ(map.pwmFor(0.95, 0.6), map.pwm_min + map.spin_max * (map.pwm_max - map.pwm_min));  // saturated
+  const double e = map.expo;
+  for (double v : {0.6, 0.8, 1.0}) EXPECT_NEAR(map.voltageRatioOfLiftMax(v * (1.0 - e) + e * v * v), v, 1e-12);
+
+  constexpr std::uint8_t kMotb = 35, kMotbOld = 36;
+  constexpr int kRows = 200;
+  const auto ratio = [](int k) { return 1.0 - 0.25 * (k / 10) / 19.0; };  // 1 → 0.75, held over each 10 rows (MOTB at 10 Hz)
+  const auto thrust = [](int k, int m) { return 0.25 + 0.1 * std::sin(0.05 * k + m); };
+  enum class Battery { kBatVolt, kLiftMaxOnly, kNone };
+  const auto logWith = [&](Battery battery) {
+    DataflashWriter w = apLog();
+    w.fmt(kMotb, "MOTB", "QffffB", "TimeUS,LiftMax,BatVolt,ThLimit,ThrAvMx,FailFlags");  // Copter 4.x
+    w.fmt(kMotbOld, "MOTB", "Qf", "TimeUS,LiftMax");  // a layout without BatVolt (only one is written)
+    att(w, 1000, 0, 0, 0);
+    xkf1(w, 1000, 0, 0, 0, 0);
+    for (int k = 0; k < kRows; ++k) {
+      const std::uint64_t t = 1000 + 2500 * static_cast<std::uint64_t>(k);
+      const double v = ratio(k), lift = v * (1.0 - e) + e * v * v;
+      if (k % 10 == 0 && battery == Battery::kBatVolt) w.write(kMotb, {t, lift, v, 1.0, 0.5, 0u});
+      if (k % 10 == 0 && battery == Battery::kLiftMaxOnly) w.write(kMotbOld, {t, lift});
+      std::array<int, 4> pwm{};
+      for (int m = 0; m < 4; ++m) pwm[static_cast<std::size_t>(m)] = static_cast<int>(std::lround(map.pwmFor(thrust(k, m), v)));
+      rcou(w, t, pwm);
+    }
+    return w;
+  };
+  // The X: quadfdi motor k is AP motor (1, 4, 2, 3)[k] on that output.
+  const int ap_of_quadfdi[4] = {1, 4, 2, 3};
+  const auto largestError = [&](const FlightSignals& s) {
+    EXPECT_EQ(s.command.v.size(), static_cast<std::size_t>(kRows));
+    double worst = 0.0;
+    for (std::size_t k = 0; k < s.command.v.size(); ++k)
+      for (int q = 0; q < 4; ++q)
+        worst = std::max(worst, std::abs(s.command.v[k][static_cast<std::size_t>(q)] - thrust(static_cast<int>(k), ap_of_quadfdi[q] - 1)));
+    return worst;
+  };
+  const auto lineOf = [](const FlightSignals& s) {
+    for (const std::string& c : s.conventions)
+      if (c.rfind("battery: ", 0) == 0) return c;
+    return std::string();
+  };
+  FlightSignals with, lift_only, without;
+  ASSERT_TRUE(extract(logWith(Battery::kBatVolt), with).ok());
+  ASSERT_TRUE(extract(logWith(Battery::kLiftMaxOnly), lift_only).ok());
+  ASSERT_TRUE(extract(logWith(Battery::kNone), without).ok());
+  EXPECT_LT(largestError(with), 1.1e-3);  // the PWM's 1 µs steps
+  EXPECT_LT(largestError(lift_only), 1.1e-3);
+  EXPECT_GT(largestError(without), 0.08);  // at v = 0.75 a thrust of 0.15–0.35 reads 49–55 % high
+  EXPECT_EQ(lineOf(with).rfind("battery: ArduPilot's voltage compensation undone: each throttle × v before the thrust curve, "
+                               "v = 0.750 … 1.000 (MOTB BatVolt:", 0),
+            0u)
+      << lineOf(with);
+  EXPECT_NE(lineOf(lift_only).find("(MOTB LiftMax = v(1 − e) + e·v²:"), std::string::npos) << lineOf(lift_only);
+  EXPECT_EQ(lineOf(without).rfind("battery: voltage compensation not undone: the log has no MOTB (LOG_BITMASK bit 17", 0), 0u)
+      << lineOf(without);
+}
+
 TEST(ArdupilotSignals, ServoFunctionsAndOldPwmDefaults) {
   DataflashWriter w = apLog();
   // Outputs reversed: SERVO1 drives motor 4 … SERVO4 motor 1 (SERVOn_FUNCTION 33 + m − 1).
