@@ -21,7 +21,9 @@ void save(const std::string& dir, const std::string& name, const std::vector<std
 // With `geometry`, the control allocation's rotor table (PX4 ≥ 1.13), numbered clockwise from the
 // front right rather than PX4's quad-X order, so the extractor maps the motors by it.
 // With `resets`, the EKF2 validity flags and reset counters with their shifts (PX4 ≥ 1.10).
-UlogWriter px4Flight(bool motors, int rows, bool geometry = false, bool resets = false) {
+// With `battery`, MC_BAT_SCALE_EN 1 and battery_status rows (a scale rising from 1, one NaN, one
+// disconnected) by which the extractor divides the commands.
+UlogWriter px4Flight(bool motors, int rows, bool geometry = false, bool resets = false, bool battery = false) {
   UlogWriter w(1, 5000);
   w.flagBits();
   w.info("sys_name", "PX4");
@@ -37,6 +39,7 @@ UlogWriter px4Flight(bool motors, int rows, bool geometry = false, bool resets =
   w.paramFloat("THR_MDL_FAC", 0.3f);
   w.paramInt("PWM_MAIN_MIN", 1000);
   w.paramInt("PWM_MAIN_MAX", 2000);
+  if (battery) w.paramInt("MC_BAT_SCALE_EN", 1);
   quadfdi::testing::formatPx4Estimates(w, resets);
   w.format("actuator_motors:uint64_t timestamp;float[4] control;");
   w.format("actuator_outputs:uint64_t timestamp;uint32_t noutputs;float[4] output;");
@@ -47,6 +50,10 @@ UlogWriter px4Flight(bool motors, int rows, bool geometry = false, bool resets =
   w.subscribe(0, 2, motors ? "actuator_motors" : "actuator_outputs");
   w.subscribe(0, 3, "vehicle_status");
   w.subscribe(0, 4, "vehicle_land_detected");
+  if (battery) {
+    w.format("battery_status:uint64_t timestamp;float scale;bool connected;");
+    w.subscribe(0, 5, "battery_status");
+  }
   for (int i = 0; i < rows; ++i) {
     const std::uint64_t t = 1000000 + static_cast<std::uint64_t>(i) * 4000;
     const float a = 0.1f * static_cast<float>(i);
@@ -70,6 +77,7 @@ UlogWriter px4Flight(bool motors, int rows, bool geometry = false, bool resets =
       w.data(2, UlogPayload().put(t).put<std::uint32_t>(4).put(1500.0f).put(900.0f).put(2100.0f).put(1200.0f));
     if (i % 2 == 0) w.data(3, UlogPayload().put(t).put<std::uint8_t>(static_cast<std::uint8_t>(1 + i % 3)));
     if (i % 3 == 0) w.data(4, UlogPayload().put(t).put(i % 2 == 0).put(i % 4 == 0));
+    if (battery && i % 2 == 0) w.data(5, UlogPayload().put(t).put(i == 2 ? NAN : 1.0f + 0.05f * static_cast<float>(i)).put(i != 4));
   }
   return w;
 }
@@ -86,6 +94,7 @@ int main(int argc, char** argv) {
   save(dir, "px4-actuator-outputs.ulg", px4Flight(false, 6).bytes());
   save(dir, "px4-rotor-geometry.ulg", px4Flight(true, 6, true).bytes());
   save(dir, "px4-estimator-resets.ulg", px4Flight(true, 6, false, true).bytes());
+  save(dir, "px4-battery-scaling.ulg", px4Flight(true, 8, false, false, true).bytes());
   {
     std::vector<std::uint8_t> b = px4Flight(true, 4).bytes();
     b.resize(b.size() - 7);

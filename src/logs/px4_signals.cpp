@@ -385,6 +385,47 @@ LogIssue motorTable(const DecodedLog& log, const Px4SignalOptions& options, std:
   return {};
 }
 
+// PX4's battery scaling undone. Where MC_BAT_SCALE_EN is set, mc_rate_control multiplies its
+// thrust and torque setpoints by battery_status.scale (≥ 1 as the battery drains: its charged cell
+// voltage over the present one, capped at 1.3 — PX4's Battery::computeScale) before the control
+// allocation, so that a draining battery gives the same thrust: a command then is the thrust of a
+// full battery × scale, and each is divided by the scale in force at its time (the last
+// battery_status row of instance 0 at or before it, connected, with scale > 0; none before the
+// first, as PX4 starts unscaled). Returns the conventions line.
+std::string undoBatteryScale(const DecodedLog& log, SignalSeries<kMotors>& command) {
+  bool found = false;
+  const double enabled = parameter(log, "MC_BAT_SCALE_EN", 0.0, found);
+  if (!found) return "battery: MC_BAT_SCALE_EN not in the log: PX4's default (0, no battery scaling) assumed; commands as logged";
+  if (enabled == 0.0) return "battery: PX4 does not scale its commands for the battery (MC_BAT_SCALE_EN 0); commands as logged";
+  const LogTopic* battery = findNonEmpty(log, "battery_status");
+  const std::vector<double>* scale = battery ? optionalColumn(*battery, "scale") : nullptr;
+  if (!scale)
+    return "battery: MC_BAT_SCALE_EN 1 but the log has no battery_status.scale: PX4's battery scaling not undone (a draining "
+           "battery reads as more thrust on every motor)";
+  const std::vector<double>* connected = optionalColumn(*battery, "connected");
+  std::size_t row = 0, rows_used = 0;
+  double in_force = 1.0, lo = 0.0, hi = 0.0;
+  bool any = false;
+  for (std::size_t k = 0; k < command.t.size(); ++k) {
+    for (; row < battery->rows() && seconds(battery->timestamp_us[row]) <= command.t[k]; ++row) {
+      const double x = (*scale)[row];
+      if (std::isfinite(x) && x > 0.0 && (!connected || (*connected)[row] != 0.0)) {
+        in_force = x;
+        ++rows_used;
+        lo = any ? std::min(lo, x) : x;
+        hi = any ? std::max(hi, x) : x;
+        any = true;
+      }
+    }
+    for (double& u : command.v[k]) u = std::clamp(u / in_force, 0.0, 1.0);
+  }
+  if (!any) return "battery: MC_BAT_SCALE_EN 1 but no battery_status row before the last command holds a scale: commands as logged";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.3f … %.3f", lo, hi);
+  return "battery: PX4's battery scaling undone (MC_BAT_SCALE_EN 1): each command ÷ battery_status.scale, " + std::string(buf) +
+         " (" + std::to_string(rows_used) + " rows), so the thrust fractions are of a full battery's maximum";
+}
+
 LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options, FlightSignals& out) {
   std::array<int, kMotors> table{};
   std::string table_note;
@@ -453,6 +494,7 @@ LogIssue extractCommands(const DecodedLog& log, const Px4SignalOptions& options,
                               (has_factor ? "" : options.default_thrust_model_factor == 0.0 ? " (not in the log: assumed 0, linear)"
                                                                               : " (not in the log: the vehicle description's)"));
   }
+  out.conventions.push_back(undoBatteryScale(log, out.command));
   out.conventions.push_back("motors: PX4's numbering mapped to quadfdi's: " + motorTableText(table) + table_note);
   noteSkipped(out, out.command.source.topic, skipped);
   return {};

@@ -38,6 +38,7 @@ struct Px4Flight {
   bool with_motors = true;
   bool with_position = true;
   std::vector<std::array<float, 4>> pwm;     // actuator_outputs.output[0..3]
+  std::vector<float> battery_scale;          // battery_status.scale per sample (none: no battery_status), connected
 };
 
 std::vector<std::uint8_t> writeFlight(const Px4Flight& f, UlogWriter w = UlogWriter()) {
@@ -46,14 +47,17 @@ std::vector<std::uint8_t> writeFlight(const Px4Flight& f, UlogWriter w = UlogWri
   w.format("actuator_outputs:uint64_t timestamp;uint32_t noutputs;float[16] output;");
   w.format("vehicle_status:uint64_t timestamp;uint8_t arming_state;");
   w.format("vehicle_land_detected:uint64_t timestamp;bool maybe_landed;bool landed;");
+  w.format("battery_status:uint64_t timestamp;float voltage_v;float scale;bool connected;");
   if (f.with_position) w.subscribe(0, 0, "vehicle_local_position");
   w.subscribe(0, 1, "vehicle_attitude");
   if (f.with_motors) w.subscribe(0, 2, "actuator_motors");
   w.subscribe(0, 3, "actuator_outputs");
   w.subscribe(0, 4, "vehicle_status");
   w.subscribe(0, 5, "vehicle_land_detected");
+  if (!f.battery_scale.empty()) w.subscribe(0, 6, "battery_status");
   for (std::size_t i = 0; i < f.attitude.size(); ++i) {
     const std::uint64_t t = 1000000 + i * 10000;
+    if (i < f.battery_scale.size()) w.data(6, UlogPayload().put(t).put(16.0f).put(f.battery_scale[i]).put(true));
     if (f.with_position)
       w.data(0, UlogPayload()
                     .put(t)
@@ -139,6 +143,56 @@ TEST(Px4Signals, ActuatorMotorsInQuadfdiOrder) {
   EXPECT_EQ(s.command.v[1][0], 0.0);  // NaN = disarmed
   EXPECT_EQ(s.command.v[1][2], 1.0);  // clamped
   EXPECT_EQ(s.command.v[1][3], 0.0);  // negative (reverse) clamped
+}
+
+// With MC_BAT_SCALE_EN, PX4 multiplies its setpoints by battery_status.scale so that a draining
+// battery gives the same thrust: each command is divided back by the scale in force at its time.
+// Without the parameter set (PX4's default) the commands stay as logged.
+TEST(Px4Signals, BatteryScalingIsUndoneWhereEnabled) {
+  Px4Flight f;
+  const std::array<float, 4> thrust{0.30f, 0.35f, 0.40f, 0.45f};  // PX4 order, of a full battery's maximum
+  for (int i = 0; i < 20; ++i) {
+    f.attitude.push_back(px4Quaternion(0, 0, 0));
+    f.ned.push_back({0, 0, -1});
+    const float scale = 1.0f + 0.01f * static_cast<float>(i);  // the battery draining: 1 → 1.19
+    std::array<float, 4> command{};
+    for (std::size_t m = 0; m < 4; ++m) command[m] = thrust[m] * scale;
+    f.motors.push_back(command);
+    if (i % 5 == 0) f.battery_scale.push_back(scale);  // logged now and then: held in between
+    else f.battery_scale.push_back(std::nanf(""));     // a row PX4 would not use (NaN scale)
+  }
+  const auto lineOf = [](const FlightSignals& s) {
+    for (const std::string& c : s.conventions)
+      if (c.rfind("battery: ", 0) == 0) return c;
+    return std::string();
+  };
+  LogIssue issue;
+  UlogWriter enabled;
+  enabled.paramInt("MC_BAT_SCALE_EN", 1);
+  const FlightSignals s = extract(writeFlight(f, enabled), issue);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  ASSERT_EQ(s.command.v.size(), 20u);
+  const int px4_of_quadfdi[4] = {0, 3, 1, 2};  // quadfdi 1 FR, 2 BR, 3 BL, 4 FL = PX4 1, 4, 2, 3
+  for (std::size_t i = 0; i < 20; ++i) {
+    // The scale in force: the last one logged at or before the command (commands 2 µs after it).
+    const double in_force = 1.0 + 0.01 * static_cast<double>(i - i % 5);
+    const double own = 1.0 + 0.01 * static_cast<double>(i);
+    for (std::size_t k = 0; k < 4; ++k) {
+      const double logged = static_cast<double>(thrust[static_cast<std::size_t>(px4_of_quadfdi[k])] * static_cast<float>(own));
+      EXPECT_NEAR(s.command.v[i][k], logged / in_force, 1e-6) << i << " " << k;
+    }
+  }
+  EXPECT_EQ(lineOf(s), "battery: PX4's battery scaling undone (MC_BAT_SCALE_EN 1): each command ÷ battery_status.scale, 1.000 … "
+                       "1.150 (4 rows), so the thrust fractions are of a full battery's maximum");
+  UlogWriter disabled;
+  disabled.paramInt("MC_BAT_SCALE_EN", 0);
+  const FlightSignals off = extract(writeFlight(f, disabled), issue);
+  ASSERT_TRUE(issue.ok()) << issue.message;
+  EXPECT_FLOAT_EQ(static_cast<float>(off.command.v[19][0]), thrust[0] * 1.19f);
+  EXPECT_EQ(lineOf(off), "battery: PX4 does not scale its commands for the battery (MC_BAT_SCALE_EN 0); commands as logged");
+  const FlightSignals unknown = extract(writeFlight(f), issue);
+  EXPECT_EQ(unknown.command.v[19], off.command.v[19]);
+  EXPECT_NE(lineOf(unknown).find("MC_BAT_SCALE_EN not in the log"), std::string::npos);
 }
 
 // The control allocation's geometry as PX4 ≥ 1.13 logs it: rotor i at (px, py) [m, FRD], km > 0
@@ -583,6 +637,38 @@ TEST(Px4Signals, RealSampleLogBodyRatesAgreeWithTheAttitudesChange) {
 
 // PX4 SITL on the ground: EKF2 reset its heading twice (t = 1.244 s and 8.856 s, by 4.1 and 1.2 mrad),
 // and vehicle_attitude jumps there by as much: read, the attitude is continuous.
+// The real logs say what their battery scaling is: their parameter and their battery_status.
+TEST(Px4Signals, RealLogsSayWhetherPx4ScaledForTheBattery) {
+  for (const char* name : {"sample_log_small.ulg", "sample_logging_tagged_and_default_params.ulg"}) {
+    DecodedLog log;
+    if (!readRealLog(name, log)) GTEST_SKIP() << "../shared/logs/px4/" << name << " not found";
+    FlightSignals s;
+    const LogIssue issue = extractPx4Signals(log, Px4SignalOptions{}, s);
+    ASSERT_TRUE(issue.ok()) << issue.topic << ": " << issue.message;
+    const auto lineOf = [](const FlightSignals& f) {
+      for (const std::string& c : f.conventions)
+        if (c.rfind("battery: ", 0) == 0) return c;
+      return std::string();
+    };
+    // Both flew with PX4's default: no scaling, so the commands are as logged.
+    EXPECT_EQ(lineOf(s), "battery: PX4 does not scale its commands for the battery (MC_BAT_SCALE_EN 0); commands as logged") << name;
+    // Their battery_status.scale, read as if scaling had been on: within PX4's own bounds [1, 1.3],
+    // and the commands divided by it.
+    log.parameters["MC_BAT_SCALE_EN"] = 1.0;
+    FlightSignals scaled;
+    ASSERT_TRUE(extractPx4Signals(log, Px4SignalOptions{}, scaled).ok());
+    const std::string line = lineOf(scaled);
+    std::printf("[ real log ] %s read as if MC_BAT_SCALE_EN were 1: %s\n", name, line.c_str());
+    double lo = 0.0, hi = 0.0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "battery: PX4's battery scaling undone (MC_BAT_SCALE_EN 1): each command ÷ battery_status.scale, %lf … %lf", &lo, &hi), 2) << line;
+    EXPECT_GE(lo, 1.0);
+    EXPECT_LE(hi, 1.3);
+    ASSERT_EQ(scaled.command.v.size(), s.command.v.size());
+    for (std::size_t k = 0; k < s.command.v.size(); ++k)
+      for (std::size_t m = 0; m < 4; ++m) ASSERT_LE(scaled.command.v[k][m], s.command.v[k][m] + 1e-12);
+  }
+}
+
 TEST(Px4Signals, RealLogsHeadingResetsAreTakenOut) {
   DecodedLog log;
   if (!readRealLog("sample_logging_tagged_and_default_params.ulg", log))
