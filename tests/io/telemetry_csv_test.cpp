@@ -165,6 +165,20 @@ std::string firstRefusal(const std::string& csv, const std::string& name, const 
 
 // A simulator that logs orientation as a quaternion needs no converter: qw,qx,qy,qz stand in for
 // roll,pitch,yaw and give the same ZYX angles, near gimbal lock and across yaw = ±π too.
+// A hexacopter's or octocopter's telemetry (u5, u6 …) is refused naming the column, not read as a
+// quad's first four motors; columns that only look alike (u0, u10 of nothing, "u5x") are extra columns.
+TEST(TelemetryCsv, AMotorBeyondTheFourthIsRefused) {
+  const std::string row = "0,0,0,1,0,0,0,1,1,1,1,1,1\n";
+  EXPECT_EQ(firstRefusal("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,u5,u6\n" + row, "hexa.csv"),
+            "hexa.csv:1: column 'u5': a motor beyond the fourth — quadfdi detects faults on quadrotors, whose four motors are "
+            "u1..u4; a hexacopter's or octocopter's telemetry is not read as a quad's");
+  EXPECT_EQ(firstRefusal("# exported\nt\tx\ty\tz\troll\tpitch\tyaw\tu1\tu2\tu3\tu4\tu8 [N]\n0\t0\t0\t1\t0\t0\t0\t1\t1\t1\t1\t1\n", "octo.tsv")
+                .rfind("octo.tsv:2: column 'u8 [N]': a motor beyond the fourth", 0),
+            0u);
+  for (const char* extra : {"u0", "u5x", "u05", "battery"})
+    EXPECT_EQ(firstRefusal(std::string("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,") + extra + ",u40x\n" + row, "quad.csv"), "accepted") << extra;
+}
+
 // A line past the reader's bound (1 MiB) is no telemetry: a device or a binary file read as CSV
 // would otherwise be read into memory without end. Lines up to it read; the last needs no newline.
 TEST(TelemetryCsv, ALineLongerThanTheBoundIsRefusedNamingIt) {

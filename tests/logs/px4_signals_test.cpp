@@ -83,6 +83,13 @@ std::vector<std::uint8_t> writeFlight(const Px4Flight& f, UlogWriter w = UlogWri
   return w.bytes();
 }
 
+// The conventions line that starts with `prefix` ("battery: "), or "".
+std::string conventionLine(const FlightSignals& s, const std::string& prefix) {
+  for (const std::string& c : s.conventions)
+    if (c.rfind(prefix, 0) == 0) return c;
+  return {};
+}
+
 FlightSignals extract(const std::vector<std::uint8_t>& bytes, LogIssue& issue, const Px4SignalOptions& o = {}) {
   DecodedLog log;
   const LogIssue read = readUlog(ByteSpan{bytes.data(), bytes.size()}, log);
@@ -161,11 +168,7 @@ TEST(Px4Signals, BatteryScalingIsUndoneWhereEnabled) {
     if (i % 5 == 0) f.battery_scale.push_back(scale);  // logged now and then: held in between
     else f.battery_scale.push_back(std::nanf(""));     // a row PX4 would not use (NaN scale)
   }
-  const auto lineOf = [](const FlightSignals& s) {
-    for (const std::string& c : s.conventions)
-      if (c.rfind("battery: ", 0) == 0) return c;
-    return std::string();
-  };
+  const auto lineOf = [](const FlightSignals& signals) { return conventionLine(signals, "battery: "); };
   LogIssue issue;
   UlogWriter enabled;
   enabled.paramInt("MC_BAT_SCALE_EN", 1);
@@ -645,11 +648,7 @@ TEST(Px4Signals, RealLogsSayWhetherPx4ScaledForTheBattery) {
     FlightSignals s;
     const LogIssue issue = extractPx4Signals(log, Px4SignalOptions{}, s);
     ASSERT_TRUE(issue.ok()) << issue.topic << ": " << issue.message;
-    const auto lineOf = [](const FlightSignals& f) {
-      for (const std::string& c : f.conventions)
-        if (c.rfind("battery: ", 0) == 0) return c;
-      return std::string();
-    };
+    const auto lineOf = [](const FlightSignals& f) { return conventionLine(f, "battery: "); };
     // Both flew with PX4's default: no scaling, so the commands are as logged.
     EXPECT_EQ(lineOf(s), "battery: PX4 does not scale its commands for the battery (MC_BAT_SCALE_EN 0); commands as logged") << name;
     // Their battery_status.scale, read as if scaling had been on: within PX4's own bounds [1, 1.3],
