@@ -154,7 +154,7 @@ inline std::vector<std::uint8_t> writePx4Mission(const Mission& m, const Px4LogO
 }
 
 // ---------- ArduPilot ----------
-inline constexpr std::uint8_t kApAtt = 30, kApXkf1 = 31, kApRcou = 32, kApEv = 33, kApRate = 34, kApImu = 35;
+inline constexpr std::uint8_t kApAtt = 30, kApXkf1 = 31, kApRcou = 32, kApEv = 33, kApRate = 34, kApImu = 35, kApMotb = 36;
 
 // The body rates an ArduPilot log holds: none; RATE R, P, Y [deg/s, FRD] with ATT, as
 // AC_AttitudeControl::Write_Rate logs them; or no RATE but IMU GyrX, GyrY, GyrZ [rad/s, FRD] of two
@@ -186,9 +186,17 @@ struct ApResets {
   double north_at = -1.0;        // [s] (< 0: none) a horizontal reset, in a log without XKF4 OFN, OFE
   double north_metres = 0.0;     // [m] added to XKF1.PN
 };
+// A battery draining while ArduPilot compensates for it (MOT_BAT_VOLT_MAX set): its voltage ratio v
+// falls linearly from `from` to `to` over the log, every throttle is divided by it
+// (ArdupilotThrustMap::pwmFor), and MOTB logs it at 10 Hz where `logged` (LOG_BITMASK bit 17).
+struct ApBattery {
+  double from = 1.0;    // [-] v at t = 0
+  double to = 1.0;      // [-] v at the log's end
+  bool logged = true;   // MOTB written (only when v moves)
+};
 inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
                                            ApRates rates = ApRates::kNone, const ApFrame& frame = kApX,
-                                           const ApResets& reset = {}) {
+                                           const ApResets& reset = {}, const ApBattery& battery = {}) {
   DataflashWriter w;
   w.fmt(kApAtt, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF");
   w.fmt(kApXkf1, "XKF1", "QBccCfffffffccce", "TimeUS,C,Roll,Pitch,Yaw,VN,VE,VD,dPD,PN,PE,PD,GX,GY,GZ,OH");
@@ -197,6 +205,8 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
   if (rates == ApRates::kRate) w.fmt(kApRate, "RATE", "Qffffffffffff", "TimeUS,RDes,R,ROut,PDes,P,POut,YDes,Y,YOut,ADes,A,AOut");
   if (rates == ApRates::kImu)
     w.fmt(kApImu, "IMU", "QBffffffIIfBBHH", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz");
+  const bool motb = battery.logged && (battery.from != 1.0 || battery.to != 1.0);
+  if (motb) w.fmt(kApMotb, "MOTB", "QffffB", "TimeUS,LiftMax,BatVolt,ThLimit,ThrAvMx,FailFlags");
   w.unit(0, '#', "instance");
   w.fmtu(0, kApXkf1, "s#ddhnnnnmmmkkkm", "F-BBB0000000BBBB");
   ArdupilotThrustMap map;  // MOT_PWM_MIN/MAX 1000/2000, SPIN 0.15/0.95, EXPO 0.65
@@ -246,10 +256,15 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
         w.write(kApImu, {micros(t), instance, s.rates[0] + off, -s.rates[1] + off, -s.rates[2] + off, 0.0, 0.0, -9.81, 0, 0, 25.0,
                          1, 1, 400, 400});
       }
+    // The battery's ratio, held over each MOTB interval (0.1 s) as ArduPilot's 0.5 Hz filter nearly holds it.
+    const long motb_every = std::max(1L, std::lround(loop_hz / 10.0));
+    const double ratio = battery.from + (battery.to - battery.from) * (static_cast<double>(n - n % motb_every) * loop) / end;
+    if (motb && n % motb_every == 0)
+      w.write(kApMotb, {micros(t), ratio * (1.0 - map.expo) + map.expo * ratio * ratio, ratio, 1.0, 0.5, 0u});
     std::array<int, 14> pwm{};
     for (std::size_t k = 0; k < 4; ++k)
       pwm[static_cast<std::size_t>(ap_motor[k] - 1)] =
-          static_cast<int>(std::lround(s.t >= m.armed_at ? map.pwmFor(s.u[k] / kMissionMaxThrust) : map.pwm_min));
+          static_cast<int>(std::lround(s.t >= m.armed_at ? map.pwmFor(s.u[k] / kMissionMaxThrust, ratio) : map.pwm_min));
     w.write(kApRcou, {micros(t), pwm[0], pwm[1], pwm[2], pwm[3], 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
     while (static_cast<double>(e) * ekf <= t + 1e-9) {
       const double te = static_cast<double>(e) * ekf;
@@ -270,8 +285,8 @@ inline DataflashWriter ardupilotMissionLog(const Mission& m, double loop_hz = 40
 
 inline std::vector<std::uint8_t> writeArdupilotMission(const Mission& m, double loop_hz = 400.0, double ekf_hz = 25.0,
                                                       ApRates rates = ApRates::kNone, const ApFrame& frame = kApX,
-                                                      const ApResets& reset = {}) {
-  return ardupilotMissionLog(m, loop_hz, ekf_hz, rates, frame, reset).bytes;
+                                                      const ApResets& reset = {}, const ApBattery& battery = {}) {
+  return ardupilotMissionLog(m, loop_hz, ekf_hz, rates, frame, reset, battery).bytes;
 }
 
 // ---------- Crazyflie ----------

@@ -486,6 +486,40 @@ TEST_F(LogDetection, ArdupilotMotorFailureGivesTheCsvPathsAlarmAndMotor) {
   }
 }
 
+// A battery draining from v = 1 to 0.75 while ArduPilot compensates (every throttle ÷ v): with
+// MOTB logged the extractor multiplies it back, and the log gives the CSV path's alarm; without
+// MOTB the PWM reads as up to ≈ 50 % more thrust on every motor, and the report says it was not undone.
+TEST_F(LogDetection, ArdupilotBatteryCompensationIsUndoneWithMotb) {
+  const test::Mission m = test::simulateMission(2, 0.0, 4.0);
+  expectSameAlarmAsCsv(test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kNone, test::kApX, {}, {1.0, 0.75, true}), m, 2);
+  LogSampleSource src;
+  ASSERT_FALSE(fromBytes(test::writeArdupilotMission(m, 400.0, 25.0, test::ApRates::kNone, test::kApX, {}, {1.0, 0.75, false}),
+                         options(), src)
+                   .refused());
+  EXPECT_TRUE(contains(src.report().text(), "battery: voltage compensation not undone: the log has no MOTB")) << src.report().text();
+  const Result unlogged = detect(src);
+  const Result csv = detectCsv(m, src.report().phases[0].eval_begin);
+  std::printf("[ measured ] ArduPilot, battery 1 → 0.75 without MOTB: first alarm %.3f s (motor %d), lowest Θ̂ %.2f; CSV path %.3f s (motor %d)\n",
+              unlogged.summary.first_alarm_t, unlogged.summary.first_alarm_motor, static_cast<double>(unlogged.lowest),
+              csv.summary.first_alarm_t, csv.summary.first_alarm_motor);
+  // A healthy flight: the lowest Θ̂ with the compensation undone is the unsagged log's.
+  const test::Mission healthy = test::simulateMission(0, 1.0, -1.0);
+  double lowest[3] = {};
+  const test::ApBattery batteries[3] = {{}, {1.0, 0.75, true}, {1.0, 0.75, false}};
+  for (int b = 0; b < 3; ++b) {
+    LogSampleSource h;
+    ASSERT_FALSE(fromBytes(test::writeArdupilotMission(healthy, 400.0, 25.0, test::ApRates::kNone, test::kApX, {}, batteries[b]),
+                           options(), h)
+                     .refused());
+    const Result r = detect(h);
+    EXPECT_EQ(r.summary.alarms_raised, 0) << b;
+    lowest[b] = static_cast<double>(r.lowest);
+  }
+  EXPECT_NEAR(lowest[1], lowest[0], 0.02);
+  std::printf("[ measured ] ArduPilot, healthy: lowest Θ̂ %.3f with a full battery, %.3f draining with MOTB, %.3f draining without\n",
+              lowest[0], lowest[1], lowest[2]);
+}
+
 // Each reader's motor order, checked against the physics: a manoeuvring flight logged as PX4,
 // ArduPilot (X, H and PLUS frames) and the Crazyflie write it, read back, turns the vehicle as
 // the reader numbers its motors (detection/numbering_check.h). An ArduPilot log whose FRAME_TYPE
