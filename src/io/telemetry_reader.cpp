@@ -290,11 +290,12 @@ TelemetryReader::TelemetryReader(std::istream& in, std::string name, const Telem
     }
   // A fifth motor's command (u5, u6 …: a hexacopter's or an octocopter's telemetry) would be an
   // extra column here, and its first four motors read as a quad's: refused instead.
+  const auto isDigit = [](char c) { return c >= '0' && c <= '9'; };
   for (const std::string& cell : cells) {
     std::string base = cell, unit;
     if (!splitUnit(cell, base, unit)) base = cell;
-    if (base.size() >= 2 && base.size() <= 3 && base[0] == 'u' && std::all_of(base.begin() + 1, base.end(), [](char c) { return c >= '0' && c <= '9'; }) &&
-        base[1] != '0' && std::stoi(base.substr(1)) > kInputDim)
+    if (base.size() >= 2 && base.size() <= 3 && base[0] == 'u' && base[1] != '0' &&
+        std::all_of(base.begin() + 1, base.end(), isDigit) && std::stoi(base.substr(1)) > kInputDim)
       throw TelemetryError(where() + ": column '" + cell + "': a motor beyond the fourth — quadfdi detects faults on quadrotors, "
                                      "whose four motors are u1..u4; a hexacopter's or octocopter's telemetry is not read as a quad's");
   }

@@ -360,7 +360,6 @@ BatteryRatios batteryRatios(const DecodedLog& log, const ArdupilotThrustMap& map
   return out;
 }
 
-
 double usableVoltageRatio(double v) { return v > 0.0 && v <= 1.0 ? v : 1.0; }
 
 }  // namespace

@@ -387,7 +387,7 @@ LogIssue motorTable(const DecodedLog& log, const Px4SignalOptions& options, std:
 
 // PX4's battery scaling undone. Where MC_BAT_SCALE_EN is set, mc_rate_control multiplies its
 // thrust and torque setpoints by battery_status.scale (≥ 1 as the battery drains: its charged cell
-// voltage over the present one, capped at 1.3 — PX4's Battery::computeScale) before the control
+// voltage over the one its state of charge implies, capped at 1.3 — PX4's Battery::computeScale) before the control
 // allocation, so that a draining battery gives the same thrust: a command then is the thrust of a
 // full battery × scale, and each is divided by the scale in force at its time (the last
 // battery_status row of instance 0 at or before it, connected, with scale > 0; none before the
