@@ -159,12 +159,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fuzz::report(e);
     QUADFDI_FUZZ_CHECK(std::string(e.what()).rfind("fuzz.csv", 0) == 0);
   }
-  // As `quadfdi detect` checks a file for heading resets (io/telemetry_heading.h): the whole file
-  // read with its p,q,r; resets, each finite and at a row's time in order, or one TelemetryError.
+  // As `quadfdi detect` checks a file (io/telemetry_heading.h): the whole file read with its p,q,r;
+  // the rates against the attitude, then resets, each finite and at a row's time in order, or one TelemetryError.
   HeadingResets heading;
   try {
     std::istringstream whole(fuzz::text(data, size));
-    heading = findTelemetryHeadingResets(whole, "fuzz.csv", reading);
+    const TelemetryFileChecks checks = checkTelemetryFile(whole, "fuzz.csv", reading);
+    heading = checks.heading;
+    // The body-rate check: correlations and scale finite, and a verdict only on rows with rates.
+    for (std::size_t i = 0; i < 3; ++i)
+      QUADFDI_FUZZ_CHECK(std::isfinite(checks.rates.axis_correlation[i]) && std::abs(checks.rates.axis_correlation[i]) <= 1.0 + 1e-9);
+    QUADFDI_FUZZ_CHECK(std::isfinite(checks.rates.scale) && checks.rates.scale > 0.0);
+    QUADFDI_FUZZ_CHECK(checks.has_rates || checks.rates.verdict == RateAgreementVerdict::kNotChecked);
+    QUADFDI_FUZZ_CHECK(!checks.rates.text().empty());
     QUADFDI_FUZZ_CHECK(heading.resets.size() == heading.count && (heading.checked || heading.count == 0));
     for (std::size_t i = 0; i < heading.resets.size(); ++i) {
       QUADFDI_FUZZ_CHECK(std::isfinite(heading.resets[i].t) && std::isfinite(heading.resets[i].shift));

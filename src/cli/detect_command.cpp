@@ -394,6 +394,8 @@ int runDetect(const DetectOptions& o) {
   const std::string name = o.input == "-" ? std::string("<stdin>") : o.input;
   std::unique_ptr<TelemetryReader> reader;
   HeadingResets heading;                             // a CSV file's, checked with its p,q,r
+  RateAgreement rate_agreement;                      // its p,q,r against its attitude's turn
+  bool file_rates = false;                           // the file's header has p,q,r
   std::string heading_unread;                        // why its rows could not all be read for the check
   std::unique_ptr<HeadingCorrectedSource> corrected;  // the reader with them taken out
   OpenedLog log;
@@ -413,7 +415,10 @@ int runDetect(const DetectOptions& o) {
     if (!live && std::filesystem::is_regular_file(o.input)) {
       std::ifstream whole(o.input);
       try {
-        heading = findTelemetryHeadingResets(whole, name, csv_reading);
+        TelemetryFileChecks checks = checkTelemetryFile(whole, name, csv_reading);
+        heading = std::move(checks.heading);
+        rate_agreement = checks.rates;
+        file_rates = checks.has_rates;
       } catch (const TelemetryError& e) {
         heading_unread = e.what();  // a row the detector would refuse is refused below; a rates cell only stops the check
       }
@@ -435,9 +440,10 @@ int runDetect(const DetectOptions& o) {
       for (const std::string& w : log.warnings) std::fprintf(stderr, "detect: warning: %s\n", w.c_str());
   }
 
-  // The body-rates model where the telemetry carries rates; the other model where not.
+  // The body-rates model where the telemetry carries rates that agree with its attitude; the other model where not.
   std::string model_path = choice.path;
-  const bool rates = rates_model && source->carriesRates();
+  const bool rates_differ = rate_agreement.verdict == RateAgreementVerdict::kDiffers;
+  const bool rates = rates_model && source->carriesRates() && !rates_differ;
   if (rates) {
     model = std::move(*rates_model);
     model_path = choice.rates_path;
@@ -445,6 +451,9 @@ int runDetect(const DetectOptions& o) {
   const ModelMetadata& m = model.metadata;
   if (!o.quiet && o.model.empty() && o.log.vehicle.empty() && rates)
     std::fprintf(stderr, "detect: model %s (the telemetry carries body rates: the general body-rates model)\n", model_path.c_str());
+  if (!o.quiet && o.model.empty() && o.log.vehicle.empty() && rates_model && rates_differ)
+    std::fprintf(stderr, "detect: model %s (the telemetry's p,q,r do not agree with its attitude's turn, warned below: the general "
+                         "model, which does not read them, not %s)\n", model_path.c_str(), choice.rates_path.c_str());
   if (!o.quiet && o.model.empty() && !o.log.vehicle.empty()) {
     // Say where the model came from: the vehicle's own, the general one (so a user knows to train
     // one), or $QUADFDI_MODEL, which wins over the vehicle's own.
@@ -457,7 +466,10 @@ int runDetect(const DetectOptions& o) {
                             : choice.source == Source::kGeneral ? "the general model: " + no_own + " for"
                                                                 : "for";
     std::fprintf(stderr, "detect: model %s (%s --vehicle %s)\n", model_path.c_str(), why.c_str(), o.log.vehicle.c_str());
-    if (!choice.rates_path.empty() && !rates)
+    if (!choice.rates_path.empty() && !rates && rates_differ)
+      std::fprintf(stderr, "detect: the telemetry's p,q,r do not agree with its attitude's turn (warned below): %s, which reads them, "
+                           "is not run\n", choice.rates_path.c_str());
+    else if (!choice.rates_path.empty() && !rates)
       std::fprintf(stderr, "detect: the telemetry has no body rates: %s, which reads them, is not run (give columns p,q,r, or "
                            "log them: docs/conventions.md#body-rates)\n", choice.rates_path.c_str());
   }
@@ -536,6 +548,7 @@ int runDetect(const DetectOptions& o) {
   RecordingSink sink(json, o.plot.empty() ? nullptr : &recorded, episodes, warnings);
   SessionConfig session;
   session.live = live;
+  session.numbering_from_rates = !rates_differ;
   const SessionResult r = runDetection(*detector, *source, sink, session);
   if (r.status == SessionStatus::kNotIncreasing)
     throw TelemetryError(r.where + ": time goes backwards (t = " + std::to_string(r.t) + " s)");
@@ -572,8 +585,17 @@ int runDetect(const DetectOptions& o) {
   if (heading.count > 0) {
     warnings.push_back(name + ": " + headingResetsLine(heading, kCsvGyro, ""));
     if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
-  } else if (!o.quiet && (heading.checked || !heading_unread.empty())) {
-    std::fprintf(stderr, "detect: %s\n", headingResetsLine(heading, kCsvGyro, "p,q,r not read: " + heading_unread).c_str());
+  } else if (!o.quiet && (file_rates || !heading_unread.empty())) {
+    const std::string why = rates_differ ? "the gyro columns do not agree with the attitude's turn (warned below)" : "p,q,r not read: " + heading_unread;
+    std::fprintf(stderr, "detect: %s\n", headingResetsLine(heading, kCsvGyro, why).c_str());
+  }
+  // Its p,q,r against the attitude's own turn: another frame, unit or order is a warning (a rates
+  // model reads them), agreement or no verdict a line.
+  if (rate_agreement.verdict == RateAgreementVerdict::kDiffers) {
+    warnings.push_back(name + ": " + rate_agreement.text() + " (docs/conventions.md#body-rates)");
+    if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
+  } else if (!o.quiet && file_rates) {
+    std::fprintf(stderr, "detect: %s\n", rate_agreement.text().c_str());
   }
   // The motor columns against the flight's rotation (detection/numbering_check.h): a numbering
   // that does not fit gets every fault named on the wrong motor, so it is a warning, in the summary too.

@@ -11,7 +11,7 @@ SessionResult runDetection(Detector& detector, SampleSource& source, DetectionSi
   std::string problem;
   DetectorOutput d;
   NumberingCheck numbering;
-  numbering.setup(source.carriesRates());
+  numbering.setup(source.carriesRates() && config.numbering_from_rates);
   double last_t = 0.0;  // [s] of the last sample read
   if (detector.readsRates() && !source.carriesRates()) {  // zeros read as rates would be a vehicle at rest
     result.status = SessionStatus::kNoRates;

@@ -40,6 +40,9 @@ struct SessionResult {
 struct SessionConfig {
   bool live = false;        // read ahead only while the source says more input is ready
   int max_warnings = 10;    // [-] skipped-row warnings (of each kind) passed on individually; the rest are counted
+  // false: the motor-numbering check takes the angular acceleration from the attitude even where
+  // the source carries body rates (rates found not to agree with the attitude: logs/rate_agreement.h).
+  bool numbering_from_rates = true;
 };
 
 // Runs to the end of the source (or the first refusal), then finishes the detector. Source

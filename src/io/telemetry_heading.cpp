@@ -10,6 +10,11 @@ namespace quadfdi {
 
 HeadingResets findTelemetryHeadingResets(std::istream& in, const std::string& name, TelemetryReaderOptions options,
                                          const HeadingResetOptions& check) {
+  return checkTelemetryFile(in, name, std::move(options), check).heading;
+}
+
+TelemetryFileChecks checkTelemetryFile(std::istream& in, const std::string& name, TelemetryReaderOptions options,
+                                       const HeadingResetOptions& check) {
   options.read_rates = true;
   TelemetryReader reader(in, name, options);
   if (!reader.carriesRates()) return {};
@@ -24,7 +29,11 @@ HeadingResets findTelemetryHeadingResets(std::istream& in, const std::string& na
     rates.t.push_back(s.t);
     rates.v.push_back(s.rates);
   }
-  return takeOutHeadingResets(attitude, rates, check);
+  TelemetryFileChecks out;
+  out.has_rates = true;
+  out.rates = checkRateAgreement(attitude, rates);  // a reset moves one window only
+  if (out.rates.verdict != RateAgreementVerdict::kDiffers) out.heading = takeOutHeadingResets(attitude, rates, check);
+  return out;
 }
 
 HeadingCorrectedSource::HeadingCorrectedSource(SampleSource& inner, std::vector<HeadingShift> resets)

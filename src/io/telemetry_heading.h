@@ -1,4 +1,5 @@
-// Estimator heading resets in a telemetry CSV (logs/heading_resets.h), for `detect` on a file.
+// Estimator heading resets in a telemetry CSV (logs/heading_resets.h), and its body rates against
+// its attitude (logs/rate_agreement.h), for `detect` on a file.
 //
 // The check needs the whole file: the attitude's own row-to-row noise sets its threshold, and a
 // row is judged against its neighbours on both sides. A CSV is read row by row into the detector,
@@ -15,6 +16,7 @@
 #include "core/sample_source.h"
 #include "io/telemetry_reader.h"
 #include "logs/heading_resets.h"
+#include "logs/rate_agreement.h"
 
 namespace quadfdi {
 
@@ -24,6 +26,16 @@ namespace quadfdi {
 // the header has no p,q,r. Throws TelemetryError as TelemetryReader does (a bad header or row).
 HeadingResets findTelemetryHeadingResets(std::istream& in, const std::string& name, TelemetryReaderOptions options,
                                          const HeadingResetOptions& check = {});
+
+// What the whole reading checks: whether p,q,r agree with the attitude's own turn
+// (logs/rate_agreement.h), and where they do, the heading resets they do not show.
+struct TelemetryFileChecks {
+  bool has_rates = false;  // the header has p,q,r (else nothing was checked)
+  RateAgreement rates;
+  HeadingResets heading;   // not checked where the rates do not agree with the attitude (RateAgreementVerdict::kDiffers)
+};
+TelemetryFileChecks checkTelemetryFile(std::istream& in, const std::string& name, TelemetryReaderOptions options,
+                                       const HeadingResetOptions& check = {});
 
 // `inner`'s samples with each reset of `resets` taken out of the yaw of every sample at or after its t
 // (as takeOutHeadingResets does to a log's attitude). `inner` outlives it.

@@ -718,6 +718,62 @@ TEST(DetectCli, AMotorOrderThatDoesNotTurnTheVehicleIsWarnedAbout) {
   EXPECT_EQ(short_flight.out.find("warning"), std::string::npos) << short_flight.out;
 }
 
+// A file's p,q,r checked against its own attitude's turn (logs/rate_agreement.h): as simulated,
+// they agree; in FRD beside z-up attitude, or in degrees per second, a warning names what they
+// hold, the model that does not read rates runs instead of the body-rates one, and the numbering
+// check takes its turn from the attitude.
+TEST(DetectCli, BodyRatesThatDoNotAgreeWithTheAttitudeAreWarnedAbout) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string flight = temp("circle-rates.csv"), frd = temp("circle-rates-frd.csv"), deg = temp("circle-rates-deg.csv");
+  ASSERT_EQ(run("simulate --rates --controller pid --params " + src + "/configs/vehicles/quad450.toml --trajectory circle --speed 1.5 "
+                "--steps 6000 --seed 3 --attitude-noise 0.002 --rate-noise 0.02 --rotor-drag 0.2 --wind-speed 3 --turbulence 1.5 "
+                "--output " + flight).exit_code, 0);
+  {
+    std::istringstream in(readFile(flight));
+    std::ofstream out_frd(frd), out_deg(deg);
+    std::string line;
+    std::getline(in, line);
+    out_frd << line << "\n";
+    out_deg << line << "\n";
+    while (std::getline(in, line)) {
+      std::vector<std::string> c = csvCells(line), d = c;
+      ASSERT_EQ(c.size(), 14u);
+      for (std::size_t i : {12u, 13u}) c[i] = c[i][0] == '-' ? c[i].substr(1) : "-" + c[i];
+      for (std::size_t i : {11u, 12u, 13u}) d[i] = std::to_string(std::stod(d[i]) * 180.0 / M_PI);
+      for (std::size_t i = 0; i < c.size(); ++i) {
+        out_frd << (i ? "," : "") << c[i];
+        out_deg << (i ? "," : "") << d[i];
+      }
+      out_frd << "\n";
+      out_deg << "\n";
+    }
+  }
+  const CommandResult agrees = run("detect --input " + flight + " --output " + temp("circle-rates.jsonl"));
+  ASSERT_EQ(agrees.exit_code, 0) << agrees.out;
+  EXPECT_NE(agrees.out.find("detect: body rates: p,q,r agree with the attitude's own turn over 599 windows"), std::string::npos) << agrees.out;
+  EXPECT_NE(agrees.out.find("(the telemetry carries body rates: the general body-rates model)"), std::string::npos) << agrees.out;
+  const std::string summary = temp("circle-rates-frd.json");
+  const CommandResult turned = run("detect --input " + frd + " --output " + temp("circle-rates-frd.jsonl") + " --summary " + summary);
+  ASSERT_EQ(turned.exit_code, 0) << turned.out;
+  EXPECT_NE(turned.out.find("detect: warning: " + frd + ": body rates: the attitude turns as (p, −q, −r) would, not as p,q,r read"),
+            std::string::npos)
+      << turned.out;
+  EXPECT_NE(turned.out.find("FRD rates (PX4, ArduPilot, Gazebo) beside attitude in quadfdi's frames?"), std::string::npos) << turned.out;
+  EXPECT_NE(turned.out.find("the general model, which does not read them, not"), std::string::npos) << turned.out;
+  EXPECT_NE(turned.out.find("detect: heading: not checked for estimator resets the log does not record: the gyro columns do not agree"),
+            std::string::npos)
+      << turned.out;
+  EXPECT_NE(turned.out.find("detect: motor numbering: consistent over 11.7 s of flight (its angular acceleration, from the attitude"),
+            std::string::npos)
+      << turned.out;
+  const nlohmann::json j = nlohmann::json::parse(readFile(summary));
+  EXPECT_NE(j["model"].get<std::string>().find("tcn-randomised.qfdw"), std::string::npos) << j["model"];
+  ASSERT_EQ(j["warnings"].size(), 1u);
+  EXPECT_NE(j["warnings"][0].get<std::string>().find("body rates: the attitude turns as (p, −q, −r)"), std::string::npos);
+  const CommandResult degrees = run("detect --input " + deg + " --output " + temp("circle-rates-deg.jsonl"));
+  EXPECT_NE(degrees.out.find("p,q,r look like degrees per second read as radians (--csv-rate-unit deg/s"), std::string::npos) << degrees.out;
+}
+
 // A simulator of PX4 or ArduPilot writes NED positions and FRD angles. Read with --csv-frame ned,
 // the output is that of the same flight in quadfdi's frames, byte for byte; the flag is refused on
 // a flight log (whose frames its reader knows).

@@ -2,6 +2,7 @@
 // conventions out: frames, Euler signs, motor order, PWM and thrust model, states) and the real
 // sample log.
 #include "logs/px4_signals.h"
+#include "logs/rate_agreement.h"
 
 #include <gtest/gtest.h>
 
@@ -640,6 +641,28 @@ TEST(Px4Signals, RealSampleLogBodyRatesAgreeWithTheAttitudesChange) {
 
 // PX4 SITL on the ground: EKF2 reset its heading twice (t = 1.244 s and 8.856 s, by 4.1 and 1.2 mrad),
 // and vehicle_attitude jumps there by as much: read, the attitude is continuous.
+// The rate-agreement check (logs/rate_agreement.h) on real flights, two still hovers (the gyro
+// moving 0.006–0.008 rad/s): the gyro as the extractor reads it is the order that fits the
+// attitude EKF2 logs, and no warning is given; turned into FRD, that is the order that fits, named.
+TEST(Px4Signals, RealLogsRatesFitTheirAttitudeByTheRateCheck) {
+  for (const char* name : {"sample_log_small.ulg", "sample_logging_tagged_and_default_params.ulg"}) {
+    DecodedLog log;
+    if (!readRealLog(name, log)) GTEST_SKIP() << "../shared/logs/px4/" << name << " not found";
+    FlightSignals s;
+    ASSERT_TRUE(extractPx4Signals(log, Px4SignalOptions{}, s).ok());
+    const RateAgreement a = checkRateAgreement(s.attitude, s.rates);
+    std::printf("[ real log ] %s: %s\n", name, a.text().c_str());
+    EXPECT_NE(a.verdict, RateAgreementVerdict::kDiffers) << a.text();
+    EXPECT_EQ(a.axis, (std::array<int, 3>{0, 1, 2})) << a.text();
+    EXPECT_EQ(a.sign, (std::array<int, 3>{1, 1, 1})) << a.text();
+    for (auto& w : s.rates.v) w = {w[0], -w[1], -w[2]};
+    const RateAgreement frd = checkRateAgreement(s.attitude, s.rates);
+    std::printf("[ real log ] %s, its rates turned into FRD: %s\n", name, frd.text().c_str());
+    EXPECT_EQ(frd.sign, (std::array<int, 3>{1, -1, -1})) << frd.text();
+    EXPECT_EQ(frd.verdict, RateAgreementVerdict::kDiffers) << frd.text();
+  }
+}
+
 // The real logs say what their battery scaling is: their parameter and their battery_status.
 TEST(Px4Signals, RealLogsSayWhetherPx4ScaledForTheBattery) {
   for (const char* name : {"sample_log_small.ulg", "sample_logging_tagged_and_default_params.ulg"}) {
