@@ -486,19 +486,21 @@ TEST(DetectCli, APipelineFromSimulateGivesTheFileModeOutput) {
   EXPECT_EQ(file.out, pipe.out);
 }
 
-// Copies a `simulate` CSV (header t,x,y,z,roll,pitch,yaw,u1..u4) with each row's cells changed by `edit`.
+// Copies a `simulate` CSV (header t,x,y,z,roll,pitch,yaw,u1..u4, then p,q,r with --rates) with
+// each row's cells changed by `edit`.
 void rewriteRows(const std::string& from, const std::string& to, const std::function<void(std::vector<std::string>&)>& edit) {
   std::istringstream in(readFile(from));
   std::ofstream out(to);
   std::string line;
   std::getline(in, line);
-  ASSERT_EQ(line, "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4");
+  ASSERT_EQ(line.rfind("t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4", 0), 0u);
+  const std::size_t columns = line == "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4" ? 11u : 14u;
   out << line << "\n";
   while (std::getline(in, line)) {
     std::vector<std::string> cells;
     std::istringstream row(line);
     for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
-    ASSERT_EQ(cells.size(), 11u);
+    ASSERT_EQ(cells.size(), columns);
     edit(cells);
     for (std::size_t i = 0; i < cells.size(); ++i) out << (i ? "," : "") << cells[i];
     out << "\n";
@@ -728,26 +730,12 @@ TEST(DetectCli, BodyRatesThatDoNotAgreeWithTheAttitudeAreWarnedAbout) {
   ASSERT_EQ(run("simulate --rates --controller pid --params " + src + "/configs/vehicles/quad450.toml --trajectory circle --speed 1.5 "
                 "--steps 6000 --seed 3 --attitude-noise 0.002 --rate-noise 0.02 --rotor-drag 0.2 --wind-speed 3 --turbulence 1.5 "
                 "--output " + flight).exit_code, 0);
-  {
-    std::istringstream in(readFile(flight));
-    std::ofstream out_frd(frd), out_deg(deg);
-    std::string line;
-    std::getline(in, line);
-    out_frd << line << "\n";
-    out_deg << line << "\n";
-    while (std::getline(in, line)) {
-      std::vector<std::string> c = csvCells(line), d = c;
-      ASSERT_EQ(c.size(), 14u);
-      for (std::size_t i : {12u, 13u}) c[i] = c[i][0] == '-' ? c[i].substr(1) : "-" + c[i];
-      for (std::size_t i : {11u, 12u, 13u}) d[i] = std::to_string(std::stod(d[i]) * 180.0 / M_PI);
-      for (std::size_t i = 0; i < c.size(); ++i) {
-        out_frd << (i ? "," : "") << c[i];
-        out_deg << (i ? "," : "") << d[i];
-      }
-      out_frd << "\n";
-      out_deg << "\n";
-    }
-  }
+  rewriteRows(flight, frd, [](std::vector<std::string>& c) {
+    for (std::size_t i : {12u, 13u}) c[i] = c[i][0] == '-' ? c[i].substr(1) : "-" + c[i];
+  });
+  rewriteRows(flight, deg, [](std::vector<std::string>& c) {
+    for (std::size_t i : {11u, 12u, 13u}) c[i] = std::to_string(std::stod(c[i]) * 180.0 / M_PI);
+  });
   const CommandResult agrees = run("detect --input " + flight + " --output " + temp("circle-rates.jsonl"));
   ASSERT_EQ(agrees.exit_code, 0) << agrees.out;
   EXPECT_NE(agrees.out.find("detect: body rates: p,q,r agree with the attitude's own turn over 599 windows"), std::string::npos) << agrees.out;
@@ -871,22 +859,11 @@ TEST(DetectCli, AMergedExportsHeadingResetIsTakenOutWithItsGyro) {
 TEST(DetectCli, APlainCsvsHeadingResetIsTakenOutWithItsGyro) {
   const std::string flight = temp("rates-failure.csv"), stepped = temp("rates-failure-reset.csv");
   ASSERT_EQ(run("simulate --rates --motor 2 --theta 0 --fault-step 1500 --steps 2000 --seed 6 --output " + flight).exit_code, 0);
-  {
-    std::istringstream in(readFile(flight));
-    std::ofstream out(stepped);
-    std::string line;
-    std::getline(in, line);
-    out << line << "\n";
-    while (std::getline(in, line)) {
-      std::vector<std::string> c = csvCells(line);
-      ASSERT_EQ(c.size(), 14u);
-      char yaw[32];
-      std::snprintf(yaw, sizeof yaw, "%.17g", std::stod(c[6]) + (std::stod(c[0]) >= 1.2 ? 8.0 * M_PI / 180.0 : 0.0));
-      c[6] = yaw;
-      for (std::size_t i = 0; i < c.size(); ++i) out << (i ? "," : "") << c[i];
-      out << "\n";
-    }
-  }
+  rewriteRows(flight, stepped, [](std::vector<std::string>& c) {
+    char yaw[32];
+    std::snprintf(yaw, sizeof yaw, "%.17g", std::stod(c[6]) + (std::stod(c[0]) >= 1.2 ? 8.0 * M_PI / 180.0 : 0.0));
+    c[6] = yaw;
+  });
   const CommandResult clean = run("detect --input " + flight + " --output " + temp("rates-failure.jsonl"));
   ASSERT_EQ(clean.exit_code, 0) << clean.out;
   EXPECT_NE(clean.out.find("detect: heading: each of 1723 attitude steps checked against the gyro (columns p,q,r): no estimator "
