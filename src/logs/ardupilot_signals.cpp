@@ -362,6 +362,13 @@ BatteryRatios batteryRatios(const DecodedLog& log, const ArdupilotThrustMap& map
 
 double usableVoltageRatio(double v) { return v > 0.0 && v <= 1.0 ? v : 1.0; }
 
+// The root x ≥ 0 of e·x² + (1 − e)·x = y: ArduPilot's thrust curve inverted (the throttle of a
+// thrust, apply_thrust_curve_and_volt_scaling), and the voltage ratio of a lift_max alike.
+double curveRoot(double e, double y) {
+  if (std::fabs(e) < 1e-9) return y;
+  return ((e - 1.0) + std::sqrt(std::max(0.0, (1.0 - e) * (1.0 - e) + 4.0 * e * y))) / (2.0 * e);
+}
+
 }  // namespace
 
 double ArdupilotThrustMap::thrustFraction(double pwm, double voltage_ratio) const {
@@ -375,19 +382,13 @@ double ArdupilotThrustMap::thrustFraction(double pwm, double voltage_ratio) cons
 double ArdupilotThrustMap::pwmFor(double thrust_fraction, double voltage_ratio) const {
   // thrust_fraction = lift_max · the controller's demand: apply_thrust_curve_and_volt_scaling's
   // root of e·x² + (1 − e)·x = lift_max·thrust, divided by the voltage ratio.
-  const double t = std::clamp(thrust_fraction, 0.0, 1.0);
-  const double e = std::clamp(expo, -1.0, 1.0);
-  const double x = std::fabs(e) < 1e-9 ? t : ((e - 1.0) + std::sqrt(std::max(0.0, (1.0 - e) * (1.0 - e) + 4.0 * e * t))) / (2.0 * e);
+  const double x = curveRoot(std::clamp(expo, -1.0, 1.0), std::clamp(thrust_fraction, 0.0, 1.0));
   const double throttle = std::clamp(x / usableVoltageRatio(voltage_ratio), 0.0, 1.0);
   const double actuator = spin_min + (spin_max - spin_min) * throttle;  // thrust_to_actuator
   return pwm_min + (pwm_max - pwm_min) * actuator;                      // output_to_pwm
 }
 
-double ArdupilotThrustMap::voltageRatioOfLiftMax(double lift_max) const {
-  const double e = std::clamp(expo, -1.0, 1.0);
-  if (std::fabs(e) < 1e-9) return lift_max;
-  return ((e - 1.0) + std::sqrt(std::max(0.0, (1.0 - e) * (1.0 - e) + 4.0 * e * lift_max))) / (2.0 * e);
-}
+double ArdupilotThrustMap::voltageRatioOfLiftMax(double lift_max) const { return curveRoot(std::clamp(expo, -1.0, 1.0), lift_max); }
 
 LogIssue extractArdupilotSignals(const DecodedLog& log, const ArdupilotSignalOptions& options, FlightSignals& out) {
   out = FlightSignals{};
