@@ -393,10 +393,8 @@ int runDetect(const DetectOptions& o) {
   std::ifstream file;
   const std::string name = o.input == "-" ? std::string("<stdin>") : o.input;
   std::unique_ptr<TelemetryReader> reader;
-  HeadingResets heading;                             // a CSV file's, checked with its p,q,r
-  RateAgreement rate_agreement;                      // its p,q,r against its attitude's turn
-  bool file_rates = false;                           // the file's header has p,q,r
-  std::string heading_unread;                        // why its rows could not all be read for the check
+  TelemetryFileChecks file_checks;                   // a CSV file's p,q,r against its attitude, its heading resets
+  std::string heading_unread;                        // why its rows could not all be read for the checks
   std::unique_ptr<HeadingCorrectedSource> corrected;  // the reader with them taken out
   OpenedLog log;
   SampleSource* source = nullptr;
@@ -415,15 +413,12 @@ int runDetect(const DetectOptions& o) {
     if (!live && std::filesystem::is_regular_file(o.input)) {
       std::ifstream whole(o.input);
       try {
-        TelemetryFileChecks checks = checkTelemetryFile(whole, name, csv_reading);
-        heading = std::move(checks.heading);
-        rate_agreement = checks.rates;
-        file_rates = checks.has_rates;
+        file_checks = checkTelemetryFile(whole, name, csv_reading);
       } catch (const TelemetryError& e) {
         heading_unread = e.what();  // a row the detector would refuse is refused below; a rates cell only stops the check
       }
-      if (!heading.resets.empty()) {
-        corrected = std::make_unique<HeadingCorrectedSource>(*reader, heading.resets);
+      if (!file_checks.heading.resets.empty()) {
+        corrected = std::make_unique<HeadingCorrectedSource>(*reader, file_checks.heading.resets);
         source = corrected.get();
       }
     }
@@ -442,7 +437,7 @@ int runDetect(const DetectOptions& o) {
 
   // The body-rates model where the telemetry carries rates that agree with its attitude; the other model where not.
   std::string model_path = choice.path;
-  const bool rates_differ = rate_agreement.verdict == RateAgreementVerdict::kDiffers;
+  const bool rates_differ = file_checks.rates.verdict == RateAgreementVerdict::kDiffers;
   const bool rates = rates_model && source->carriesRates() && !rates_differ;
   if (rates) {
     model = std::move(*rates_model);
@@ -582,20 +577,21 @@ int runDetect(const DetectOptions& o) {
                                               merged_hint
                                         : std::string()));
   // A CSV file's heading resets: taken out, so said as a warning; a check that ran and found none, in a line.
+  const HeadingResets& heading = file_checks.heading;
   if (heading.count > 0) {
     warnings.push_back(name + ": " + headingResetsLine(heading, kCsvGyro, ""));
     if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
-  } else if (!o.quiet && (file_rates || !heading_unread.empty())) {
+  } else if (!o.quiet && (file_checks.has_rates || !heading_unread.empty())) {
     const std::string why = rates_differ ? "the gyro columns do not agree with the attitude's turn (warned below)" : "p,q,r not read: " + heading_unread;
     std::fprintf(stderr, "detect: %s\n", headingResetsLine(heading, kCsvGyro, why).c_str());
   }
   // Its p,q,r against the attitude's own turn: another frame, unit or order is a warning (a rates
   // model reads them), agreement or no verdict a line.
-  if (rate_agreement.verdict == RateAgreementVerdict::kDiffers) {
-    warnings.push_back(name + ": " + rate_agreement.text() + " (docs/conventions.md#body-rates)");
+  if (rates_differ) {
+    warnings.push_back(name + ": " + file_checks.rates.text() + " (docs/conventions.md#body-rates)");
     if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
-  } else if (!o.quiet && file_rates) {
-    std::fprintf(stderr, "detect: %s\n", rate_agreement.text().c_str());
+  } else if (!o.quiet && file_checks.has_rates) {
+    std::fprintf(stderr, "detect: %s\n", file_checks.rates.text().c_str());
   }
   // The motor columns against the flight's rotation (detection/numbering_check.h): a numbering
   // that does not fit gets every fault named on the wrong motor, so it is a warning, in the summary too.

@@ -8,11 +8,6 @@
 
 namespace quadfdi {
 
-HeadingResets findTelemetryHeadingResets(std::istream& in, const std::string& name, TelemetryReaderOptions options,
-                                         const HeadingResetOptions& check) {
-  return checkTelemetryFile(in, name, std::move(options), check).heading;
-}
-
 TelemetryFileChecks checkTelemetryFile(std::istream& in, const std::string& name, TelemetryReaderOptions options,
                                        const HeadingResetOptions& check) {
   options.read_rates = true;

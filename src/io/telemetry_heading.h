@@ -21,14 +21,11 @@
 namespace quadfdi {
 
 // Every row of `in` read as `options` say, with p,q,r read too (whatever options.read_rates says),
-// up to its end or the first row whose t does not increase (where the detector refuses the file):
-// the resets its attitude shows and its rates do not, in time order. Not checked (checked false, no resets) where
-// the header has no p,q,r. Throws TelemetryError as TelemetryReader does (a bad header or row).
-HeadingResets findTelemetryHeadingResets(std::istream& in, const std::string& name, TelemetryReaderOptions options,
-                                         const HeadingResetOptions& check = {});
-
-// What the whole reading checks: whether p,q,r agree with the attitude's own turn
-// (logs/rate_agreement.h), and where they do, the heading resets they do not show.
+// up to its end or the first row whose t does not increase (where the detector refuses the file),
+// checked: whether p,q,r agree with the attitude's own turn (logs/rate_agreement.h), and where
+// they do, the heading resets they do not show, in time order. Nothing is checked (has_rates
+// false) where the header has no p,q,r. Throws TelemetryError as TelemetryReader does (a bad
+// header or row).
 struct TelemetryFileChecks {
   bool has_rates = false;  // the header has p,q,r (else nothing was checked)
   RateAgreement rates;

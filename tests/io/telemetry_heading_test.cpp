@@ -42,7 +42,7 @@ std::string turningFlight(const std::vector<std::pair<double, double>>& steps, b
 
 HeadingResets find(const std::string& text, const TelemetryReaderOptions& options = {}) {
   std::istringstream in(text);
-  return findTelemetryHeadingResets(in, "flight.csv", options);
+  return checkTelemetryFile(in, "flight.csv", options).heading;
 }
 
 // Every sample of `text` as the detector reads it: through the reader, and through a
