@@ -576,9 +576,21 @@ int runDetect(const DetectOptions& o) {
                          (r.skipped > 0 ? ": all " + std::to_string(r.skipped) + " rows have an empty or non-finite cell; " +
                                               merged_hint
                                         : std::string()));
+  // A CSV file's attitude quaternion against the flight (logs/quaternion_check.h): read otherwise
+  // than written, every attitude the detector sees is wrong, and the checks below judge against it.
+  const bool quaternion_misread = file_checks.quaternion.verdict == QuaternionVerdict::kOtherReading;
+  if (quaternion_misread) {
+    warnings.push_back(name + ": " + file_checks.quaternion.text() + " (docs/conventions.md#attitude-as-a-quaternion)");
+    if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
+  } else if (!o.quiet && file_checks.has_quaternion) {
+    std::fprintf(stderr, "detect: %s\n", file_checks.quaternion.text().c_str());
+  }
   // A CSV file's heading resets: taken out, so said as a warning; a check that ran and found none, in a line.
   const HeadingResets& heading = file_checks.heading;
-  if (heading.count > 0) {
+  if (quaternion_misread) {
+    if (!o.quiet && file_checks.has_rates)
+      std::fprintf(stderr, "detect: body rates and heading resets: not checked (against an attitude read otherwise than written, warned above)\n");
+  } else if (heading.count > 0) {
     warnings.push_back(name + ": " + headingResetsLine(heading, kCsvGyro, ""));
     if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
   } else if (!o.quiet && (file_checks.has_rates || !heading_unread.empty())) {
@@ -590,9 +602,12 @@ int runDetect(const DetectOptions& o) {
   if (rates_differ) {
     warnings.push_back(name + ": " + file_checks.rates.text() + " (docs/conventions.md#body-rates)");
     if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
-  } else if (!o.quiet && file_checks.has_rates) {
+  } else if (!o.quiet && file_checks.has_rates && !quaternion_misread) {
     std::fprintf(stderr, "detect: %s\n", file_checks.rates.text().c_str());
   }
+  // The numbering check turns the attitude as read: where that is not the flight's, its verdict is too.
+  const std::string numbering_caveat =
+      quaternion_misread ? "; judged on the attitude as read, which the quaternion check above finds read otherwise: read it right first" : "";
   // The motor columns against the flight's rotation (detection/numbering_check.h): a numbering
   // that does not fit gets every fault named on the wrong motor, so it is a warning, in the summary too.
   if (r.numbering.verdict == NumberingVerdict::kUpsideDown) {
@@ -600,7 +615,7 @@ int runDetect(const DetectOptions& o) {
                        (log.source ? "; the log is not in the frames its reader takes it to be in"
                         : o.log.csv_frame == "ned" ? "; read it without --csv-frame ned"
                                                : "; read it with --csv-frame ned") +
-                       " (docs/conventions.md#checking-the-motor-numbering)");
+                       numbering_caveat + " (docs/conventions.md#checking-the-motor-numbering)");
     if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
   } else if (r.numbering.verdict == NumberingVerdict::kOtherNumbering) {
     warnings.push_back(name + ": motor numbering: " + r.numbering.text() +
@@ -608,7 +623,7 @@ int runDetect(const DetectOptions& o) {
                                      "mapped to other motors?)"
                                    : "; a file in that order is read with --csv-numbering vehicle and a --vehicle description of it, or "
                                      "with u1..u4 put in quadfdi's order") +
-                       " (docs/conventions.md#checking-the-motor-numbering)");
+                       numbering_caveat + " (docs/conventions.md#checking-the-motor-numbering)");
     if (!o.quiet) std::fprintf(stderr, "detect: warning: %s\n", warnings.back().c_str());
   } else if (!o.quiet) {
     std::fprintf(stderr, "detect: motor numbering: %s\n", r.numbering.text().c_str());

@@ -74,6 +74,12 @@ void addLogInputOptions(OptionTable& t, LogInputOptions& o) {
         "Telemetry CSV: the unit of the optional body rates p, q, r (read by models on scale-free-rates features): rad/s "
         "or deg/s; a unit in the header ('p [deg/s]') says the same")
       .choices({"rad/s", "deg/s"});
+  t.add("--csv-quaternion", o.csv_quaternion,
+        "Telemetry CSV: how its qw,qx,qy,qz columns hold the attitude quaternion: wxyz (Hamilton, scalar first, body → "
+        "world: PX4, ArduPilot, the Crazyflie) or xyzw (scalar last: Eigen's coeffs(), ROS messages, SciPy's as_quat()), "
+        "either with -world-to-body for the inverse rotation (some estimators, JPL-convention filters); detect checks the "
+        "reading against the flight and names a better one (docs/conventions.md)")
+      .choices({"wxyz", "xyzw", "wxyz-world-to-body", "xyzw-world-to-body"});
   t.add("--csv-numbering", o.csv_numbering,
         "Telemetry CSV: whose motor numbers u1..u4 are in: quadfdi (1 front-right, 2 back-right, 3 back-left, 4 "
         "front-left) or vehicle (the --vehicle description's [motor.N] numbering, e.g. PX4's, as a simulator of that "
@@ -111,7 +117,7 @@ void refuseOptionsUnreadBy(const std::string& format, const LogInputOptions& o) 
     refuseGiven(o.given, {"csv_frame"}, "reads a telemetry CSV; a " + format + " log's frames are its autopilot's, which quadfdi knows");
     refuseGiven(o.given, {"csv_commands", "csv_pwm_min", "csv_pwm_max"},
                 "reads a telemetry CSV; a " + format + " log's commands are converted by its reader");
-    refuseGiven(o.given, {"csv_columns", "csv_time_unit", "csv_angle_unit", "csv_rate_unit"},
+    refuseGiven(o.given, {"csv_columns", "csv_time_unit", "csv_angle_unit", "csv_rate_unit", "csv_quaternion"},
                 "reads a telemetry CSV; a " + format + " log names its own fields and units");
     refuseGiven(o.given, {"csv_numbering"}, "reads a telemetry CSV; a " + format + " log carries its autopilot's own motor numbering");
   }
@@ -176,6 +182,8 @@ TelemetryReaderOptions csvReadingOptions(const LogInputOptions& o, const std::op
   r.time_unit = secondsPerTimeUnit(o.csv_time_unit);  // one of s, ms, us, ns (the option's choices)
   r.angles_in_degrees = o.csv_angle_unit == "deg";
   r.rates_in_degrees = o.csv_rate_unit == "deg/s";
+  r.quaternion.scalar_last = o.csv_quaternion.rfind("xyzw", 0) == 0;
+  r.quaternion.world_to_body = o.csv_quaternion.find("world-to-body") != std::string::npos;
   return r;
 }
 

@@ -37,6 +37,7 @@ struct LogInputOptions {
   std::string csv_time_unit = "s";        // s | ms | us | ns: the unit of the t column
   std::string csv_angle_unit = "rad";     // rad | deg: the unit of the roll, pitch, yaw columns
   std::string csv_rate_unit = "rad/s";    // rad/s | deg/s: the unit of the p, q, r columns
+  std::string csv_quaternion = "wxyz";    // wxyz | xyzw [-world-to-body]: how the qw..qz columns are read
   std::string csv_numbering = "quadfdi";  // quadfdi | vehicle: whose motor numbers a CSV's u1..u4 are in
   std::set<std::string> given;       // keys the command was given (its whole table): options a format does not read
 };

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 
 namespace quadfdi {
 
@@ -16,6 +17,12 @@ inline constexpr int kOutputDim = 6;  // y = position (3) then attitude or rates
 // second read as radians per second, most often): flight controllers' MEMS gyros saturate at
 // 2000 °/s (35 rad/s). The one bound of the CSV reader, the conventions layer and its reset check.
 inline constexpr double kMaxBodyRate = 100.0;
+// A logged row of body rates [rad/s] is flight where every component is finite and within kMaxBodyRate.
+inline bool isUsableBodyRate(const std::array<double, 3>& w) {
+  for (double c : w)
+    if (!std::isfinite(c) || std::abs(c) > kMaxBodyRate) return false;
+  return true;
+}
 
 // One measured sample of a flight: what a flight controller has, in quadfdi's conventions.
 struct TelemetrySample {

@@ -12,20 +12,32 @@ TelemetryFileChecks checkTelemetryFile(std::istream& in, const std::string& name
                                        const HeadingResetOptions& check) {
   options.read_rates = true;
   TelemetryReader reader(in, name, options);
-  if (!reader.carriesRates()) return {};
-  SignalSeries<3> attitude, rates;
+  TelemetryFileChecks out;
+  out.has_rates = reader.carriesRates();
+  out.has_quaternion = reader.quaternionAttitude();
+  if (!out.has_rates && !out.has_quaternion) return out;
+  SignalSeries<3> position, attitude, rates;
   TelemetrySample s;
   std::string problem;
   for (SampleSource::Next row; (row = reader.next(s, problem)) != SampleSource::Next::kEnd;) {
     if (row != SampleSource::Next::kSample) continue;
     if (!attitude.t.empty() && !(s.t > attitude.t.back())) break;  // the detector refuses the file here (time going back)
+    position.t.push_back(s.t);
+    position.v.push_back({s.y[0], s.y[1], s.y[2]});
     attitude.t.push_back(s.t);
     attitude.v.push_back({s.y[3], s.y[4], s.y[5]});
-    rates.t.push_back(s.t);
-    rates.v.push_back(s.rates);
+    if (out.has_rates) {
+      rates.t.push_back(s.t);
+      rates.v.push_back(s.rates);
+    }
   }
-  TelemetryFileChecks out;
-  out.has_rates = true;
+  // The quaternion's reading first: the rates and the heading are judged against the attitude.
+  if (out.has_quaternion) {
+    out.quaternion = checkQuaternionReading(position, attitude, rates, options.quaternion, options.frame == TelemetryFrame::kNed,
+                                            options.body_turn);
+    if (out.quaternion.verdict == QuaternionVerdict::kOtherReading) return out;
+  }
+  if (!out.has_rates) return out;
   out.rates = checkRateAgreement(attitude, rates);  // a reset moves one window only
   if (out.rates.verdict != RateAgreementVerdict::kDiffers) out.heading = takeOutHeadingResets(attitude, rates, check);
   return out;

@@ -1,5 +1,6 @@
-// Estimator heading resets in a telemetry CSV (logs/heading_resets.h), and its body rates against
-// its attitude (logs/rate_agreement.h), for `detect` on a file.
+// Estimator heading resets in a telemetry CSV (logs/heading_resets.h), its body rates against its
+// attitude (logs/rate_agreement.h) and its attitude quaternion's reading against the flight
+// (logs/quaternion_check.h), for `detect` on a file.
 //
 // The check needs the whole file: the attitude's own row-to-row noise sets its threshold, and a
 // row is judged against its neighbours on both sides. A CSV is read row by row into the detector,
@@ -16,20 +17,24 @@
 #include "core/sample_source.h"
 #include "io/telemetry_reader.h"
 #include "logs/heading_resets.h"
+#include "logs/quaternion_check.h"
 #include "logs/rate_agreement.h"
 
 namespace quadfdi {
 
 // Every row of `in` read as `options` say, with p,q,r read too (whatever options.read_rates says),
 // up to its end or the first row whose t does not increase (where the detector refuses the file),
-// checked: whether p,q,r agree with the attitude's own turn (logs/rate_agreement.h), and where
-// they do, the heading resets they do not show, in time order. Nothing is checked (has_rates
-// false) where the header has no p,q,r. Throws TelemetryError as TelemetryReader does (a bad
+// checked: a quaternion attitude's reading against the flight (logs/quaternion_check.h); then,
+// unless another reading fits better (the attitude read is then not the flight's), whether p,q,r
+// agree with the attitude's own turn (logs/rate_agreement.h), and where they do, the heading
+// resets they do not show, in time order. Throws TelemetryError as TelemetryReader does (a bad
 // header or row).
 struct TelemetryFileChecks {
-  bool has_rates = false;  // the header has p,q,r (else nothing was checked)
-  RateAgreement rates;
-  HeadingResets heading;   // not checked where the rates do not agree with the attitude (RateAgreementVerdict::kDiffers)
+  bool has_rates = false;       // the header has p,q,r (else their checks were not made)
+  bool has_quaternion = false;  // the attitude is qw,qx,qy,qz (else its check was not made)
+  QuaternionCheck quaternion;
+  RateAgreement rates;          // not checked where another quaternion reading fits (QuaternionVerdict::kOtherReading)
+  HeadingResets heading;        // nor where the rates do not agree with the attitude (RateAgreementVerdict::kDiffers)
 };
 TelemetryFileChecks checkTelemetryFile(std::istream& in, const std::string& name, TelemetryReaderOptions options,
                                        const HeadingResetOptions& check = {});

@@ -436,7 +436,9 @@ std::string TelemetryReader::cellText(int column) const {
 // `problem`) for the zero quaternion an estimator writes before its first attitude.
 bool TelemetryReader::attitudeOf(const double (&values)[kColumnCount], EulerZyx& attitude, std::string& problem) const {
   if (quaternion_) {
-    const double w = values[kQw], x = values[kQw + 1], y = values[kQw + 2], z = values[kQw + 3];
+    // The columns in the header's qw, qx, qy, qz places, read as --csv-quaternion says.
+    const Quaternion q = quaternionOfColumns({values[kQw], values[kQw + 1], values[kQw + 2], values[kQw + 3]}, options_.quaternion);
+    const double w = q.w, x = q.x, y = q.y, z = q.z;
     const double norm = std::sqrt(w * w + x * x + y * y + z * z);
     if (norm == 0.0) {  // written before an estimator's first attitude
       problem = where() + ": the quaternion qw,qx,qy,qz is zero";

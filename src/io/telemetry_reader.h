@@ -19,6 +19,7 @@
 #include "core/frames.h"
 #include "core/motor_numbering.h"
 #include "core/sample_source.h"
+#include "logs/quaternion_check.h"
 
 namespace quadfdi {
 
@@ -74,6 +75,8 @@ struct TelemetryReaderOptions {
   // plus or props-out frame (--csv-numbering vehicle) has the description's body_turn here, and its
   // attitude and body rates are read turned.
   BodyTurn body_turn;
+  // How qw, qx, qy, qz are read (--csv-quaternion): the columns' order and the rotation's sense.
+  QuaternionReading quaternion;
 };
 
 // One row of an export that merges signals sampled at different times (PlotJuggler, a ROS bag):

@@ -17,12 +17,6 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-bool usableRate(const std::array<double, 3>& w) {
-  for (double c : w)
-    if (!std::isfinite(c) || std::abs(c) > kMaxBodyRate) return false;
-  return true;
-}
-
 // The gyro's rotation over [t0, t1] (body axes), as a unit quaternion: the rates interpolated
 // linearly between their rows, held over each piece between two rows at its midpoint's value. False
 // where the rows do not cover the interval or lie more than `max_gap` apart within it.
@@ -66,7 +60,7 @@ HeadingResets takeOutHeadingResets(SignalSeries<3>& attitude, const SignalSeries
   rt.reserve(rates.t.size());
   rv.reserve(rates.t.size());
   for (std::size_t i = 0; i < rates.t.size(); ++i)
-    if (usableRate(rates.v[i]) && std::isfinite(rates.t[i])) {
+    if (isUsableBodyRate(rates.v[i]) && std::isfinite(rates.t[i])) {
       rt.push_back(rates.t[i]);
       rv.push_back(rates.v[i]);
     }

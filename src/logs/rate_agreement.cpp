@@ -31,9 +31,7 @@ class RateLookup {
       const double s = (t - ts[cursor_]) / (ts[cursor_ + 1] - ts[cursor_]);
       for (std::size_t c = 0; c < 3; ++c) out[c] = r_.v[cursor_][c] + s * (r_.v[cursor_ + 1][c] - r_.v[cursor_][c]);
     }
-    for (double w : out)
-      if (!std::isfinite(w) || std::abs(w) > kMaxBodyRate) return false;
-    return true;
+    return isUsableBodyRate(out);
   }
 
  private:
@@ -46,6 +44,7 @@ class RateLookup {
 
 RateAgreement checkRateAgreement(const SignalSeries<3>& attitude, const SignalSeries<3>& rates, const RateAgreementOptions& o) {
   RateAgreement out;
+  out.options = o;
   if (attitude.t.size() < 2 || rates.t.size() < 2) return out;
   RateLookup lookup(rates, o.max_window);
   std::vector<std::array<double, 3>> turn_rate, gyro;  // per window: the attitude's mean body rate, the gyro's
@@ -152,6 +151,7 @@ RateAgreement checkRateAgreement(const SignalSeries<3>& attitude, const SignalSe
     ++told;
     identity_where_told = identity_where_told && out.axis[i] == static_cast<int>(i) && out.sign[i] == 1;
   }
+  out.in_order = told >= 2 && identity_where_told;
   // The scale: the median over the axes that tell. Noise moves it a few-fold at most (the
   // attitude's on quiet axes); a unit other than read moves it 57.3-fold, so nearer 1° than 1 (in
   // ratio) is degrees per second read as radians, and the other way round.
@@ -185,11 +185,16 @@ RateAgreement checkRateAgreement(const SignalSeries<3>& attitude, const SignalSe
 
 std::string RateAgreement::text() const {
   char head[200];
-  std::snprintf(head, sizeof head, " over %zu windows of ≥ 20 ms (correlation per axis %.2f / %.2f / %.2f, as read %.2f / %.2f / %.2f; scale %.3g)",
-                windows, axis_correlation[0], axis_correlation[1], axis_correlation[2], as_read[0], as_read[1], as_read[2], scale);
+  std::snprintf(head, sizeof head, " over %zu windows of ≥ %.0f ms (correlation per axis %.2f / %.2f / %.2f, as read %.2f / %.2f / %.2f; scale %.3g)",
+                windows, options.min_window * 1e3, axis_correlation[0], axis_correlation[1], axis_correlation[2], as_read[0], as_read[1], as_read[2], scale);
   switch (verdict) {
     case RateAgreementVerdict::kNotChecked:
-      return "body rates: not compared with the attitude's turn (under 2 s of rows ≤ 100 ms apart, or too little rotation)";
+    {
+      char why[160];
+      std::snprintf(why, sizeof why, "under %zu windows of rows ≤ %.0f ms apart (%.3g s), or too little rotation", options.min_windows,
+                    options.max_window * 1e3, static_cast<double>(options.min_windows) * options.min_window);
+      return "body rates: not compared with the attitude's turn (" + std::string(why) + ")";
+    }
     case RateAgreementVerdict::kAgrees: {
       std::string quiet;
       for (std::size_t i = 0; i < 3; ++i)

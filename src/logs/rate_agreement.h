@@ -42,6 +42,7 @@ enum class RateAgreementVerdict {
 struct RateAgreement {
   RateAgreementVerdict verdict = RateAgreementVerdict::kNotChecked;
   std::size_t windows = 0;               // attitude windows compared
+  RateAgreementOptions options;          // what it was checked with (its text says so)
   std::array<int, 3> axis{0, 1, 2};      // the gyro column (0 p, 1 q, 2 r) each body axis's rate fits best …
   std::array<int, 3> sign{1, 1, 1};      // … with this sign
   double scale = 1.0;                    // … times this (the median of axis_scale over the axes that tell)
@@ -52,6 +53,7 @@ struct RateAgreement {
   std::array<double, 3> axis_scale{};        // the spread of each body axis's rate over its column's (as chosen)
   std::array<bool, 3> axis_told{};           // its correlation passed the threshold: the axis turned enough to decide
   double threshold = 0.0;                    // [-] that threshold
+  bool in_order = false;                     // ≥ 2 axes told, each by its own column with its own sign (any unit)
   bool unit_untold = false;                  // the scale's bracket (noise shrinks one bound, swells the other) spans units
   std::string text() const;              // one line for a report ("body rates: …")
 };

@@ -308,18 +308,18 @@ ImportRefusal buildLogSampleSource(FlightSignals signals, LogFormat format, cons
   if (!o.read_rates) signals.rates = {};
   {
     // A rate beyond any gyro's range (flight controllers' saturate at 2000 °/s, 35 rad/s) is a
-    // corrupt row or another unit, not flight, as the CSV reader holds (kMaxBodyRate): left out, counted.
+    // corrupt row or another unit, not flight, as the CSV reader holds (isUsableBodyRate): left out, counted.
     SignalSeries<3>& r = signals.rates;
     std::size_t kept = 0;
     for (std::size_t i = 0; i < r.t.size(); ++i) {
-      const auto& v = r.v[i];
-      if (std::abs(v[0]) > kMaxBodyRate || std::abs(v[1]) > kMaxBodyRate || std::abs(v[2]) > kMaxBodyRate) continue;
+      if (!isUsableBodyRate(r.v[i])) continue;
       r.t[kept] = r.t[i];
-      r.v[kept++] = v;
+      r.v[kept] = r.v[i];
+      ++kept;
     }
     if (kept < r.t.size())
       rep.conventions.push_back(r.source.topic + ": " + std::to_string(r.t.size() - kept) +
-                                " body-rate rows beyond 100 rad/s (no gyro measures that) left out");
+                                " body-rate rows not finite or beyond 100 rad/s (no gyro measures that) left out");
     r.t.resize(kept);
     r.v.resize(kept);
   }

@@ -28,6 +28,7 @@
 #include "io/model_file.h"
 #include "io/vehicle_file.h"
 #include "core/frames.h"
+#include "logs/quaternion_check.h"
 
 namespace {
 
@@ -760,6 +761,76 @@ TEST(DetectCli, BodyRatesThatDoNotAgreeWithTheAttitudeAreWarnedAbout) {
   EXPECT_NE(j["warnings"][0].get<std::string>().find("body rates: the attitude turns as (p, −q, −r)"), std::string::npos);
   const CommandResult degrees = run("detect --input " + deg + " --output " + temp("circle-rates-deg.jsonl"));
   EXPECT_NE(degrees.out.find("p,q,r look like degrees per second read as radians (--csv-rate-unit deg/s"), std::string::npos) << degrees.out;
+}
+
+// Copies a `simulate` CSV with its roll,pitch,yaw written as the columns qw,qx,qy,qz of `writer`'s
+// reading (the same numbers in other places), p,q,r kept or dropped.
+void writeWithQuaternion(const std::string& from, const std::string& to, const quadfdi::QuaternionReading& writer, bool keep_rates) {
+  std::istringstream in(readFile(from));
+  std::ofstream out(to);
+  std::string line;
+  std::getline(in, line);
+  ASSERT_EQ(line, "t,x,y,z,roll,pitch,yaw,u1,u2,u3,u4,p,q,r");
+  out << "t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4" << (keep_rates ? ",p,q,r" : "") << "\n";
+  while (std::getline(in, line)) {
+    std::vector<std::string> c;
+    std::istringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) c.push_back(cell);
+    ASSERT_EQ(c.size(), 14u);
+    const std::array<double, 4> q =
+        quadfdi::columnsOfQuaternion(quadfdi::quaternionOfEuler({std::stod(c[4]), std::stod(c[5]), std::stod(c[6])}), writer);
+    char cells[120];
+    std::snprintf(cells, sizeof cells, "%.9f,%.9f,%.9f,%.9f", q[0], q[1], q[2], q[3]);
+    out << c[0] << "," << c[1] << "," << c[2] << "," << c[3] << "," << cells;
+    for (std::size_t i = 7; i < (keep_rates ? 14u : 11u); ++i) out << "," << c[i];
+    out << "\n";
+  }
+}
+
+// A quaternion written scalar last (Eigen, ROS) or as the inverse rotation reads as a plausible
+// attitude of another flight: detect names the reading that fits, from the tilt alone and with the
+// rates, and the flag it names reads the file as the one written in quadfdi's reading, byte for byte.
+TEST(DetectCli, AQuaternionWrittenInAnotherReadingIsNamed) {
+  const std::string src = QUADFDI_SOURCE_DIR;
+  const std::string flight = temp("yawing-rates.csv"), ours = temp("yawing-wxyz.csv"), last = temp("yawing-xyzw.csv"),
+                    inverse = temp("yawing-inverse.csv");
+  ASSERT_EQ(run("simulate --rates --controller pid --params " + src + "/configs/vehicles/quad450.toml --trajectory figure-eight --yaw-mode velocity --speed 1.5 "
+                "--steps 6000 --seed 5 --attitude-noise 0.002 --rate-noise 0.02 --rotor-drag 0.2 --wind-speed 3 --turbulence 1.5 "
+                "--output " + flight).exit_code, 0);
+  writeWithQuaternion(flight, ours, {}, true);
+  writeWithQuaternion(flight, last, {true, false}, false);
+  writeWithQuaternion(flight, inverse, {false, true}, true);
+  const CommandResult right = run("detect --input " + ours + " --output " + temp("yawing-wxyz.jsonl"));
+  ASSERT_EQ(right.exit_code, 0) << right.out;
+  EXPECT_NE(right.out.find("detect: attitude quaternion: read as w,x,y,z body → world it fits the flight ("), std::string::npos) << right.out;
+  EXPECT_NE(right.out.find("detect: body rates: p,q,r agree"), std::string::npos) << right.out;
+  const std::string summary = temp("yawing-xyzw.json");
+  const CommandResult misread = run("detect --input " + last + " --output " + temp("yawing-xyzw.jsonl") + " --summary " + summary);
+  ASSERT_EQ(misread.exit_code, 0) << misread.out;
+  EXPECT_NE(misread.out.find("detect: warning: " + last + ": attitude quaternion: the columns qw,qx,qy,qz fit the flight read as x,y,z,w "
+                             "body → world, not as w,x,y,z body → world ("),
+            std::string::npos)
+      << misread.out;
+  EXPECT_NE(misread.out.find("): read them with --csv-quaternion xyzw (docs/conventions.md#attitude-as-a-quaternion)"), std::string::npos)
+      << misread.out;
+  const nlohmann::json j = nlohmann::json::parse(readFile(summary));
+  ASSERT_GE(j["warnings"].size(), 1u);
+  EXPECT_NE(j["warnings"][0].get<std::string>().find("attitude quaternion: the columns qw,qx,qy,qz fit the flight read as x,y,z,w"),
+            std::string::npos);
+  const CommandResult inverted = run("detect --input " + inverse + " --output " + temp("yawing-inverse.jsonl"));
+  ASSERT_EQ(inverted.exit_code, 0) << inverted.out;
+  EXPECT_NE(inverted.out.find("read them with --csv-quaternion wxyz-world-to-body"), std::string::npos) << inverted.out;
+  EXPECT_NE(inverted.out.find("detect: body rates and heading resets: not checked (against an attitude read otherwise than written"),
+            std::string::npos)
+      << inverted.out;
+  // Read as written: the same detection as quadfdi's own reading.
+  const CommandResult reference = run("detect -q --input " + ours, false);
+  const CommandResult reread = run("detect -q --csv-quaternion wxyz-world-to-body --input " + inverse, false);
+  ASSERT_EQ(reference.exit_code, 0);
+  EXPECT_GT(countLines(reference.out), 600);
+  EXPECT_EQ(reread.out, reference.out);
+  const CommandResult told = run("detect --csv-quaternion xyzw --input " + last + " --output " + temp("yawing-xyzw-read.jsonl"));
+  EXPECT_NE(told.out.find("detect: attitude quaternion: read as x,y,z,w body → world it fits the flight"), std::string::npos) << told.out;
 }
 
 // A simulator of PX4 or ArduPilot writes NED positions and FRD angles. Read with --csv-frame ned,

@@ -14,6 +14,7 @@
 #include "data/rollout.h"
 #include "detection/numbering_check.h"
 #include "io/randomisation_file.h"
+#include "logs/quaternion_check.h"
 #include "logs/rate_agreement.h"
 
 namespace quadfdi {
@@ -383,6 +384,82 @@ TEST(RateAgreement, RandomisedFlightsRatesAreToldFromTheirMistakes) {
     EXPECT_EQ(c->agrees, 0) << c->text();
     EXPECT_GE(c->named, flights / 2) << c->text();
   }
+}
+
+// A quaternion written in one of the four readings and read in the default one: the flight names the
+// writer's reading or says nothing, and never holds the default to fit where it was not so written.
+// A file written in NED and read as z-up (the numbering check's to name) is no other reading.
+TEST(QuaternionCheck, RandomisedFlightsNameTheReadingTheirQuaternionWasWrittenIn) {
+  const int flights = flightCount(16);
+  const TrajectoryBatch b = randomisedFlights(flights, 20.0, 1.0, 0.2);
+  struct Count {
+    int agrees = 0, other = 0, named = 0, unclear = 0, not_checked = 0;
+    std::string text() const {
+      return std::to_string(agrees) + " agree, " + std::to_string(other) + " another (" + std::to_string(named) + " the writer's), " +
+             std::to_string(unclear) + " unclear, " + std::to_string(not_checked) + " not checked";
+    }
+  };
+  std::array<Count, 4> tilt_only, with_rates;  // per writer's reading (kQuaternionReadings)
+  Count ned_tilt, ned_rates;
+  const QuaternionReading read;
+  for (int t = 0; t < b.count; ++t) {
+    SignalSeries<3> position, rates;
+    std::vector<Quaternion> truth;
+    for (int k = 0; k < b.length[static_cast<std::size_t>(t)]; ++k) {
+      const std::size_t o = b.sampleOffset(t, k);
+      const auto y = [&](std::size_t i) { return static_cast<double>(b.outputs[o * kOutputDim + i]); };
+      position.t.push_back(k * 0.002);
+      position.v.push_back({y(0), y(1), y(2)});
+      truth.push_back(quaternionOfEuler({y(3), y(4), y(5)}));
+      rates.t.push_back(k * 0.002);
+      rates.v.push_back({b.rates[o * 3], b.rates[o * 3 + 1], b.rates[o * 3 + 2]});
+    }
+    const auto tally = [&](Count& c, const QuaternionCheck& q, const QuaternionReading& writer) {
+      c.agrees += q.verdict == QuaternionVerdict::kAgrees;
+      c.other += q.verdict == QuaternionVerdict::kOtherReading;
+      // From the tilt alone at a steady heading the order is told and the sense may not be (said so).
+      c.named += q.verdict == QuaternionVerdict::kOtherReading &&
+                 (q.best == writer || (q.sense_untold && q.best.scalar_last == writer.scalar_last));
+      c.unclear += q.verdict == QuaternionVerdict::kUnclear;
+      c.not_checked += q.verdict == QuaternionVerdict::kNotChecked;
+    };
+    for (std::size_t w = 0; w < 4; ++w) {
+      SignalSeries<3> attitude;
+      attitude.t = position.t;
+      for (const Quaternion& q : truth) {
+        const Quaternion as_read = quaternionOfColumns(columnsOfQuaternion(q, kQuaternionReadings[w]), read);
+        const EulerZyx e = eulerZyxFromUnitQuaternion(as_read.w, as_read.x, as_read.y, as_read.z);
+        attitude.v.push_back({e.roll, e.pitch, e.yaw});
+      }
+      tally(tilt_only[w], checkQuaternionReading(position, attitude, {}, read, false, {}), kQuaternionReadings[w]);
+      tally(with_rates[w], checkQuaternionReading(position, attitude, rates, read, false, {}), kQuaternionReadings[w]);
+    }
+    // Written in NED (both frames turned 180° about x), read as z-up.
+    SignalSeries<3> ned_position = position, ned_attitude, ned_rate = rates;
+    ned_attitude.t = position.t;
+    for (auto& p : ned_position.v) p = {p[0], -p[1], -p[2]};
+    for (const Quaternion& q : truth) {
+      const EulerZyx e = turnedAboutX(eulerZyxFromUnitQuaternion(q.w, q.x, q.y, q.z));
+      ned_attitude.v.push_back({e.roll, e.pitch, e.yaw});
+    }
+    for (auto& w : ned_rate.v) w = {w[0], -w[1], -w[2]};
+    tally(ned_tilt, checkQuaternionReading(ned_position, ned_attitude, {}, read, false, {}), read);
+    tally(ned_rates, checkQuaternionReading(ned_position, ned_attitude, ned_rate, read, false, {}), read);
+  }
+  for (std::size_t w = 0; w < 4; ++w)
+    std::printf("[ measured ] %d randomised flights' quaternion written %s, read w,x,y,z body → world: tilt alone %s; with p,q,r %s\n",
+                flights, kQuaternionReadings[w].name().c_str(), tilt_only[w].text().c_str(), with_rates[w].text().c_str());
+  std::printf("[ measured ] written in NED, read as z-up: tilt alone %s; with p,q,r %s\n", ned_tilt.text().c_str(), ned_rates.text().c_str());
+  // Read right: never another reading; with p,q,r mostly agreeing (the tilt alone cannot tell the
+  // inverse at these flights' steady headings).
+  for (const Count* c : {&tilt_only[0], &with_rates[0], &ned_tilt, &ned_rates}) EXPECT_EQ(c->other, 0) << c->text();
+  for (const Count* c : {&with_rates[0], &ned_rates}) EXPECT_GE(c->agrees, flights * 3 / 4) << c->text();
+  for (std::size_t w = 1; w < 4; ++w)
+    for (const Count* c : {&tilt_only[w], &with_rates[w]}) {
+      EXPECT_EQ(c->agrees, 0) << kQuaternionReadings[w].name() << ": " << c->text();
+      EXPECT_EQ(c->other, c->named) << kQuaternionReadings[w].name() << ": " << c->text();
+    }
+  for (std::size_t w = 1; w < 4; ++w) EXPECT_GE(with_rates[w].named, flights * 3 / 4) << kQuaternionReadings[w].name() << ": " << with_rates[w].text();
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // conventions out: frames, Euler signs, motor order, PWM and thrust model, states) and the real
 // sample log.
 #include "logs/px4_signals.h"
+#include "logs/quaternion_check.h"
 #include "logs/rate_agreement.h"
 
 #include <gtest/gtest.h>
@@ -660,6 +661,35 @@ TEST(Px4Signals, RealLogsRatesFitTheirAttitudeByTheRateCheck) {
     std::printf("[ real log ] %s, its rates turned into FRD: %s\n", name, frd.text().c_str());
     EXPECT_EQ(frd.sign, (std::array<int, 3>{1, -1, -1})) << frd.text();
     EXPECT_EQ(frd.verdict, RateAgreementVerdict::kDiffers) << frd.text();
+  }
+}
+
+// The real logs' attitude read as PX4 writes it (w, x, y, z, body → world) fits their flight, and
+// written in each other reading, that reading is named or nothing is (a hover turns little).
+TEST(Px4Signals, RealLogsQuaternionFitsTheirFlightInItsReading) {
+  for (const char* name : {"sample_log_small.ulg", "sample_logging_tagged_and_default_params.ulg"}) {
+    DecodedLog log;
+    if (!readRealLog(name, log)) GTEST_SKIP() << "../shared/logs/px4/" << name << " not found";
+    FlightSignals s;
+    ASSERT_TRUE(extractPx4Signals(log, Px4SignalOptions{}, s).ok());
+    for (const QuaternionReading& writer : kQuaternionReadings) {
+      SignalSeries<3> attitude = s.attitude;
+      for (auto& e : attitude.v) {
+        const Quaternion q = quaternionOfColumns(columnsOfQuaternion(quaternionOfEuler({e[0], e[1], e[2]}), writer), QuaternionReading{});
+        const EulerZyx read = eulerZyxFromUnitQuaternion(q.w, q.x, q.y, q.z);
+        e = {read.roll, read.pitch, read.yaw};
+      }
+      const QuaternionCheck c = checkQuaternionReading(s.position, attitude, s.rates, QuaternionReading{}, false, {});
+      std::printf("[ real log ] %s written %s: %s\n", name, writer.name().c_str(), c.text().c_str());
+      if (writer == QuaternionReading{}) {
+        EXPECT_EQ(c.verdict, QuaternionVerdict::kAgrees) << c.text();
+      } else {
+        EXPECT_NE(c.verdict, QuaternionVerdict::kAgrees) << c.text();
+        if (c.verdict == QuaternionVerdict::kOtherReading) {
+          EXPECT_EQ(c.best, writer) << c.text();
+        }
+      }
+    }
   }
 }
 
