@@ -3,7 +3,8 @@
 // with the reader's 1 MiB line bound; rows/s and bytes/s. findCsvHeadingResets: detect's first
 // reading of such a file with p,q,r, for its heading resets. readLogFile: a 256 MB file (a long
 // flight log's size) read whole by readFileBounded, as detect and import read a log, from the
-// page cache; bytes/s.
+// page cache; bytes/s. checkCsvQuaternion: that first reading of a file with its attitude as a
+// quaternion, which also checks the quaternion's reading.
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/frames.h"
 #include "io/file_bytes.h"
 #include "io/telemetry_heading.h"
 #include "io/telemetry_reader.h"
@@ -77,6 +79,31 @@ void findCsvHeadingResets(benchmark::State& state) {
   state.counters["rows/s"] = benchmark::Counter(300000.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(findCsvHeadingResets)->Unit(benchmark::kMillisecond);
+
+// The same file with its attitude as qw,qx,qy,qz: detect's first reading then also checks the
+// quaternion's reading against the flight (logs/quaternion_check.h: four readings' tilt and, with
+// p,q,r, their turns), before the rates and the heading.
+void checkCsvQuaternion(benchmark::State& state) {
+  static const std::string text = [] {
+    std::string s = "t,x,y,z,qw,qx,qy,qz,u1,u2,u3,u4,p,q,r\n";
+    char row[360];
+    for (int k = 0; k < 300000; ++k) {
+      const double t = 0.002 * k;
+      const Quaternion q = quaternionOfEuler({0.05 * std::sin(5 * t), 0.05 * std::cos(5 * t), 0.1 * t});
+      std::snprintf(row, sizeof row, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f\n", t, std::sin(t),
+                    std::cos(t), 1.0 + 0.1 * std::sin(3 * t), q.w, q.x, q.y, q.z, 0.07 + 0.001 * std::sin(t), 0.07, 0.07, 0.07,
+                    0.25 * std::cos(5 * t), -0.25 * std::sin(5 * t), 0.1);
+      s += row;
+    }
+    return s;
+  }();
+  for (auto _ : state) {
+    std::istringstream in(text);
+    benchmark::DoNotOptimize(checkTelemetryFile(in, "bench.csv", {}).quaternion.seconds);
+  }
+  state.counters["rows/s"] = benchmark::Counter(300000.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(checkCsvQuaternion)->Unit(benchmark::kMillisecond);
 
 void readLogFile(benchmark::State& state) {
   const std::string path = (std::filesystem::temp_directory_path() / ("quadfdi_bench_log_" + std::to_string(::getpid()) + ".bin")).string();

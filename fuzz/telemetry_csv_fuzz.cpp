@@ -139,6 +139,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if ((size / 8) % 2 != 0) reading.time_unit = 1e-9;
   if ((size / 16) % 2 != 0) reading.header_names = {{"u1", "/motors/0"}};
   reading.angles_in_degrees = (size / 32) % 2 != 0;  // --csv-angle-unit deg
+  reading.quaternion = kQuaternionReadings[(size / 64) % 4];  // --csv-quaternion
   try {
     TelemetryReader reader(in, "fuzz.csv", reading);
     rates = reader.carriesRates();
@@ -172,6 +173,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     QUADFDI_FUZZ_CHECK(std::isfinite(checks.rates.scale) && checks.rates.scale > 0.0);
     QUADFDI_FUZZ_CHECK(checks.has_rates || checks.rates.verdict == RateAgreementVerdict::kNotChecked);
     QUADFDI_FUZZ_CHECK(!checks.rates.text().empty());
+    // The quaternion check: fits and slopes finite, a verdict only on a quaternion, another reading named only as another.
+    const QuaternionCheck& q = checks.quaternion;
+    for (std::size_t k = 0; k < 4; ++k) {
+      QUADFDI_FUZZ_CHECK(std::isfinite(q.tilt_fit[k]) && std::abs(q.tilt_fit[k]) <= 1.0 + 1e-9);
+      QUADFDI_FUZZ_CHECK(std::isfinite(q.rate_score[k]) && std::isfinite(q.axis_slope[k][0]) && std::isfinite(q.axis_slope[k][1]));
+    }
+    QUADFDI_FUZZ_CHECK(checks.has_quaternion || q.verdict == QuaternionVerdict::kNotChecked);
+    QUADFDI_FUZZ_CHECK((q.verdict == QuaternionVerdict::kOtherReading) == (q.best != q.read));
+    QUADFDI_FUZZ_CHECK(!q.text().empty());
     QUADFDI_FUZZ_CHECK(heading.resets.size() == heading.count && (heading.checked || heading.count == 0));
     for (std::size_t i = 0; i < heading.resets.size(); ++i) {
       QUADFDI_FUZZ_CHECK(std::isfinite(heading.resets[i].t) && std::isfinite(heading.resets[i].shift));
