@@ -328,6 +328,21 @@ TEST(NumberingCheck, TheAlarmHoldsOutTheFlightALostMotorSpoils) {
   EXPECT_LT(unheld.consistent, held.consistent / 2) << unheld.text();  // 2 000 flights: 24 consistent without the hold, 1 955 with
 }
 
+// Verdicts of a check over many flights: `other_word` for a verdict naming another reading, of
+// which `named` named the one made.
+struct VerdictCount {
+  VerdictCount(const char* other_word, const char* named_word) : other_word_(other_word), named_word_(named_word) {}
+  int agrees = 0, other = 0, named = 0, unclear = 0, not_checked = 0;
+  std::string text() const {
+    return std::to_string(agrees) + " agree, " + std::to_string(other) + " " + other_word_ + " (" + std::to_string(named) + " " +
+           named_word_ + "), " + std::to_string(unclear) + " unclear, " + std::to_string(not_checked) + " not checked";
+  }
+
+ private:
+  const char* other_word_;
+  const char* named_word_;
+};
+
 // The body-rate check of a telemetry file (logs/rate_agreement.h) on the same randomised flights,
 // whose attitude and gyro come through the estimator model (noise, lag, delay): the columns as
 // flown are never named another order; in FRD, in degrees per second or with p and q swapped,
@@ -336,14 +351,7 @@ TEST(NumberingCheck, TheAlarmHoldsOutTheFlightALostMotorSpoils) {
 TEST(RateAgreement, RandomisedFlightsRatesAreToldFromTheirMistakes) {
   const int flights = flightCount(16);
   const TrajectoryBatch b = randomisedFlights(flights, 20.0, 1.0, 0.2);
-  struct Count {
-    int agrees = 0, differs = 0, unclear = 0, not_checked = 0, named = 0;
-    std::string text() const {
-      return std::to_string(agrees) + " agree, " + std::to_string(differs) + " differ (" + std::to_string(named) + " as made), " +
-             std::to_string(unclear) + " unclear, " + std::to_string(not_checked) + " not checked";
-    }
-  };
-  Count as_flown, frd, degrees, swapped;
+  VerdictCount as_flown("differ", "as made"), frd("differ", "as made"), degrees("differ", "as made"), swapped("differ", "as made");
   for (int t = 0; t < b.count; ++t) {
     SignalSeries<3> attitude, rates;
     for (int k = 0; k < b.length[static_cast<std::size_t>(t)]; ++k) {
@@ -353,10 +361,10 @@ TEST(RateAgreement, RandomisedFlightsRatesAreToldFromTheirMistakes) {
       rates.t.push_back(k * 0.002);
       rates.v.push_back({b.rates[o * 3], b.rates[o * 3 + 1], b.rates[o * 3 + 2]});
     }
-    const auto tally = [&](Count& c, const SignalSeries<3>& r, const std::array<int, 3>& axis, const std::array<int, 3>& sign, double scale) {
+    const auto tally = [&](VerdictCount& c, const SignalSeries<3>& r, const std::array<int, 3>& axis, const std::array<int, 3>& sign, double scale) {
       const RateAgreement a = checkRateAgreement(attitude, r);
       c.agrees += a.verdict == RateAgreementVerdict::kAgrees;
-      c.differs += a.verdict == RateAgreementVerdict::kDiffers;
+      c.other += a.verdict == RateAgreementVerdict::kDiffers;
       c.unclear += a.verdict == RateAgreementVerdict::kUnclear;
       c.not_checked += a.verdict == RateAgreementVerdict::kNotChecked;
       bool named = a.verdict == RateAgreementVerdict::kDiffers && (scale == 1.0 || a.scale < 1.0);  // degrees said so
@@ -377,10 +385,10 @@ TEST(RateAgreement, RandomisedFlightsRatesAreToldFromTheirMistakes) {
   }
   std::printf("[ measured ] %d randomised flights' p,q,r: as flown %s; FRD %s; in °/s %s; p and q swapped %s\n", flights,
               as_flown.text().c_str(), frd.text().c_str(), degrees.text().c_str(), swapped.text().c_str());
-  EXPECT_EQ(as_flown.differs, 0) << as_flown.text();
+  EXPECT_EQ(as_flown.other, 0) << as_flown.text();
   EXPECT_GE(as_flown.agrees, flights / 2) << as_flown.text();
-  for (const Count* c : {&frd, &degrees, &swapped}) {
-    EXPECT_EQ(c->differs, c->named) << c->text();
+  for (const VerdictCount* c : {&frd, &degrees, &swapped}) {
+    EXPECT_EQ(c->other, c->named) << c->text();
     EXPECT_EQ(c->agrees, 0) << c->text();
     EXPECT_GE(c->named, flights / 2) << c->text();
   }
@@ -392,15 +400,9 @@ TEST(RateAgreement, RandomisedFlightsRatesAreToldFromTheirMistakes) {
 TEST(QuaternionCheck, RandomisedFlightsNameTheReadingTheirQuaternionWasWrittenIn) {
   const int flights = flightCount(16);
   const TrajectoryBatch b = randomisedFlights(flights, 20.0, 1.0, 0.2);
-  struct Count {
-    int agrees = 0, other = 0, named = 0, unclear = 0, not_checked = 0;
-    std::string text() const {
-      return std::to_string(agrees) + " agree, " + std::to_string(other) + " another (" + std::to_string(named) + " the writer's), " +
-             std::to_string(unclear) + " unclear, " + std::to_string(not_checked) + " not checked";
-    }
-  };
-  std::array<Count, 4> tilt_only, with_rates;  // per writer's reading (kQuaternionReadings)
-  Count ned_tilt, ned_rates;
+  const VerdictCount count("another", "the writer's");
+  std::array<VerdictCount, 4> tilt_only{count, count, count, count}, with_rates{count, count, count, count};  // per writer's reading
+  VerdictCount ned_tilt = count, ned_rates = count;
   const QuaternionReading read;
   for (int t = 0; t < b.count; ++t) {
     SignalSeries<3> position, rates;
@@ -414,7 +416,7 @@ TEST(QuaternionCheck, RandomisedFlightsNameTheReadingTheirQuaternionWasWrittenIn
       rates.t.push_back(k * 0.002);
       rates.v.push_back({b.rates[o * 3], b.rates[o * 3 + 1], b.rates[o * 3 + 2]});
     }
-    const auto tally = [&](Count& c, const QuaternionCheck& q, const QuaternionReading& writer) {
+    const auto tally = [&](VerdictCount& c, const QuaternionCheck& q, const QuaternionReading& writer) {
       c.agrees += q.verdict == QuaternionVerdict::kAgrees;
       c.other += q.verdict == QuaternionVerdict::kOtherReading;
       // From the tilt alone at a steady heading the order is told and the sense may not be (said so).
@@ -452,10 +454,10 @@ TEST(QuaternionCheck, RandomisedFlightsNameTheReadingTheirQuaternionWasWrittenIn
   std::printf("[ measured ] written in NED, read as z-up: tilt alone %s; with p,q,r %s\n", ned_tilt.text().c_str(), ned_rates.text().c_str());
   // Read right: never another reading; with p,q,r mostly agreeing (the tilt alone cannot tell the
   // inverse at these flights' steady headings).
-  for (const Count* c : {&tilt_only[0], &with_rates[0], &ned_tilt, &ned_rates}) EXPECT_EQ(c->other, 0) << c->text();
-  for (const Count* c : {&with_rates[0], &ned_rates}) EXPECT_GE(c->agrees, flights * 3 / 4) << c->text();
+  for (const VerdictCount* c : {&tilt_only[0], &with_rates[0], &ned_tilt, &ned_rates}) EXPECT_EQ(c->other, 0) << c->text();
+  for (const VerdictCount* c : {&with_rates[0], &ned_rates}) EXPECT_GE(c->agrees, flights * 3 / 4) << c->text();
   for (std::size_t w = 1; w < 4; ++w)
-    for (const Count* c : {&tilt_only[w], &with_rates[w]}) {
+    for (const VerdictCount* c : {&tilt_only[w], &with_rates[w]}) {
       EXPECT_EQ(c->agrees, 0) << kQuaternionReadings[w].name() << ": " << c->text();
       EXPECT_EQ(c->other, c->named) << kQuaternionReadings[w].name() << ": " << c->text();
     }
