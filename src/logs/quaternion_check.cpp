@@ -43,7 +43,7 @@ std::array<double, 2> tiltOf(const Quaternion& q) {
 }
 
 // First-order high-pass, started at its first input.
-struct HighPass2 {
+struct HighPass {
   std::array<double, 2> low{};
   bool started = false;
   std::array<double, 2> step(const std::array<double, 2>& x, double gain) {
@@ -126,8 +126,8 @@ QuaternionCheck checkQuaternionReading(const SignalSeries<3>& position, const Si
   auto closePiece = [&]() {
     const std::size_t nodes = piece_position.size();
     if (nodes > static_cast<std::size_t>(2 * m)) {
-      std::array<HighPass2, 4> tilt_trend;
-      HighPass2 lateral_trend;
+      std::array<HighPass, 4> tilt_trend;
+      HighPass lateral_trend;
       const double span2 = (m * dt) * (m * dt);
       for (std::size_t j = static_cast<std::size_t>(m); j + static_cast<std::size_t>(m) < nodes; ++j) {
         // The second difference over ±m nodes is the acceleration weighted by a triangle; the tilt alike.
@@ -156,15 +156,28 @@ QuaternionCheck checkQuaternionReading(const SignalSeries<3>& position, const Si
     piece_tilt.clear();
   };
   std::size_t pi = 0, ai = 0;  // rows at or before the node
+  const double t_begin = std::max(position.t.front(), attitude.t.front());
   const double t_end = std::min(position.t.back(), attitude.t.back());
-  for (double t = std::max(position.t.front(), attitude.t.front()); t <= t_end; t += dt) {
+  for (double node = 0.0;; node += 1.0) {
+    const double t = t_begin + node * dt;
+    if (!(t <= t_end)) break;
     while (pi + 1 < position.t.size() && position.t[pi + 1] <= t) ++pi;
     while (ai + 1 < attitude.t.size() && attitude.t[ai + 1] <= t) ++ai;
     const bool position_whole = pi + 1 < position.t.size() ? position.t[pi + 1] - position.t[pi] <= o.max_gap : position.t[pi] == t;
     const bool attitude_whole = ai + 1 < attitude.t.size() ? attitude.t[ai + 1] - attitude.t[ai] <= o.max_gap : attitude.t[ai] == t;
+    if (!position_whole || !attitude_whole) {
+      // A hole: the piece ends, and the grid goes on from the rows after it (a file's clock may
+      // jump by hours, which a node at a time would walk for ever).
+      closePiece();
+      double resume = t;
+      if (!position_whole && pi + 1 < position.t.size()) resume = std::max(resume, position.t[pi + 1]);
+      if (!attitude_whole && ai + 1 < attitude.t.size()) resume = std::max(resume, attitude.t[ai + 1]);
+      node = std::max(node, std::ceil((resume - t_begin) / dt) - 1.0);
+      continue;
+    }
     std::array<double, 2> p{};
-    bool finite = position_whole && attitude_whole;
-    if (finite) {
+    bool finite = true;
+    {
       const double s = pi + 1 < position.t.size() ? (t - position.t[pi]) / (position.t[pi + 1] - position.t[pi]) : 0.0;
       for (std::size_t b = 0; b < 2; ++b) {
         const double next = pi + 1 < position.t.size() ? position.v[pi + 1][b] : position.v[pi][b];

@@ -153,6 +153,19 @@ TEST(QuaternionCheck, TheInverseAtASteadyNorthHeadingIsLeftOpenWithoutRates) {
   }
 }
 
+// A clock that jumps by an hour mid-file (a logger's restart): two pieces, each checked, the hole
+// stepped over rather than walked node by node.
+TEST(QuaternionCheck, AnHoursHoleIsSteppedOver) {
+  Flight f = leaningFlight(1.0);
+  for (SignalSeries<3>* s : {&f.position, &f.rates})
+    for (std::size_t i = 2500; i < s->t.size(); ++i) s->t[i] += 3600.0;
+  for (std::size_t i = 2500; i < f.t.size(); ++i) f.t[i] += 3600.0;
+  const QuaternionCheck c = checkQuaternionReading(f.position, readAttitude(f, {}), {}, QuaternionReading{}, false, {});
+  EXPECT_EQ(c.verdict, QuaternionVerdict::kAgrees) << c.text();
+  // Each 10-s piece loses its first and last 0.5 s (the second difference's span) and the filters' 2 s.
+  EXPECT_NEAR(c.seconds, 2 * (10.0 - 0.5 - 2.0 - 0.5), 0.1) << c.text();
+}
+
 TEST(QuaternionCheck, AShortFlightChecksNothing) {
   Flight f = leaningFlight(1.0);
   for (SignalSeries<3>* s : {&f.position, &f.rates}) {
