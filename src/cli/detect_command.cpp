@@ -646,6 +646,7 @@ int runDetect(const DetectOptions& o) {
     in.episodes = &episodes;
     in.numbering = &numbering;
     in.numbering_check = &r.numbering;
+    if (file_checks.has_quaternion) in.quaternion_check = &file_checks.quaternion;
     if (log.source)
       for (const PhaseReport& p : log.source->report().phases)
         if (p.evaluated) in.evaluated_phases.emplace_back(p.eval_begin, p.eval_end);

@@ -111,6 +111,29 @@ std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
     check["text"] = c.text();
     j["motor_numbering_check"] = std::move(check);
   }
+  if (in.quaternion_check) {
+    const QuaternionCheck& c = *in.quaternion_check;
+    json check;
+    check["verdict"] = c.verdict == QuaternionVerdict::kAgrees         ? "agrees"
+                       : c.verdict == QuaternionVerdict::kOtherReading ? "another reading"
+                       : c.verdict == QuaternionVerdict::kUnclear      ? "unclear"
+                                                                       : "not checked";
+    check["read"] = c.read.name();
+    check["fits_best"] = c.verdict == QuaternionVerdict::kOtherReading ? json(c.best.name()) : json(nullptr);
+    check["sense_untold"] = c.sense_untold;
+    check["seconds"] = c.seconds;
+    json readings = json::array(), tilt = json::array(), in_order = json::array();
+    for (std::size_t k = 0; k < kQuaternionReadings.size(); ++k) {
+      readings.push_back(kQuaternionReadings[k].name());
+      tilt.push_back(c.tilt_fit[k]);
+      in_order.push_back(static_cast<bool>(c.rates_in_order[k]));
+    }
+    check["readings"] = std::move(readings);
+    check["tilt_fit"] = std::move(tilt);
+    check["rates_in_order"] = c.rates_compared ? std::move(in_order) : json(nullptr);
+    check["text"] = c.text();
+    j["quaternion_check"] = std::move(check);
+  }
   j["samples"] = s.input_samples;
   j["decisions"] = s.outputs;
   j["decided_seconds"] = in.episodes->decidedSeconds();

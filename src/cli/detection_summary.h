@@ -11,6 +11,7 @@
 #include "core/motor_numbering.h"
 #include "detection/detector.h"
 #include "detection/numbering_check.h"
+#include "logs/quaternion_check.h"
 
 namespace quadfdi::cli {
 
@@ -53,6 +54,7 @@ struct DetectionSummaryInputs {
   const AlarmEpisodes* episodes = nullptr;
   const MotorNumbering* numbering = nullptr;
   const NumberingCheckResult* numbering_check = nullptr;  // the motor columns against the flight (optional)
+  const QuaternionCheck* quaternion_check = nullptr;      // a CSV file's quaternion reading against the flight (optional)
   std::vector<std::pair<double, double>> evaluated_phases;  // [s] a flight log's; empty for a CSV
   std::vector<std::string> warnings;
 };

@@ -817,6 +817,13 @@ TEST(DetectCli, AQuaternionWrittenInAnotherReadingIsNamed) {
   ASSERT_GE(j["warnings"].size(), 1u);
   EXPECT_NE(j["warnings"][0].get<std::string>().find("attitude quaternion: the columns qw,qx,qy,qz fit the flight read as x,y,z,w"),
             std::string::npos);
+  const nlohmann::json& q = j["quaternion_check"];
+  EXPECT_EQ(q["verdict"], "another reading");
+  EXPECT_EQ(q["read"], "w,x,y,z body → world");
+  EXPECT_EQ(q["fits_best"], "x,y,z,w body → world");
+  EXPECT_EQ(q["readings"][2], "x,y,z,w body → world");
+  EXPECT_GT(std::abs(q["tilt_fit"][2].get<double>()), 0.9) << q;
+  EXPECT_TRUE(q["rates_in_order"].is_null());  // written without p,q,r
   const CommandResult inverted = run("detect --input " + inverse + " --output " + temp("yawing-inverse.jsonl"));
   ASSERT_EQ(inverted.exit_code, 0) << inverted.out;
   EXPECT_NE(inverted.out.find("read them with --csv-quaternion wxyz-world-to-body"), std::string::npos) << inverted.out;
