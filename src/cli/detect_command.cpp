@@ -405,6 +405,8 @@ int runDetect(const DetectOptions& o) {
     }
     reader = std::make_unique<TelemetryReader>(live ? std::cin : file, name, csv_reading);  // throws on an empty file or a bad header
     source = reader.get();
+    if (o.log.given.count("csv_quaternion") && !reader->quaternionAttitude())
+      throw ConfigError("--csv-quaternion: " + name + "'s header has roll, pitch, yaw, which are read; the flag reads qw,qx,qy,qz only");
     // A CSV written by `quadfdi import` records its log's numbering (u1..u4 are quadfdi's order).
     if (reader->numbering() && !renumber) numbering = *reader->numbering();
     // Estimator heading resets the file does not record (io/telemetry_heading.h): a file is read

@@ -838,6 +838,10 @@ TEST(DetectCli, AQuaternionWrittenInAnotherReadingIsNamed) {
   EXPECT_EQ(reread.out, reference.out);
   const CommandResult told = run("detect --csv-quaternion xyzw --input " + last + " --output " + temp("yawing-xyzw-read.jsonl"));
   EXPECT_NE(told.out.find("detect: attitude quaternion: read as x,y,z,w body → world it fits the flight"), std::string::npos) << told.out;
+  // The flag on Euler angles, or on a flight log, reads nothing: refused.
+  const CommandResult euler = run("detect --csv-quaternion xyzw --input " + flight + " --output " + temp("yawing-euler.jsonl"));
+  EXPECT_EQ(euler.exit_code, 1);
+  EXPECT_NE(euler.out.find("--csv-quaternion: " + flight + "'s header has roll, pitch, yaw, which are read"), std::string::npos) << euler.out;
 }
 
 // A simulator of PX4 or ArduPilot writes NED positions and FRD angles. Read with --csv-frame ned,

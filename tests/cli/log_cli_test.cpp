@@ -81,6 +81,10 @@ TEST(LogCli, CsvFrameOnALogIsRefused) {
   EXPECT_EQ(speeds.exit_code, 1);
   EXPECT_TRUE(contains(speeds.out, "--csv-commands: reads a telemetry CSV; a ulog log's commands are converted by its reader")) << speeds.out;
   EXPECT_EQ(countLines(speeds.out), 1) << speeds.out;
+  const CommandResult quaternion = run("detect --input " + faultyUlog() + " --csv-quaternion xyzw");
+  EXPECT_EQ(quaternion.exit_code, 1);
+  EXPECT_TRUE(contains(quaternion.out, "--csv-quaternion: reads a telemetry CSV; a ulog log names its own fields and units")) << quaternion.out;
+  EXPECT_EQ(countLines(quaternion.out), 1) << quaternion.out;
 }
 
 TEST(LogCli, FormatCsvOnALogSaysWhatTheFileIs) {
