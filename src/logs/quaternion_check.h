@@ -45,9 +45,10 @@ std::array<double, 4> columnsOfQuaternion(const Quaternion& q, const QuaternionR
 struct QuaternionCheckOptions {
   double node_interval = 0.02;      // [s] the flight is taken on this grid (position linear, attitude the nearest row)
   double max_gap = 0.1;             // [s] rows further apart break the grid (a hole); the filters start again after it
-  // [s] the position's second difference over ± this (its noise ÷ span²): on 200 randomised flights
-  // (estimator noise on the position) the right reading's tilt fit had a median of 0.06 over ±0.1 s,
-  // 0.38 over ±0.25 s, 0.60 over ±0.5 s, 0.62 over ±1 s, where wrong readings began to fit as well.
+  // [s] the position's second difference over ± this (its noise ÷ span²): on randomised flights
+  // (estimator noise on the position) the right reading's tilt fit rose from 0.02–0.07 over ±0.1 s
+  // to a median of 0.60 over ±0.5 s; longer spans gained little and let wrong readings fit more
+  // often (docs/conventions.md#attitude-as-a-quaternion).
   double acceleration_span = 0.5;
   double trend_seconds = 2.0;       // [s] acceleration and tilt are high-passed alike: wind and a centre of mass off the
                                     // middle lean the vehicle for seconds without accelerating it (the numbering check's 2 s)
