@@ -114,10 +114,7 @@ std::string detectionSummaryJson(const DetectionSummaryInputs& in) {
   if (in.quaternion_check) {
     const QuaternionCheck& c = *in.quaternion_check;
     json check;
-    check["verdict"] = c.verdict == QuaternionVerdict::kAgrees         ? "agrees"
-                       : c.verdict == QuaternionVerdict::kOtherReading ? "another reading"
-                       : c.verdict == QuaternionVerdict::kUnclear      ? "unclear"
-                                                                       : "not checked";
+    check["verdict"] = toString(c.verdict);
     check["read"] = c.read.name();
     check["fits_best"] = c.verdict == QuaternionVerdict::kOtherReading ? json(c.best.name()) : json(nullptr);
     check["sense_untold"] = c.sense_untold;

@@ -103,6 +103,17 @@ inline double rotationAngleBetween(const EulerZyx& a, const EulerZyx& b) {
 
 // The same attitude with both frames turned 180° about x: NED/FRD angles → quadfdi's, and back.
 inline EulerZyx turnedAboutX(const EulerZyx& e) { return {e.roll, -e.pitch, -e.yaw}; }
+// The same for a unit quaternion of the body → world rotation.
+inline Quaternion turnedAboutX(const Quaternion& q) { return {q.w, q.x, -q.y, -q.z}; }
+
+// [-] Where the rotors push: the body z axis (R·e3) of a unit quaternion, its horizontal part
+// (world x, y) over its vertical one — what g·tilt accelerates at constant height. Past ~78° of
+// tilt (a vertical part below 0.2) the ratio means nothing, and the vertical part is held there.
+inline std::array<double, 2> thrustTilt(const Quaternion& q) {
+  const double up = 1.0 - 2.0 * (q.x * q.x + q.y * q.y);
+  const double lean = std::max(up, 0.2);
+  return {2.0 * (q.x * q.z + q.w * q.y) / lean, 2.0 * (q.y * q.z - q.w * q.x) / lean};
+}
 
 // The axes quadfdi reads an airframe in: the airframe's own body axes turned about body z by
 // `eighths` × 45°, counter-clockwise seen from above. A plus frame is an X seen from axes turned

@@ -273,11 +273,7 @@ void NumberingCheck::closeNode() {
     open_.torque[b] = torque_sum_[b] * k;
     open_.rates[b] = rate_sum_[b] * k;
   }
-  // The body z axis in the world, R·e3: where the rotors push.
-  const Quaternion& q = open_.attitude;
-  const double up = 1.0 - 2.0 * (q.x * q.x + q.y * q.y);
-  const double lean = std::max(up, 0.2);  // [-] past ~78° of tilt the ratio means nothing; held there
-  open_.tilt = {2.0 * (q.x * q.z + q.w * q.y) / lean, 2.0 * (q.y * q.z - q.w * q.x) / lean};
+  open_.tilt = thrustTilt(open_.attitude);
   node_samples_ = 0;
   rate_sum_ = torque_sum_ = {};
   // A turn between two nodes faster than any body rate is an estimator reset, not flight.

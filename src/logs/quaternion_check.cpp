@@ -17,6 +17,16 @@ std::string QuaternionReading::options() const {
   return std::string("--csv-quaternion ") + (scalar_last ? "xyzw" : "wxyz") + (world_to_body ? "-world-to-body" : "");
 }
 
+const char* toString(QuaternionVerdict v) {
+  switch (v) {
+    case QuaternionVerdict::kNotChecked: return "not checked";
+    case QuaternionVerdict::kAgrees: return "agrees";
+    case QuaternionVerdict::kOtherReading: return "another reading";
+    case QuaternionVerdict::kUnclear: return "unclear";
+  }
+  return "";
+}
+
 std::size_t indexOf(const QuaternionReading& reading) { return (reading.scalar_last ? 2 : 0) + (reading.world_to_body ? 1 : 0); }
 
 Quaternion quaternionOfColumns(const std::array<double, 4>& c, const QuaternionReading& reading) {
@@ -31,16 +41,6 @@ std::array<double, 4> columnsOfQuaternion(const Quaternion& body_to_world, const
 }
 
 namespace {
-
-// NED/FRD ↔ quadfdi's frames: both turned 180° about x (its own inverse).
-Quaternion turnedAboutX(const Quaternion& q) { return {q.w, q.x, -q.y, -q.z}; }
-
-// [-] the body z axis's horizontal part over its vertical one (world x, y): what g·tilt accelerates.
-std::array<double, 2> tiltOf(const Quaternion& q) {
-  const double up = 1.0 - 2.0 * (q.x * q.x + q.y * q.y);
-  const double lean = std::max(up, 0.2);  // past ~78° the ratio means nothing: held there (as the numbering check)
-  return {2.0 * (q.x * q.z + q.w * q.y) / lean, 2.0 * (q.y * q.z - q.w * q.x) / lean};
-}
 
 // First-order high-pass, started at its first input.
 struct HighPass {
@@ -191,7 +191,7 @@ QuaternionCheck checkQuaternionReading(const SignalSeries<3>& position, const Si
     }
     const std::size_t nearest = ai + 1 < attitude.t.size() && attitude.t[ai + 1] - t < t - attitude.t[ai] ? ai + 1 : ai;
     std::array<std::array<double, 2>, 4> tilt{};
-    for (std::size_t k = 0; k < 4; ++k) tilt[k] = tiltOf(readAs(columns[nearest], kQuaternionReadings[k]));
+    for (std::size_t k = 0; k < 4; ++k) tilt[k] = thrustTilt(readAs(columns[nearest], kQuaternionReadings[k]));
     piece_position.push_back(p);
     piece_tilt.push_back(tilt);
   }

@@ -75,6 +75,8 @@ enum class QuaternionVerdict {
   kUnclear,       // none fits clearly, or another fits alike (the inverse at a steady heading near north, without rates)
 };
 
+const char* toString(QuaternionVerdict v);  // "agrees", "another reading", "unclear", "not checked" (the summary's)
+
 struct QuaternionCheck {
   QuaternionVerdict verdict = QuaternionVerdict::kNotChecked;
   QuaternionReading read;              // the reading used

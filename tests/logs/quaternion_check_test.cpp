@@ -65,7 +65,7 @@ SignalSeries<3> readAttitude(const Flight& flight, const QuaternionReading& writ
   const Quaternion unturn = quaternionOfRotationVector({0.0, 0.0, -turn.radians()});
   for (const Quaternion& truth : flight.attitude) {
     Quaternion file = truth * unturn;  // in the airframe's own axes, as the file holds it
-    if (ned) file = {file.w, file.x, -file.y, -file.z};
+    if (ned) file = turnedAboutX(file);
     const Quaternion q = quaternionOfColumns(columnsOfQuaternion(file, writer), reader);
     EulerZyx e = eulerZyxFromUnitQuaternion(q.w, q.x, q.y, q.z);
     if (ned) e = turnedAboutX(e);
