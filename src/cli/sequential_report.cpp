@@ -139,7 +139,10 @@ std::string mixSummary(const Randomisation& r) {
   const ControllerMix& c = r.controllers;
   const ManoeuvreMix& m = r.manoeuvres;
   return join({{c.lqr, "LQR"}, {c.pid, "PID"}, {c.cbf, "CBF-QP"}, {c.geometric, "geometric SE(3)"}}) + "; " +
-         join({{m.hover, "hover"}, {m.point_to_point, "point-to-point"}, {m.circle, "circle"}, {m.figure_eight, "figure-eight"}});
+         join({{m.hover, "hover"}, {m.point_to_point, "point-to-point"}, {m.circle, "circle"}, {m.figure_eight, "figure-eight"}}) +
+         (m.facing_velocity > 0.0 ? ", " + num(100.0 * m.facing_velocity, 0) + " % of paths nose along the path" : std::string()) +
+         (m.yaw_sweep > 0.0 ? ", " + num(100.0 * m.yaw_sweep, 0) + " % with heading sweeps ≤ " + num(m.yaw_sweep_amplitude.hi, 1) + " rad"
+                            : std::string());
 }
 
 // "; wind …" with the randomisation's wind ranges, empty in still air.
@@ -190,6 +193,10 @@ std::string alarmedFlights(const RolloutConfig& healthy, const SequentialEvaluat
          << toString(d.manoeuvre.kind)
          << (d.manoeuvre.kind == ManoeuvreKind::kHover ? std::string()
                                                         : " " + num(d.manoeuvre.speed, 1) + " m/s, " + num(d.manoeuvre.size, 1) + " m")
+         << (d.manoeuvre.facing_velocity ? ", nose along the path" : "")
+         << (d.manoeuvre.yaw_sweep_amplitude > 0.0
+                 ? ", sweep " + num(d.manoeuvre.yaw_sweep_amplitude, 1) + " rad / " + num(d.manoeuvre.yaw_sweep_period, 1) + " s"
+                 : std::string())
          << " | "
          << num(d.wind.mean_speed, 1) << " / " << num(d.wind.turbulence_std, 1) << " / " << num(d.wind.gust_rate > 0.0 ? d.wind.gust_peak : 0.0, 1)
          << " | " << num(mass_ratio, 2) << " / " << num(d.thrust_gain, 2) << " / " << num(1000.0 * d.plant.motor_time_constant, 0) << " | "

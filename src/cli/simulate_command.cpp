@@ -75,6 +75,9 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   t->add("--radius", o.radius, "Circle radius, figure-eight half-length along x [m]").above(0.0, 100.0);
   t->add("--yaw-mode", o.yaw_mode, "Trajectory yaw: fixed (0) or velocity (nose along the path)")
       .choices({"fixed", "velocity"});
+  t->add("--yaw-sweep", o.yaw_sweep,
+         "Heading sweep A·sin(2π·t/P) on top of the trajectory's yaw (any trajectory, hover too): A [rad] P [s]")
+      .values(2);
   t->add("--position-noise", o.position_noise, "Std. dev. of additive noise on logged position [m]").atLeast(0);
   t->add("--attitude-noise", o.attitude_noise, "Std. dev. of additive noise on logged Euler angles [rad]")
       .atLeast(0);
@@ -188,7 +191,11 @@ int runSimulate(const SimulateOptions& o) {
 
   TrajectoryKind trajectory_kind = TrajectoryKind::kHover;
   parseTrajectoryKind(o.trajectory, trajectory_kind);
-  if (trajectory_kind != TrajectoryKind::kHover) {
+  if (!o.yaw_sweep.empty())
+    require(std::isfinite(o.yaw_sweep[0]) && o.yaw_sweep[0] >= 0.0 && o.yaw_sweep[0] <= M_PI && std::isfinite(o.yaw_sweep[1]) &&
+                o.yaw_sweep[1] > 0.0,
+            "--yaw-sweep: needs an amplitude in [0, pi] rad and a period > 0 s");
+  if (trajectory_kind != TrajectoryKind::kHover || !o.yaw_sweep.empty()) {
     TrajectorySpec spec;
     spec.kind = trajectory_kind;
     const bool line = trajectory_kind == TrajectoryKind::kPointToPoint;
@@ -197,6 +204,10 @@ int runSimulate(const SimulateOptions& o) {
     spec.speed = o.speed;
     spec.radius = o.radius;
     spec.yaw_mode = o.yaw_mode == "velocity" ? YawMode::kFacingVelocity : YawMode::kFixed;
+    if (!o.yaw_sweep.empty()) {
+      spec.yaw_sweep_amplitude = o.yaw_sweep[0];
+      spec.yaw_sweep_period = o.yaw_sweep[1];
+    }
     settings.trajectory = spec;
     if (const std::string problem = validate(settings); !problem.empty())
       throw std::runtime_error("invalid simulation settings: " + problem);
@@ -240,8 +251,10 @@ int runSimulate(const SimulateOptions& o) {
         sum += e * e;
         worst = std::max(worst, e);
       }
-      std::fprintf(stderr, "  trajectory: %s at %.2f m/s (radius %.2f m, yaw %s); tracking error RMS %.4f m, max %.4f m\n",
-                   o.trajectory.c_str(), o.speed, o.radius, o.yaw_mode.c_str(),
+      char sweep[80] = "";
+      if (!o.yaw_sweep.empty()) std::snprintf(sweep, sizeof sweep, ", sweep %.2f rad every %.2f s", o.yaw_sweep[0], o.yaw_sweep[1]);
+      std::fprintf(stderr, "  trajectory: %s at %.2f m/s (radius %.2f m, yaw %s%s); tracking error RMS %.4f m, max %.4f m\n",
+                   o.trajectory.c_str(), o.speed, o.radius, o.yaw_mode.c_str(), sweep,
                    log.size() > 0 ? std::sqrt(sum / log.size()) : 0.0, worst);
     }
     if (o.motor != 0)

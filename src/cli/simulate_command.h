@@ -41,6 +41,7 @@ struct SimulateOptions {
   double speed = 1.0;                   // [m/s] trajectory (peak) speed
   double radius = 1.0;                  // [m] circle radius, figure-eight half-length
   std::string yaw_mode = "fixed";       // fixed | velocity
+  std::vector<double> yaw_sweep;        // amplitude [rad], period [s]; empty: none
   double cbf_min_altitude = 0.5;        // [m]
   double cbf_max_tilt = 0.5;            // [rad]
   bool quiet = false;                   // no summary on stderr

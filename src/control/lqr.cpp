@@ -144,14 +144,26 @@ LqrController::LqrController(const VehicleParams& params, const GainMatrix& gain
 
 void LqrController::compute(const State& x, ControlStep& out) {
   // e = x − x_ref, x_ref = (reference position, reference velocity in the body frame, 0, 0,
-  // reference yaw, 0, 0, 0). The hover reference skips the rotation: e is then bit for bit
+  // reference yaw, 0, 0, reference yaw rate). The hover reference skips the rotation: e is then bit for bit
   // the hover LQR's (x − 0 = x).
   State err = x;
   err.segment<3>(idx::kPos) -= reference_.position;
+  // The gain is designed at yaw 0, where body x is world x. Under a turning or turned reference the
+  // position error is taken in the frame of the body's heading ψ, Rz(ψ)ᵀ·(p − p_ref), as the
+  // velocity error already is (body axes): the linearisation about heading ψ is the yaw-0 one
+  // turned by ψ. Without it a heading far from 0 couples the axes and the loop diverges (a circle
+  // flown nose first crashed within 3 s). A reference at yaw 0 is flown as the paper's LQR flies it.
+  if (reference_.yaw != 0.0 || reference_.yaw_rate != 0.0) {
+    const double c = std::cos(x(idx::kYaw)), s = std::sin(x(idx::kYaw));
+    const double ex = err(idx::kPos), ey = err(idx::kPos + 1);
+    err(idx::kPos) = c * ex + s * ey;
+    err(idx::kPos + 1) = -s * ex + c * ey;
+  }
   if ((reference_.velocity.array() != 0.0).any())
     err.segment<3>(idx::kVel) -=
         rotationBodyToWorld(x(idx::kRoll), x(idx::kPitch), x(idx::kYaw)).transpose() * reference_.velocity;
   err(idx::kYaw) = wrapAngle(err(idx::kYaw) - reference_.yaw);
+  err(idx::kR) -= reference_.yaw_rate;  // a turning reference is tracked, not damped (r ≈ ψ̇ near level)
   out.u_nominal = Input::Constant(hover_thrust_) - gain_ * err;
   out.u_cmd = out.u_nominal.cwiseMax(min_thrust_).cwiseMin(max_thrust_);
   const bool saturated = (out.u_cmd.array() != out.u_nominal.array()).any();

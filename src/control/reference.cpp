@@ -41,6 +41,9 @@ std::string validate(const TrajectorySpec& s) {
   if (!finite(s.start) || !finite(s.goal)) return "trajectory points must be finite";
   if (!std::isfinite(s.yaw)) return "trajectory yaw must be finite";
   if (!(std::isfinite(s.start_time) && s.start_time >= 0.0)) return "trajectory start time must be finite and >= 0";
+  if (!(std::isfinite(s.yaw_sweep_amplitude) && s.yaw_sweep_amplitude >= 0.0))
+    return "trajectory yaw sweep amplitude must be finite and >= 0";
+  if (!(std::isfinite(s.yaw_sweep_period) && s.yaw_sweep_period > 0.0)) return "trajectory yaw sweep period must be finite and > 0";
   if (s.kind == TrajectoryKind::kHover) return {};
   if (!(std::isfinite(s.speed) && s.speed > 0.0)) return "trajectory speed must be finite and > 0";
   if ((s.kind == TrajectoryKind::kCircle || s.kind == TrajectoryKind::kFigureEight) &&
@@ -121,6 +124,11 @@ Reference referenceAt(const TrajectorySpec& s, double t) {
       }
       break;
     }
+  }
+  if (s.yaw_sweep_amplitude > 0.0 && tau > 0.0) {
+    const double w = 2.0 * M_PI / s.yaw_sweep_period;  // [rad/s]
+    r.yaw = wrapAngle(r.yaw + s.yaw_sweep_amplitude * std::sin(w * tau));
+    r.yaw_rate += s.yaw_sweep_amplitude * w * std::cos(w * tau);
   }
   return r;
 }

@@ -48,10 +48,14 @@ struct TrajectorySpec {
   YawMode yaw_mode = YawMode::kFixed;
   double yaw = 0.0;           // [rad] the fixed yaw (kFixed; also hover)
   double start_time = 0.0;    // [s] when the manoeuvre begins
+  // A heading sweep added to either yaw mode from start_time on: A·sin(2π·τ/P), a pilot panning
+  // the nose or a camera operator's slow yaw (docs/control.md, "References"). 0: none.
+  double yaw_sweep_amplitude = 0.0;  // [rad] A
+  double yaw_sweep_period = 1.0;     // [s] P
 };
 
 // Empty when valid, else a one-line description of the first problem (non-finite values,
-// radius <= 0, speed <= 0, start time < 0). Whether the vehicle can fly it (v²/r against its
+// radius <= 0, speed <= 0, start time < 0, a sweep's amplitude < 0 or period <= 0). Whether the vehicle can fly it (v²/r against its
 // thrust-to-weight) is the caller's business.
 std::string validate(const TrajectorySpec& spec);
 

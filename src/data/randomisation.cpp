@@ -84,6 +84,12 @@ std::string validate(const Randomisation& r) {
   if (!validInterval(m.speed) || !validInterval(m.size) || !(m.size.lo > 0.0 || m.hover > 0.0))
     return "randomisation: manoeuvre speed and size ranges must be 0 <= lo <= hi";
   if (!(m.max_lateral_accel > 0.0)) return "randomisation: max lateral acceleration must be > 0";
+  if (!(m.facing_velocity >= 0.0 && m.facing_velocity <= 1.0 && m.yaw_sweep >= 0.0 && m.yaw_sweep <= 1.0))
+    return "randomisation: manoeuvres.facing_velocity and manoeuvres.yaw_sweep are shares in [0, 1]";
+  if (!validInterval(m.yaw_sweep_amplitude) || m.yaw_sweep_amplitude.lo < 0.0 || m.yaw_sweep_amplitude.hi > M_PI)
+    return "randomisation: manoeuvres.yaw_sweep_amplitude must lie in [0, pi] rad";
+  if (!validInterval(m.yaw_sweep_period) || !(m.yaw_sweep_period.lo > 0.0))
+    return "randomisation: manoeuvres.yaw_sweep_period needs 0 < lo <= hi";
   const ControllerMix& c = r.controllers;
   for (double w : {c.lqr, c.pid, c.cbf, c.geometric})
     if (!(w >= 0.0) || !std::isfinite(w)) return "randomisation: controller weights must be >= 0";
@@ -239,6 +245,16 @@ FlightDraw drawFlight(const Randomisation& r, const std::vector<VehicleParams>& 
     d.wind.gust_rate = draw(w.gust_rate, rng);
     d.wind.gust_peak = draw(w.gust_peak, rng);
     d.wind.gust_duration = draw(w.gust_duration, rng);
+  }
+  // The heading's draws come after the wind's and only when asked for, for the same reason.
+  if (m.headingEnabled()) {
+    md.facing_velocity = md.kind != ManoeuvreKind::kHover && rng.uniform(0.0, 1.0) < m.facing_velocity;
+    const bool sweep = rng.uniform(0.0, 1.0) < m.yaw_sweep;
+    const double amplitude = draw(m.yaw_sweep_amplitude, rng), period = draw(m.yaw_sweep_period, rng);
+    if (sweep) {
+      md.yaw_sweep_amplitude = amplitude;
+      md.yaw_sweep_period = period;
+    }
   }
   return d;
 }

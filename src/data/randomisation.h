@@ -62,6 +62,15 @@ struct ManoeuvreMix {
   Interval speed{0.5, 2.0};   // [m/s] cruise speed (point-to-point peak, circle and figure-eight path speed)
   Interval size{0.5, 1.5};    // [m] point-to-point distance, circle radius, figure-eight half-width
   double max_lateral_accel = 4.9;  // [m/s²] paths are widened until v²/r ≤ this (0.5 g keeps tilt ≤ 27°)
+  // How the nose moves. Autopilots' mission modes point it along the path (PX4 MPC_YAW_MODE "towards
+  // waypoint", ArduPilot Copter WP_YAW_BEHAVIOR "face next waypoint") and pilots pan it; a
+  // yaw turn splits the commands between the two spin directions, which a detector that never saw
+  // one reads as a weak motor (docs/data.md#heading). 0 and 0: every flight holds yaw 0.
+  double facing_velocity = 0.0;              // [-] share of moving manoeuvres flown nose along the path
+  double yaw_sweep = 0.0;                    // [-] share of flights whose heading also sweeps sinusoidally
+  Interval yaw_sweep_amplitude{0.5, 0.5};    // [rad] sweep amplitude A (control/reference.h)
+  Interval yaw_sweep_period{4.0, 4.0};       // [s] sweep period P
+  bool headingEnabled() const { return facing_velocity > 0.0 || yaw_sweep > 0.0; }
 };
 
 // Controllers flown (relative weights) and the spread of their gains.
@@ -137,6 +146,9 @@ struct ManoeuvreDraw {
   double speed = 0.0;      // [m/s]
   double size = 0.0;       // [m]
   double direction = 0.0;  // [rad] point-to-point: heading of the path in the world frame
+  bool facing_velocity = false;      // nose along the path (not for hover)
+  double yaw_sweep_amplitude = 0.0;  // [rad] 0: no sweep
+  double yaw_sweep_period = 1.0;     // [s]
 };
 
 // One flight's draw.

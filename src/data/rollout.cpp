@@ -91,6 +91,9 @@ TrajectorySpec trajectoryFor(const ManoeuvreDraw& m, const Vec3& anchor) {
       t.speed = m.speed;
       break;
   }
+  t.yaw_mode = m.facing_velocity ? YawMode::kFacingVelocity : YawMode::kFixed;
+  t.yaw_sweep_amplitude = m.yaw_sweep_amplitude;
+  t.yaw_sweep_period = m.yaw_sweep_period;
   return t;
 }
 

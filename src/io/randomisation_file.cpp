@@ -26,6 +26,8 @@ std::vector<std::pair<std::string, Interval*>> intervalFields(Randomisation& r) 
           {"sensors.estimate_error_tau", &r.sensors.estimate_error_tau},
           {"manoeuvres.speed", &r.manoeuvres.speed},
           {"manoeuvres.size", &r.manoeuvres.size},
+          {"manoeuvres.yaw_sweep_amplitude", &r.manoeuvres.yaw_sweep_amplitude},
+          {"manoeuvres.yaw_sweep_period", &r.manoeuvres.yaw_sweep_period},
           {"controllers.gain_scale", &r.controllers.gain_scale},
           {"preroll_seconds", &r.preroll_seconds},
           {"wind.rotor_drag", &r.wind.rotor_drag},
@@ -47,6 +49,9 @@ std::vector<std::pair<std::string, Interval*>> intervalFields(Randomisation& r) 
 }
 
 bool isAirframeKey(const std::string& key) { return key.rfind("airframes.", 0) == 0; }
+bool isHeadingKey(const std::string& key) {
+  return key == "manoeuvres.facing_velocity" || key.rfind("manoeuvres.yaw_sweep", 0) == 0;
+}
 
 std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
   return {{"manoeuvres.hover", &r.manoeuvres.hover},
@@ -54,6 +59,8 @@ std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
           {"manoeuvres.circle", &r.manoeuvres.circle},
           {"manoeuvres.figure_eight", &r.manoeuvres.figure_eight},
           {"manoeuvres.max_lateral_accel", &r.manoeuvres.max_lateral_accel},
+          {"manoeuvres.facing_velocity", &r.manoeuvres.facing_velocity},
+          {"manoeuvres.yaw_sweep", &r.manoeuvres.yaw_sweep},
           {"controllers.lqr", &r.controllers.lqr},
           {"controllers.pid", &r.controllers.pid},
           {"controllers.cbf", &r.controllers.cbf},
@@ -192,15 +199,16 @@ std::string randomisationToText(const Randomisation& r) {
   for (std::size_t i = 0; i < r.vehicle_names.size(); ++i) out += (i ? ", \"" : "\"") + r.vehicle_names[i] + "\"";
   out += "]\n";
   char buf[160];
-  // Without synthetic airframes their keys are left out: the text of every earlier model is unchanged.
-  const bool airframes = r.airframes.enabled();
+  // Without synthetic airframes or heading motion their keys are left out: the text of every
+  // earlier model is unchanged.
+  const bool airframes = r.airframes.enabled(), heading = r.manoeuvres.headingEnabled();
   for (const auto& [key, field] : numberFields(copy)) {
-    if (isAirframeKey(key) && !airframes) continue;
+    if ((isAirframeKey(key) && !airframes) || (isHeadingKey(key) && !heading)) continue;
     std::snprintf(buf, sizeof buf, "%s = %.17g\n", key.c_str(), *field);
     out += buf;
   }
   for (const auto& [key, field] : intervalFields(copy)) {
-    if (isAirframeKey(key) && !airframes) continue;
+    if ((isAirframeKey(key) && !airframes) || (isHeadingKey(key) && !heading)) continue;
     std::snprintf(buf, sizeof buf, "%s = [%.17g, %.17g]\n", key.c_str(), field->lo, field->hi);
     out += buf;
   }

@@ -54,7 +54,7 @@ TEST(SimulateCli, HelpDocumentsEveryOption) {
   for (const char* opt : {"--controller", "--controller-config", "--params", "--controller-params", "--lqr-weights", "--motor", "--theta",
                           "--fault-step", "--steps", "--seed", "--integrator", "--output", "--full-state", "--goal",
                           "--start", "--position-noise", "--attitude-noise", "--rate-noise", "--rates", "--cbf-min-altitude", "--cbf-max-tilt",
-                          "--quiet", "--trajectory", "--speed", "--radius", "--yaw-mode", "--rotor-drag", "--wind-speed",
+                          "--quiet", "--trajectory", "--speed", "--radius", "--yaw-mode", "--yaw-sweep", "--rotor-drag", "--wind-speed",
                           "--wind-direction", "--turbulence", "--turbulence-tau", "--gust-rate", "--gust-peak", "--gust-duration"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
 }
@@ -129,6 +129,34 @@ TEST(SimulateCli, PidFliesACircle) {
   const CommandResult bad = run("simulate --controller-config " + cfg + " -o /dev/null");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find(cfg + ":3: 'pid.rate_divisor' must be an integer"), std::string::npos) << bad.out;
+}
+
+// A heading sweep on a hover: the logged yaw swings about the held heading by about the amplitude
+// (the PID tracks it with its yaw-rate feed-forward), the position stays put; bad values are one line.
+TEST(SimulateCli, AYawSweepTurnsTheHover) {
+  const CommandResult r = run("simulate --controller pid --yaw-sweep 0.6 4 --start 0 0 1 0 0 0 0 0 0 0 0 0 --goal 0 0 1 "
+                              "--steps 5000 --output -",
+                              false);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  std::istringstream in(r.out);
+  std::string line;
+  std::getline(in, line);
+  double low = 0.0, high = 0.0, drift = 0.0;
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    std::istringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) v.push_back(std::stod(cell));
+    ASSERT_GE(v.size(), 7u);
+    low = std::min(low, v[6]);
+    high = std::max(high, v[6]);
+    drift = std::max(drift, std::hypot(v[1], v[2]));
+  }
+  EXPECT_NEAR(high, 0.6, 0.06);
+  EXPECT_NEAR(low, -0.6, 0.06);
+  EXPECT_LT(drift, 0.05);
+  const CommandResult bad = run("simulate --yaw-sweep 0.5 0 --output /dev/null");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("--yaw-sweep: needs an amplitude in [0, pi] rad and a period > 0 s"), std::string::npos) << bad.out;
 }
 
 // A steady wind toward +x pushes a hovering LQR flight downwind and it leans into it (negative

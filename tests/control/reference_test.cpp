@@ -81,6 +81,34 @@ TEST(Reference, SpeedsAndShapesAreTheStatedOnes) {
   EXPECT_LT((referenceAt(eight, 0.5 + manoeuvreDuration(eight)).position - eight.start).norm(), 1e-12);  // closed
 }
 
+// A heading sweep rides on either yaw mode: the yaw is the path's plus A·sin(2π·τ/P), its rate the
+// derivative, and nothing moves before the start or off the yaw.
+TEST(Reference, AYawSweepAddsItsSineToEveryManoeuvresYaw) {
+  const double h = 1e-5;
+  for (const auto kind : {TrajectoryKind::kHover, TrajectoryKind::kPointToPoint, TrajectoryKind::kCircle,
+                          TrajectoryKind::kFigureEight}) {
+    for (const auto mode : {YawMode::kFixed, YawMode::kFacingVelocity}) {
+      const TrajectorySpec plain = make(kind, mode);
+      TrajectorySpec swept = plain;
+      swept.yaw_sweep_amplitude = 0.7;
+      swept.yaw_sweep_period = 2.5;
+      ASSERT_EQ(validate(swept), "");
+      EXPECT_EQ(referenceAt(swept, 0.3).yaw, referenceAt(plain, 0.3).yaw);  // at rest before the start
+      EXPECT_EQ(referenceAt(swept, 0.3).yaw_rate, 0.0);
+      for (double t = 0.6; t < 6.0; t += 0.113) {
+        const Reference r = referenceAt(swept, t), p = referenceAt(plain, t);
+        const double tau = t - swept.start_time, w = 2.0 * M_PI / 2.5;
+        EXPECT_NEAR(wrapAngle(r.yaw - p.yaw - 0.7 * std::sin(w * tau)), 0.0, 1e-12) << toString(kind) << " t=" << t;
+        EXPECT_NEAR(r.yaw_rate - p.yaw_rate, 0.7 * w * std::cos(w * tau), 1e-12);
+        const Reference a = referenceAt(swept, t - h), b = referenceAt(swept, t + h);
+        EXPECT_NEAR(wrapAngle(b.yaw - a.yaw) / (2 * h), r.yaw_rate, 1e-5) << toString(kind) << " t=" << t;
+        EXPECT_EQ(r.position, p.position);
+        EXPECT_EQ(r.acceleration, p.acceleration);
+      }
+    }
+  }
+}
+
 TEST(Reference, ValidateNamesTheProblem) {
   TrajectorySpec s = make(TrajectoryKind::kCircle, YawMode::kFixed);
   s.radius = 0.0;
@@ -92,6 +120,12 @@ TEST(Reference, ValidateNamesTheProblem) {
   EXPECT_EQ(validate(s), "");  // hover ignores speed
   s.start_time = -1.0;
   EXPECT_EQ(validate(s), "trajectory start time must be finite and >= 0");
+  s.start_time = 0.0;
+  s.yaw_sweep_amplitude = -0.1;
+  EXPECT_EQ(validate(s), "trajectory yaw sweep amplitude must be finite and >= 0");
+  s.yaw_sweep_amplitude = 0.5;
+  s.yaw_sweep_period = 0.0;
+  EXPECT_EQ(validate(s), "trajectory yaw sweep period must be finite and > 0");
   TrajectoryKind k;
   EXPECT_TRUE(parseTrajectoryKind("figure-eight", k));
   EXPECT_EQ(k, TrajectoryKind::kFigureEight);

@@ -216,6 +216,54 @@ TEST(Randomisation, WindIsDrawnLastSoEveryOtherDrawIsUnchanged) {
   }
 }
 
+// The heading's draws come after the wind's: asking for them changes no other draw; hover never
+// faces its (zero) velocity; the shares and ranges are kept.
+TEST(Randomisation, HeadingIsDrawnLastSoEveryOtherDrawIsUnchanged) {
+  Randomisation fixed = twoVehicles();
+  fixed.manoeuvres.hover = fixed.manoeuvres.point_to_point = fixed.manoeuvres.circle = 1.0;
+  fixed.wind.rotor_drag = {0.15, 0.35};
+  fixed.wind.mean_speed = {0.0, 5.0};
+  Randomisation turning = fixed;
+  turning.manoeuvres.facing_velocity = 0.5;
+  turning.manoeuvres.yaw_sweep = 0.3;
+  turning.manoeuvres.yaw_sweep_amplitude = {0.2, 1.2};
+  turning.manoeuvres.yaw_sweep_period = {3.0, 10.0};
+  ASSERT_EQ(validate(turning), "");
+  int moving = 0, facing = 0, swept = 0;
+  const int n = 2000;
+  for (int i = 0; i < n; ++i) {
+    Rng a(9, static_cast<std::uint64_t>(i)), b(9, static_cast<std::uint64_t>(i));
+    const FlightDraw df = drawFlight(fixed, 0.002, a), dt = drawFlight(turning, 0.002, b);
+    ASSERT_EQ(df.plant.mass, dt.plant.mass);
+    ASSERT_EQ(df.controller, dt.controller);
+    ASSERT_EQ(df.manoeuvre.kind, dt.manoeuvre.kind);
+    ASSERT_EQ(df.manoeuvre.size, dt.manoeuvre.size);
+    ASSERT_EQ(df.manoeuvre.direction, dt.manoeuvre.direction);
+    ASSERT_EQ(df.wind.mean_speed, dt.wind.mean_speed);
+    ASSERT_EQ(df.preroll_steps, dt.preroll_steps);
+    EXPECT_FALSE(df.manoeuvre.facing_velocity);
+    EXPECT_EQ(df.manoeuvre.yaw_sweep_amplitude, 0.0);
+    if (dt.manoeuvre.kind == ManoeuvreKind::kHover) EXPECT_FALSE(dt.manoeuvre.facing_velocity);
+    else ++moving;
+    facing += dt.manoeuvre.facing_velocity;
+    if (dt.manoeuvre.yaw_sweep_amplitude > 0.0) {
+      ++swept;
+      EXPECT_GE(dt.manoeuvre.yaw_sweep_amplitude, 0.2);
+      EXPECT_LE(dt.manoeuvre.yaw_sweep_amplitude, 1.2);
+      EXPECT_GE(dt.manoeuvre.yaw_sweep_period, 3.0);
+      EXPECT_LE(dt.manoeuvre.yaw_sweep_period, 10.0);
+    }
+  }
+  // Binomial: 4σ bands around the shares.
+  EXPECT_NEAR(facing, 0.5 * moving, 4.0 * std::sqrt(0.25 * moving));
+  EXPECT_NEAR(swept, 0.3 * n, 4.0 * std::sqrt(0.21 * n));
+  turning.manoeuvres.yaw_sweep = 1.5;
+  EXPECT_NE(validate(turning).find("shares in [0, 1]"), std::string::npos);
+  turning.manoeuvres.yaw_sweep = 0.3;
+  turning.manoeuvres.yaw_sweep_period = {0.0, 2.0};
+  EXPECT_NE(validate(turning).find("yaw_sweep_period"), std::string::npos);
+}
+
 TEST(Randomisation, WindWithoutDragIsRefused) {
   Randomisation r = twoVehicles();
   r.wind.mean_speed = {1.0, 3.0};

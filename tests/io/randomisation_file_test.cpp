@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "config_refusal.h"
+#include "core/frames.h"
 #include "data/rollout.h"
 #include "io/key_value.h"
 #include "io/params_file.h"
@@ -17,6 +18,7 @@ namespace {
 const std::string kDefault = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-default.toml";
 const std::string kAirframes = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-airframes.toml";
 const std::string kGeometric = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-geometric.toml";
+const std::string kHeading = std::string(QUADFDI_SOURCE_DIR) + "/configs/randomisation-heading.toml";
 
 // The one-line error randomisationFromText gives for `text` (read as "r.toml"), or test::kAccepted.
 std::string refusalOf(const std::string& text) {
@@ -235,6 +237,35 @@ TEST(RandomisationFile, TheShippedRecipesDifferFromTheDefaultOnlyWhereTheySay) {
   EXPECT_EQ(synthetic.airframes.share, 1.0);
   synthetic.airframes.share = airframe_recipe.airframes.share;
   EXPECT_EQ(randomisationToText(synthetic), randomisationToText(airframe_recipe));
+  Randomisation heading = loadRandomisation(kHeading);
+  EXPECT_TRUE(heading.manoeuvres.headingEnabled());
+  EXPECT_EQ(heading.manoeuvres.figure_eight, 0.0);  // still held out for E7
+  heading.manoeuvres.facing_velocity = heading.manoeuvres.yaw_sweep = 0.0;
+  heading.manoeuvres.yaw_sweep_amplitude = fallback.manoeuvres.yaw_sweep_amplitude;
+  heading.manoeuvres.yaw_sweep_period = fallback.manoeuvres.yaw_sweep_period;
+  EXPECT_EQ(randomisationToText(heading), randomisationToText(fallback));
+}
+
+// The heading keys read, round trip through the text a model file records, are left out of it
+// when no flight turns (every earlier model's text unchanged), and bad values are named.
+TEST(RandomisationFile, HeadingKeysParseRoundTripAndAreLeftOutWhenNoFlightTurns) {
+  const Randomisation r = randomisationFromText(
+      "vehicles = [\"nominal\"]\n[manoeuvres]\nfacing_velocity = 0.25\nyaw_sweep = 0.5\nyaw_sweep_amplitude = [0.1, 0.9]\n"
+      "yaw_sweep_period = [2, 6]\n",
+      "h.toml");
+  EXPECT_EQ(r.manoeuvres.facing_velocity, 0.25);
+  EXPECT_EQ(r.manoeuvres.yaw_sweep, 0.5);
+  EXPECT_EQ(r.manoeuvres.yaw_sweep_amplitude.hi, 0.9);
+  EXPECT_EQ(r.manoeuvres.yaw_sweep_period.lo, 2.0);
+  const std::string text = randomisationToText(r);
+  EXPECT_NE(text.find("manoeuvres.yaw_sweep_period = [2, 6]"), std::string::npos);
+  EXPECT_EQ(randomisationToText(randomisationFromText(text, "model")), text);
+  EXPECT_EQ(randomisationToText(loadRandomisation(kDefault)).find("yaw_sweep"), std::string::npos);
+  EXPECT_EQ(randomisationToText(loadRandomisation(kDefault)).find("facing_velocity"), std::string::npos);
+  EXPECT_EQ(refusalOf("vehicles = [\"nominal\"]\n[manoeuvres]\nfacing_velocity = 2\n"),
+            "r.toml: randomisation: manoeuvres.facing_velocity and manoeuvres.yaw_sweep are shares in [0, 1]");
+  EXPECT_EQ(refusalOf("vehicles = [\"nominal\"]\n[manoeuvres]\nyaw_sweep = 0.5\nyaw_sweep_amplitude = [0, 4]\n"),
+            "r.toml: randomisation: manoeuvres.yaw_sweep_amplitude must lie in [0, pi] rad");
 }
 
 TEST(RandomisationFile, WindKeysParseAndWindWithoutDragIsRefusedAtTheFile) {
@@ -317,6 +348,39 @@ TEST(RandomisationFile, RandomisedHealthyFlightsStayUpAndAreThreadIndependent) {
   EXPECT_EQ(cut, 0);
   // Commands stay finite and inside a plausible band around hover (no runaway controller).
   for (float u : one.inputs) ASSERT_TRUE(std::isfinite(u));
+}
+
+// The heading recipe's flights, healthy, every controller, nose along the path and sweeping: every
+// one stays up and the yaw does move.
+TEST(RandomisationFile, TurningFlightsStayUp) {
+  RolloutConfig c;
+  c.randomisation = loadRandomisation(kHeading);
+  c.randomisation.manoeuvres.facing_velocity = 1.0;
+  c.randomisation.manoeuvres.yaw_sweep = 1.0;
+  c.seed = 5;
+  c.post_fault_steps = 300;
+  const RolloutEngine engine(c);
+  ASSERT_EQ(engine.error(), "");
+  TrajectoryBatch batch;
+  ASSERT_TRUE(engine.run(algorithm1Jobs(0, 45, {1.0}, {2}), 2, batch));
+  for (int t = 0; t < batch.count; ++t) {
+    const FlightDraw d = engine.flightDraw(batch.scenario_index[static_cast<std::size_t>(t)]);
+    EXPECT_GT(d.manoeuvre.yaw_sweep_amplitude, 0.0);
+    EXPECT_EQ(batch.length[static_cast<std::size_t>(t)], batch.samples)
+        << "cut: " << c.randomisation.vehicle_names[static_cast<std::size_t>(d.vehicle)] << " " << toString(d.controller)
+        << " manoeuvre " << toString(d.manoeuvre.kind) << " sweep " << d.manoeuvre.yaw_sweep_amplitude << " rad / "
+        << d.manoeuvre.yaw_sweep_period << " s";
+  }
+  for (float u : batch.inputs) ASSERT_TRUE(std::isfinite(u));
+  int turning = 0;  // flights whose yaw moves over the recorded window (the sweep's slowest: 0.13 rad/s)
+  for (int t = 0; t < batch.count; ++t) {
+    const double first = double(batch.outputs[batch.sampleOffset(t, 0) * kOutputDim + 5]);
+    double moved = 0.0;
+    for (int k = 0; k < batch.samples; ++k)
+      moved = std::max(moved, std::abs(wrapAngle(double(batch.outputs[batch.sampleOffset(t, k) * kOutputDim + 5]) - first)));
+    turning += moved > 0.01;
+  }
+  EXPECT_GE(turning, batch.count * 3 / 4);
 }
 
 // E7 holds the geometric controller out: no shipped randomisation flies it, and the key reads.
