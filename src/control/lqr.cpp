@@ -144,8 +144,8 @@ LqrController::LqrController(const VehicleParams& params, const GainMatrix& gain
 
 void LqrController::compute(const State& x, ControlStep& out) {
   // e = x − x_ref, x_ref = (reference position, reference velocity in the body frame, 0, 0,
-  // reference yaw, 0, 0, reference yaw rate). The hover reference skips the rotation: e is then bit for bit
-  // the hover LQR's (x − 0 = x).
+  // reference yaw, 0, 0, reference yaw rate). The hover reference skips the rotations: e is then
+  // bit for bit the hover LQR's (x − 0 = x).
   State err = x;
   err.segment<3>(idx::kPos) -= reference_.position;
   // The gain is designed at yaw 0, where body x is world x. Under a turning or turned reference the
