@@ -202,13 +202,14 @@ std::string randomisationToText(const Randomisation& r) {
   // Without synthetic airframes or heading motion their keys are left out: the text of every
   // earlier model is unchanged.
   const bool airframes = r.airframes.enabled(), heading = r.manoeuvres.headingEnabled();
+  const auto leftOut = [&](const std::string& key) { return (isAirframeKey(key) && !airframes) || (isHeadingKey(key) && !heading); };
   for (const auto& [key, field] : numberFields(copy)) {
-    if ((isAirframeKey(key) && !airframes) || (isHeadingKey(key) && !heading)) continue;
+    if (leftOut(key)) continue;
     std::snprintf(buf, sizeof buf, "%s = %.17g\n", key.c_str(), *field);
     out += buf;
   }
   for (const auto& [key, field] : intervalFields(copy)) {
-    if ((isAirframeKey(key) && !airframes) || (isHeadingKey(key) && !heading)) continue;
+    if (leftOut(key)) continue;
     std::snprintf(buf, sizeof buf, "%s = [%.17g, %.17g]\n", key.c_str(), field->lo, field->hi);
     out += buf;
   }
