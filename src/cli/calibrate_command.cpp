@@ -10,11 +10,14 @@
 #include <filesystem>
 #include <iterator>
 #include <memory>
+#include <optional>
 
 #include "cli/cli_util.h"
 #include "cli/detect_command.h"
 #include "cli/options.h"
+#include "cli/sequential_report.h"
 #include "control/controller_factory.h"
+#include "data/rollout.h"
 #include "detection/calibration.h"
 #include "detection/session.h"
 #include "evaluation/flight_streams.h"
@@ -287,6 +290,7 @@ int runCalibrate(const CalibrateOptions& o) {
   long samples = 0;
   // Randomised flights (--randomise): every library vehicle, controller, manoeuvre and estimator.
   std::vector<FlightThetaStream> faulty, boundary;  // boundary: complete failures for the belt (--interval belt)
+  std::optional<RolloutConfig> healthy_rollout;      // randomised: how the healthy flights were drawn, to name them
   if (!o.randomise.empty()) {
     RolloutConfig rc;
     rc.window = T;
@@ -302,6 +306,7 @@ int runCalibrate(const CalibrateOptions& o) {
     streaming.gate.failed_min_share = failed_min_share;
     streaming.gate.degraded_min_share = degraded_min_share;
     streaming.chunk = 16;          // minute-long flights: 16 at a time bound the raw samples held at once
+    healthy_rollout = rc;
     for (FlightThetaStream& s : simulateThetaStreams(model, rc, jobs, streaming)) {
       dropLeadingSamples(s, settle_samples);
       samples += static_cast<long>(s.theta.size());
@@ -524,6 +529,23 @@ int runCalibrate(const CalibrateOptions& o) {
       std::fprintf(stderr, "calibrate: failed cap %s: h = %.3f, %d of %d faults (Θ < %.3g) named within %g s%s\n",
                    capText(f.failed.increment_cap).c_str(), f.failed.threshold, f.named, f.faults, o.failed_below, o.failed_delay_budget,
                    static_cast<int>(i) == cap_choice.chosen ? " (chosen)" : "");
+    }
+    // Which flights the thresholds stand on: the largest excursions at each level (healthy flights
+    // are jobs 0, 1, … in order, so a stream's index is its flight's scenario index).
+    constexpr std::size_t kNamed = 3;
+    const std::unique_ptr<RolloutEngine> engine = healthy_rollout ? std::make_unique<RolloutEngine>(*healthy_rollout) : nullptr;
+    for (const auto& [l, of] : {std::pair{&c.degraded, EvidenceLevel::kDegraded}, std::pair{&c.failed, EvidenceLevel::kFailed}}) {
+      const std::vector<Excursion> largest = largestExcursions(healthy, l->level, kNamed, 0, l->increment_cap, &healthy_observable, of);
+      std::string named;
+      for (const Excursion& e : largest) {
+        char part[160];
+        const double started = static_cast<double>(e.start + settle_samples + T - 1) * dt;
+        std::snprintf(part, sizeof part, "%s%.3g in healthy flight %zu, motor %d, from %.1f s for %.2f s", named.empty() ? "" : "; ", e.peak,
+                      e.stream, e.motor + 1, started, static_cast<double>(e.length) * dt);
+        named += part;
+        if (engine) named += " (" + drawnFlightText(engine->flightDraw(static_cast<std::uint64_t>(e.stream)), healthy_rollout->randomisation) + ")";
+      }
+      if (!named.empty()) std::fprintf(stderr, "calibrate: largest excursions at level %.2f: %s\n", l->level, named.c_str());
     }
     std::fprintf(stderr, "calibrate: wrote %s\n", output.c_str());
   }

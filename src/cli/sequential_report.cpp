@@ -190,14 +190,7 @@ std::string alarmedFlights(const RolloutConfig& healthy, const SequentialEvaluat
     if (listed++ < kListed) {
       const FalseAlarm& a = list[first];
       md << "| " << a.flight << " | " << vehicle << " | " << toString(d.controller) << " ×" << num(d.gain_scale, 2) << " | "
-         << toString(d.manoeuvre.kind)
-         << (d.manoeuvre.kind == ManoeuvreKind::kHover ? std::string()
-                                                        : " " + num(d.manoeuvre.speed, 1) + " m/s, " + num(d.manoeuvre.size, 1) + " m")
-         << (d.manoeuvre.facing_velocity ? ", nose along the path" : "")
-         << (d.manoeuvre.yaw_sweep_amplitude > 0.0
-                 ? ", sweep " + num(d.manoeuvre.yaw_sweep_amplitude, 1) + " rad / " + num(d.manoeuvre.yaw_sweep_period, 1) + " s"
-                 : std::string())
-         << " | "
+         << manoeuvreText(d.manoeuvre) << " | "
          << num(d.wind.mean_speed, 1) << " / " << num(d.wind.turbulence_std, 1) << " / " << num(d.wind.gust_rate > 0.0 ? d.wind.gust_peak : 0.0, 1)
          << " | " << num(mass_ratio, 2) << " / " << num(d.thrust_gain, 2) << " / " << num(1000.0 * d.plant.motor_time_constant, 0) << " | "
          << (end - first) << ": " << num(seconds(a), 2) << ", " << a.motor << ", " << toString(a.severity) << ", " << num(a.theta_est, 2) << " |\n";
@@ -209,6 +202,19 @@ std::string alarmedFlights(const RolloutConfig& healthy, const SequentialEvaluat
   return md.str();
 }
 }  // namespace
+
+std::string manoeuvreText(const ManoeuvreDraw& m) {
+  return std::string(toString(m.kind)) +
+         (m.kind == ManoeuvreKind::kHover ? std::string() : " " + num(m.speed, 1) + " m/s, " + num(m.size, 1) + " m") +
+         (m.facing_velocity ? ", nose along the path" : "") +
+         (m.yaw_sweep_amplitude > 0.0 ? ", sweep " + num(m.yaw_sweep_amplitude, 1) + " rad / " + num(m.yaw_sweep_period, 1) + " s"
+                                      : std::string());
+}
+
+std::string drawnFlightText(const FlightDraw& d, const Randomisation& r) {
+  return describedVehicleName(r, static_cast<std::size_t>(d.vehicle)) + ", " + toString(d.controller) + " ×" + num(d.gain_scale, 2) + ", " +
+         manoeuvreText(d.manoeuvre) + ", wind " + num(d.wind.mean_speed, 1) + " m/s";
+}
 
 std::string decisionsReport(const SequentialReportInputs& in, const ReportProgress& progress) {
   const TrainedModel& model = *in.model;

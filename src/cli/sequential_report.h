@@ -32,6 +32,11 @@ struct SequentialReportInputs {
   std::string output_dir;
 };
 
+// One drawn flight in words, for lists of the flights that alarmed or set a threshold: "quad450,
+// pid ×0.81, circle 1.4 m/s, 0.5 m, nose along the path, sweep 1.1 rad / 4.6 s, wind 2.9 m/s".
+std::string manoeuvreText(const ManoeuvreDraw& m);
+std::string drawnFlightText(const FlightDraw& d, const Randomisation& r);
+
 using ReportProgress = std::function<void(const std::string&)>;
 
 std::string transferReport(const SequentialReportInputs& in, const ReportProgress& progress);   // + e7.csv

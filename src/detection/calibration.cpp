@@ -103,29 +103,59 @@ SequentialConfig sequentialConfig(const DecisionCalibration& c) {
   return config;
 }
 
-std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip, double cap,
-                                    const std::vector<std::vector<std::uint8_t>>* observable, EvidenceLevel of) {
-  std::vector<double> maxima;
+namespace {
+// Walks every motor's CUSUM of every stream and hands each finished excursion to `found`.
+template <typename Found>
+void walkExcursions(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip, double cap,
+                    const std::vector<std::vector<std::uint8_t>>* observable, EvidenceLevel of, Found&& found) {
   for (std::size_t f = 0; f < streams.size(); ++f)
     for (int k = 0; k < kMotors; ++k) {
       const std::vector<MotorTheta>& s = streams[f];
       const std::vector<std::uint8_t>* mask = observable && f < observable->size() && !(*observable)[f].empty() ? &(*observable)[f] : nullptr;
-      double S = 0.0, peak = 0.0;
+      double S = 0.0;
+      Excursion e;
+      e.stream = f;
+      e.motor = k;
       for (std::size_t i = static_cast<std::size_t>(std::max(0L, skip)); i < s.size(); ++i) {
         double increment = cusumIncrement(level, static_cast<double>(s[i][static_cast<std::size_t>(k)]), cap);
         const bool gains = !mask || (of == EvidenceLevel::kFailed ? takesFailedEvidence((*mask)[i], k) : takesEvidence((*mask)[i], k));
         if (!gains) increment = std::min(increment, 0.0);  // as SequentialRule::update
         S = std::max(0.0, S + increment);
         if (S > 0.0) {
-          peak = std::max(peak, S);
-        } else if (peak > 0.0) {
-          maxima.push_back(peak);
-          peak = 0.0;
+          if (e.peak == 0.0) e.start = static_cast<long>(i);
+          e.peak = std::max(e.peak, S);
+        } else if (e.peak > 0.0) {
+          e.length = static_cast<long>(i) - e.start;
+          found(e);
+          e.peak = 0.0;
         }
       }
-      if (peak > 0.0) maxima.push_back(peak);  // an excursion cut by the end of the flight
+      if (e.peak > 0.0) {  // an excursion cut by the end of the flight
+        e.length = static_cast<long>(s.size()) - e.start;
+        found(e);
+      }
     }
+}
+}  // namespace
+
+std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& streams, double level, long skip, double cap,
+                                    const std::vector<std::vector<std::uint8_t>>* observable, EvidenceLevel of) {
+  std::vector<double> maxima;
+  walkExcursions(streams, level, skip, cap, observable, of, [&](const Excursion& e) { maxima.push_back(e.peak); });
   return maxima;
+}
+
+std::vector<Excursion> largestExcursions(const std::vector<std::vector<MotorTheta>>& streams, double level, std::size_t count, long skip,
+                                         double cap, const std::vector<std::vector<std::uint8_t>>* observable, EvidenceLevel of) {
+  std::vector<Excursion> largest;  // kept sorted, largest first, at most `count`
+  if (count == 0) return largest;
+  walkExcursions(streams, level, skip, cap, observable, of, [&](const Excursion& e) {
+    if (largest.size() == count && e.peak <= largest.back().peak) return;
+    const auto at = std::find_if(largest.begin(), largest.end(), [&](const Excursion& x) { return e.peak > x.peak; });
+    largest.insert(at, e);
+    if (largest.size() > count) largest.pop_back();
+  });
+  return largest;
 }
 
 double siegmundThreshold(const ThetaNoiseModel& noise, double level, double rate_per_hour, double dt) {

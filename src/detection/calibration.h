@@ -110,6 +110,22 @@ std::vector<double> excursionMaxima(const std::vector<std::vector<MotorTheta>>& 
                                     const std::vector<std::vector<std::uint8_t>>* observable = nullptr,
                                     EvidenceLevel of = EvidenceLevel::kDegraded);
 
+// One excursion of one motor's CUSUM in one stream: which flight and when, for a calibration to say
+// which flights set its threshold (a few long healthy dips can decide h alone).
+struct Excursion {
+  std::size_t stream = 0;  // [-] index into the streams
+  int motor = 0;           // [-] 0-based
+  double peak = 0.0;       // [effectiveness·samples] the excursion's maximum
+  long start = 0;          // [samples] stream index of its first positive sample
+  long length = 0;         // [samples] from its start to where it returned to zero (or the stream ended)
+};
+
+// The `count` largest excursions of excursionMaxima's walk (same arguments), largest first.
+std::vector<Excursion> largestExcursions(const std::vector<std::vector<MotorTheta>>& streams, double level, std::size_t count,
+                                         long skip = 0, double cap = kNoIncrementCap,
+                                         const std::vector<std::vector<std::uint8_t>>* observable = nullptr,
+                                         EvidenceLevel of = EvidenceLevel::kDegraded);
+
 // Siegmund's ARL approximation for the AR(1) noise model: the CUSUM threshold h at `level` for
 // `rate_per_hour` false alarms per flight hour over kMotors motors at period dt. At least h_min.
 double siegmundThreshold(const ThetaNoiseModel& noise, double level, double rate_per_hour, double dt);

@@ -165,6 +165,25 @@ TEST(DetectCli, CalibrateWritesACalibrationDetectUses) {
   EXPECT_NE(r.out.find("FAULT in motor 3"), std::string::npos) << r.out;
 }
 
+// calibrate names the healthy flights its thresholds stand on: the largest excursions, with what was
+// drawn for each randomised flight (a few long dips can set h alone).
+TEST(DetectCli, CalibrateNamesTheFlightsOfItsLargestExcursions) {
+  const std::string source = QUADFDI_SOURCE_DIR;
+  const CommandResult c = run("calibrate --model " + source + "/models/tcn-randomised.qfdw --randomise " + source +
+                              "/configs/randomisation-heading.toml --flights 3 --flight-seconds 4 --settle 1 --faulty-flights 0 "
+                              "--degraded-below 0.999 --output " + temp("calibration-named.json"));
+  ASSERT_EQ(c.exit_code, 0) << c.out;
+  const std::size_t at = c.out.find("calibrate: largest excursions at level 1.00: ");
+  ASSERT_NE(at, std::string::npos) << c.out;
+  const std::string line = c.out.substr(at, c.out.find('\n', at) - at);
+  EXPECT_NE(line.find(" in healthy flight "), std::string::npos) << line;
+  EXPECT_NE(line.find(", motor "), std::string::npos) << line;
+  EXPECT_TRUE(line.find("(crazyflie2, ") != std::string::npos || line.find("(racer250, ") != std::string::npos ||
+              line.find("(quad450, ") != std::string::npos)
+      << line;
+  EXPECT_NE(line.find(" m/s)"), std::string::npos) << line;  // the wind closes each flight's words
+}
+
 // A calibration records the CRC-32 its model's weights file ends with; detect refuses it with any
 // other model in one line naming both, and accepts a file written before the key existed.
 TEST(DetectCli, ACalibrationIsRefusedWithAnotherModel) {

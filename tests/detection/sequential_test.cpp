@@ -487,6 +487,34 @@ TEST(Calibration, ExcursionsOfTheCappedStatistic) {
   }
 }
 
+// The largest excursions are excursionMaxima's largest, and say where they lie: a calibration names
+// the flights its threshold stands on.
+TEST(Calibration, TheLargestExcursionsNameTheirStreamMotorAndSpan) {
+  auto ar1 = ar1Streams(3, 20000, 0.97, 0.03, 0.8, 17);
+  // A long shallow dip on stream 1, motor 3 (index 2): 400 samples at 0.85 against level 0.9.
+  for (std::size_t i = 5000; i < 5400; ++i) ar1[1][i][2] = 0.85f;
+  const std::vector<Excursion> top = largestExcursions(ar1, 0.9, 5, 0, 0.1);
+  std::vector<double> all = excursionMaxima(ar1, 0.9, 0, 0.1);
+  std::sort(all.rbegin(), all.rend());
+  ASSERT_EQ(top.size(), 5u);
+  for (std::size_t i = 0; i < top.size(); ++i) EXPECT_DOUBLE_EQ(top[i].peak, all[i]) << i;
+  EXPECT_EQ(top[0].stream, 1u);
+  EXPECT_EQ(top[0].motor, 2);
+  EXPECT_GE(top[0].peak, 400 * 0.05 - 1e-3);  // each sample adds level − 0.85 = 0.05
+  EXPECT_LE(top[0].start, 5000);  // it may begin in the noise just before the dip
+  EXPECT_GE(top[0].start + top[0].length, 5400);
+  EXPECT_LE(top[0].length, 1000);
+  // An excursion cut by the stream's end still counts, with its length to the end; none asked: none.
+  std::vector<std::vector<MotorTheta>> tail{std::vector<MotorTheta>(100, healthy())};
+  for (std::size_t i = 90; i < 100; ++i) tail[0][i][0] = 0.5f;
+  const std::vector<Excursion> cut = largestExcursions(tail, 0.8, 2);
+  ASSERT_EQ(cut.size(), 1u);
+  EXPECT_EQ(cut[0].start, 90);
+  EXPECT_EQ(cut[0].length, 10);
+  EXPECT_NEAR(cut[0].peak, 3.0, 1e-6);
+  EXPECT_TRUE(largestExcursions(ar1, 0.9, 0).empty());
+}
+
 // Heavy-tailed estimate errors (95 % within ±0.01, 5 % off by ±0.2), with `noise_sd` the healthy
 // noise model's standard deviation of each estimate.
 struct SpreadCase {
