@@ -539,9 +539,8 @@ int runCalibrate(const CalibrateOptions& o) {
       std::string named;
       for (const Excursion& e : largest) {
         char part[160];
-        const double started = static_cast<double>(e.start + settle_samples + T - 1) * dt;
         std::snprintf(part, sizeof part, "%s%.3g in healthy flight %zu, motor %d, from %.1f s for %.2f s", named.empty() ? "" : "; ", e.peak,
-                      e.stream, e.motor + 1, started, static_cast<double>(e.length) * dt);
+                      e.stream, e.motor + 1, streamIndexSeconds(e.start, settle_samples, T, dt), static_cast<double>(e.length) * dt);
         named += part;
         if (engine) named += " (" + drawnFlightText(engine->flightDraw(static_cast<std::uint64_t>(e.stream)), healthy_rollout->randomisation) + ")";
       }

@@ -178,7 +178,7 @@ std::string alarmedFlights(const RolloutConfig& healthy, const SequentialEvaluat
     const FlightDraw d = engine.flightDraw(static_cast<std::uint64_t>(list[first].flight));
     const std::string vehicle = describedVehicleName(healthy.randomisation, static_cast<std::size_t>(d.vehicle));
     const double mass_ratio = d.plant.mass / described[static_cast<std::size_t>(d.vehicle)].mass;
-    const auto seconds = [&](const FalseAlarm& a) { return static_cast<double>(a.sample + skipped + healthy.window - 1) * healthy.dt; };
+    const auto seconds = [&](const FalseAlarm& a) { return streamIndexSeconds(a.sample, skipped, healthy.window, healthy.dt); };
     for (std::size_t i = first; i < end; ++i) {
       const FalseAlarm& a = list[i];
       csv << a.flight << ',' << seconds(a) << ',' << a.motor << ',' << toString(a.severity) << ',' << a.theta_est << ',' << vehicle << ','

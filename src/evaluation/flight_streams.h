@@ -50,4 +50,10 @@ inline constexpr double kUpsetRecoverySeconds = 1.0;  // [s]
 // there. A faulty stream's fault index moves with it (a fault inside the dropped part: index 0).
 void dropLeadingSamples(FlightThetaStream& stream, long samples);
 
+// Seconds from the recording's start of a stream's estimate `index` once its first `dropped` were
+// dropped (dropLeadingSamples): index 0 is sample `window` − 1 of the flight (simulateThetaStreams).
+inline double streamIndexSeconds(long index, long dropped, int window, double dt) {
+  return static_cast<double>(index + dropped + window - 1) * dt;
+}
+
 }  // namespace quadfdi
