@@ -140,7 +140,11 @@ std::string mixSummary(const Randomisation& r) {
   const ManoeuvreMix& m = r.manoeuvres;
   return join({{c.lqr, "LQR"}, {c.pid, "PID"}, {c.cbf, "CBF-QP"}, {c.geometric, "geometric SE(3)"}}) + "; " +
          join({{m.hover, "hover"}, {m.point_to_point, "point-to-point"}, {m.circle, "circle"}, {m.figure_eight, "figure-eight"}}) +
-         (m.facing_velocity > 0.0 ? ", " + num(100.0 * m.facing_velocity, 0) + " % of paths nose along the path" : std::string()) +
+         (m.facing_velocity > 0.0 ? ", " + num(100.0 * m.facing_velocity, 0) + " % of paths nose along the path" +
+                                        (m.facing_velocity_yaw_rate_max > 0.0
+                                             ? " (circles' nose turning ≤ " + num(m.facing_velocity_yaw_rate_max, 2) + " rad/s)"
+                                             : std::string())
+                                  : std::string()) +
          (m.yaw_sweep > 0.0 ? ", " + num(100.0 * m.yaw_sweep, 0) + " % with heading sweeps ≤ " + num(m.yaw_sweep_amplitude.hi, 1) + " rad"
                             : std::string());
 }
@@ -207,6 +211,9 @@ std::string manoeuvreText(const ManoeuvreDraw& m) {
   return std::string(toString(m.kind)) +
          (m.kind == ManoeuvreKind::kHover ? std::string() : " " + num(m.speed, 1) + " m/s, " + num(m.size, 1) + " m") +
          (m.facing_velocity ? ", nose along the path" : "") +
+         (m.facing_velocity && m.facing_yaw_rate_max > 0.0 && m.speed > m.facing_yaw_rate_max * m.size
+              ? " slewed at " + num(m.facing_yaw_rate_max, 2) + " rad/s (the path turns at " + num(m.speed / m.size, 2) + ")"
+              : std::string()) +
          (m.yaw_sweep_amplitude > 0.0 ? ", sweep " + num(m.yaw_sweep_amplitude, 1) + " rad / " + num(m.yaw_sweep_period, 1) + " s"
                                       : std::string());
 }

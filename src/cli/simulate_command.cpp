@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -75,6 +76,11 @@ CLI::App* addSimulateCommand(CLI::App& app, SimulateOptions& o) {
   t->add("--radius", o.radius, "Circle radius, figure-eight half-length along x [m]").above(0.0, 100.0);
   t->add("--yaw-mode", o.yaw_mode, "Trajectory yaw: fixed (0) or velocity (nose along the path)")
       .choices({"fixed", "velocity"});
+  t->add("--yaw-rate-max", o.facing_yaw_rate_max,
+         "With --yaw-mode velocity on a circle: the nose turns at most this fast [rad/s] and falls behind a "
+         "tighter path, as autopilots slew their mission yaw (PX4 MPC_YAWRAUTO_MAX 45 °/s = 0.79, ArduPilot "
+         "ATC_SLEW_YAW 60 °/s = 1.05); 0: no limit")
+      .atLeast(0);
   t->add("--yaw-sweep", o.yaw_sweep,
          "Heading sweep A·sin(2π·t/P) on top of the trajectory's yaw (any trajectory, hover too): A [rad] P [s]")
       .values(2);
@@ -149,10 +155,12 @@ int runSimulate(const SimulateOptions& o) {
           "--fault-step " + std::to_string(o.fault_step) + " is not before --steps " + std::to_string(o.steps) + ": the flight would stay healthy");
   if (!o.rates && !o.full_state)
     refuseGiven(o.given, {"rate_noise"}, "is noise on the body-rate columns, which only --rates or --full-state writes");
+  if (o.yaw_mode != "velocity")
+    refuseGiven(o.given, {"yaw_rate_max"}, "limits the nose's turn along the path: give --yaw-mode velocity");
   require(!(o.gust_rate > 0.0) || o.gust_peak > 0.0, "--gust-rate: needs --gust-peak > 0 (no gusts otherwise)");
   require(!(o.gust_peak > 0.0) || o.gust_rate > 0.0, "--gust-peak: needs --gust-rate > 0 (no gusts otherwise)");
   if (o.trajectory == "hover")
-    refuseGiven(o.given, {"speed", "radius", "yaw_mode"}, "applies to --trajectory point-to-point, circle or figure-eight; hover holds the goal");
+    refuseGiven(o.given, {"speed", "radius", "yaw_mode", "yaw_rate_max"}, "applies to --trajectory point-to-point, circle or figure-eight; hover holds the goal");
   else if (o.trajectory == "point-to-point")
     refuseGiven(o.given, {"radius"}, "is the circle's and the figure-eight's; point-to-point flies from the start to the goal");
 
@@ -204,6 +212,7 @@ int runSimulate(const SimulateOptions& o) {
     spec.speed = o.speed;
     spec.radius = o.radius;
     spec.yaw_mode = o.yaw_mode == "velocity" ? YawMode::kFacingVelocity : YawMode::kFixed;
+    spec.facing_yaw_rate_max = o.facing_yaw_rate_max;
     if (!o.yaw_sweep.empty()) {
       spec.yaw_sweep_amplitude = o.yaw_sweep[0];
       spec.yaw_sweep_period = o.yaw_sweep[1];
@@ -251,8 +260,11 @@ int runSimulate(const SimulateOptions& o) {
         sum += e * e;
         worst = std::max(worst, e);
       }
-      char sweep[80] = "";
-      if (!o.yaw_sweep.empty()) std::snprintf(sweep, sizeof sweep, ", sweep %.2f rad every %.2f s", o.yaw_sweep[0], o.yaw_sweep[1]);
+      char sweep[120] = "";
+      if (o.facing_yaw_rate_max > 0.0) std::snprintf(sweep, sizeof sweep, " turning at most %.2f rad/s", o.facing_yaw_rate_max);
+      if (!o.yaw_sweep.empty())
+        std::snprintf(sweep + std::strlen(sweep), sizeof sweep - std::strlen(sweep), ", sweep %.2f rad every %.2f s", o.yaw_sweep[0],
+                      o.yaw_sweep[1]);
       std::fprintf(stderr, "  trajectory: %s at %.2f m/s (radius %.2f m, yaw %s%s); tracking error RMS %.4f m, max %.4f m\n",
                    o.trajectory.c_str(), o.speed, o.radius, o.yaw_mode.c_str(), sweep,
                    log.size() > 0 ? std::sqrt(sum / log.size()) : 0.0, worst);

@@ -41,6 +41,7 @@ struct SimulateOptions {
   double speed = 1.0;                   // [m/s] trajectory (peak) speed
   double radius = 1.0;                  // [m] circle radius, figure-eight half-length
   std::string yaw_mode = "fixed";       // fixed | velocity
+  double facing_yaw_rate_max = 0.0;     // [rad/s] --yaw-mode velocity on a circle: the nose's slew limit; 0: none
   std::vector<double> yaw_sweep;        // amplitude [rad], period [s]; empty: none
   double cbf_min_altitude = 0.5;        // [m]
   double cbf_max_tilt = 0.5;            // [rad]

@@ -44,6 +44,10 @@ std::string validate(const TrajectorySpec& s) {
   if (!(std::isfinite(s.yaw_sweep_amplitude) && s.yaw_sweep_amplitude >= 0.0))
     return "trajectory yaw sweep amplitude must be finite and >= 0";
   if (!(std::isfinite(s.yaw_sweep_period) && s.yaw_sweep_period > 0.0)) return "trajectory yaw sweep period must be finite and > 0";
+  if (!(std::isfinite(s.facing_yaw_rate_max) && s.facing_yaw_rate_max >= 0.0))
+    return "trajectory facing yaw-rate limit must be finite and >= 0";
+  if (s.facing_yaw_rate_max > 0.0 && s.kind == TrajectoryKind::kFigureEight && s.yaw_mode == YawMode::kFacingVelocity)
+    return "trajectory facing yaw-rate limit is for circles: a figure-eight's heading along the path is not slewed";
   if (s.kind == TrajectoryKind::kHover) return {};
   if (!(std::isfinite(s.speed) && s.speed > 0.0)) return "trajectory speed must be finite and > 0";
   if ((s.kind == TrajectoryKind::kCircle || s.kind == TrajectoryKind::kFigureEight) &&
@@ -100,8 +104,10 @@ Reference referenceAt(const TrajectorySpec& s, double t) {
         r.acceleration = Vec3(-s.speed * w * c, -s.speed * w * sn, 0.0);
       }
       if (face) {
-        r.yaw = wrapAngle(phase + 0.5 * M_PI);
-        r.yaw_rate = tau > 0.0 ? w : 0.0;
+        // Slewed: the nose starts along the path and turns at most facing_yaw_rate_max.
+        const double yaw_rate = s.facing_yaw_rate_max > 0.0 ? std::min(w, s.facing_yaw_rate_max) : w;
+        r.yaw = wrapAngle(yaw_rate * tau + 0.5 * M_PI);
+        r.yaw_rate = tau > 0.0 ? yaw_rate : 0.0;
       }
       break;
     }

@@ -52,10 +52,17 @@ struct TrajectorySpec {
   // the nose or a camera operator's slow yaw (docs/control.md, "References"). 0: none.
   double yaw_sweep_amplitude = 0.0;  // [rad] A
   double yaw_sweep_period = 1.0;     // [s] P
+  // kFacingVelocity on a circle: the nose turns at most this fast, as an autopilot slews the yaw
+  // setpoint of its mission modes (PX4 MPC_YAWRAUTO_MAX, default 45 °/s; ArduPilot ATC_SLEW_YAW,
+  // default 6000 cdeg/s = 60 °/s). Where the path turns faster (speed / radius above it) the nose
+  // keeps turning the path's way at this rate and falls behind it. 0: no limit. A figure-eight's
+  // heading is not slewed (validate refuses the pair); a point-to-point path does not turn.
+  double facing_yaw_rate_max = 0.0;  // [rad/s]
 };
 
 // Empty when valid, else a one-line description of the first problem (non-finite values,
-// radius <= 0, speed <= 0, start time < 0, a sweep's amplitude < 0 or period <= 0). Whether the vehicle can fly it (v²/r against its
+// radius <= 0, speed <= 0, start time < 0, a sweep's amplitude < 0 or period <= 0, a yaw-rate limit
+// < 0 or on a figure-eight flown nose first). Whether the vehicle can fly it (v²/r against its
 // thrust-to-weight) is the caller's business.
 std::string validate(const TrajectorySpec& spec);
 

@@ -90,6 +90,8 @@ std::string validate(const Randomisation& r) {
     return "randomisation: manoeuvres.yaw_sweep_amplitude must lie in [0, pi] rad";
   if (!validInterval(m.yaw_sweep_period) || !(m.yaw_sweep_period.lo > 0.0))
     return "randomisation: manoeuvres.yaw_sweep_period needs 0 < lo <= hi";
+  if (!(std::isfinite(m.facing_velocity_yaw_rate_max) && m.facing_velocity_yaw_rate_max >= 0.0))
+    return "randomisation: manoeuvres.facing_velocity_yaw_rate_max must be finite and >= 0 rad/s (0: no limit)";
   const ControllerMix& c = r.controllers;
   for (double w : {c.lqr, c.pid, c.cbf, c.geometric})
     if (!(w >= 0.0) || !std::isfinite(w)) return "randomisation: controller weights must be >= 0";
@@ -249,6 +251,8 @@ FlightDraw drawFlight(const Randomisation& r, const std::vector<VehicleParams>& 
   // The heading's draws come after the wind's and only when asked for, for the same reason.
   if (m.headingEnabled()) {
     md.facing_velocity = md.kind != ManoeuvreKind::kHover && rng.uniform(0.0, 1.0) < m.facing_velocity;
+    // Not a draw: the limit changes no flight's draws, only how a nose-first circle's heading turns.
+    if (md.facing_velocity && md.kind == ManoeuvreKind::kCircle) md.facing_yaw_rate_max = m.facing_velocity_yaw_rate_max;
     const bool sweep = rng.uniform(0.0, 1.0) < m.yaw_sweep;
     const double amplitude = draw(m.yaw_sweep_amplitude, rng), period = draw(m.yaw_sweep_period, rng);
     if (sweep) {

@@ -70,6 +70,10 @@ struct ManoeuvreMix {
   double yaw_sweep = 0.0;                    // [-] share of flights whose heading also sweeps sinusoidally
   Interval yaw_sweep_amplitude{0.5, 0.5};    // [rad] sweep amplitude A (control/reference.h)
   Interval yaw_sweep_period{4.0, 4.0};       // [s] sweep period P
+  // [rad/s] a circle flown nose first turns its nose at most this fast, as autopilots slew their
+  // mission yaw (control/reference.h: PX4 MPC_YAWRAUTO_MAX 45 °/s, ArduPilot ATC_SLEW_YAW 60 °/s by
+  // default); tighter circles leave the nose behind the path. 0: no limit. Figure-eights are not slewed.
+  double facing_velocity_yaw_rate_max = 0.0;
   bool headingEnabled() const { return facing_velocity > 0.0 || yaw_sweep > 0.0; }
 };
 
@@ -147,6 +151,7 @@ struct ManoeuvreDraw {
   double size = 0.0;       // [m]
   double direction = 0.0;  // [rad] point-to-point: heading of the path in the world frame
   bool facing_velocity = false;      // nose along the path (not for hover)
+  double facing_yaw_rate_max = 0.0;  // [rad/s] a nose-first circle's slew limit (ManoeuvreMix); 0: none
   double yaw_sweep_amplitude = 0.0;  // [rad] 0: no sweep
   double yaw_sweep_period = 1.0;     // [s]
 };

@@ -92,6 +92,7 @@ TrajectorySpec trajectoryFor(const ManoeuvreDraw& m, const Vec3& anchor) {
       break;
   }
   t.yaw_mode = m.facing_velocity ? YawMode::kFacingVelocity : YawMode::kFixed;
+  t.facing_yaw_rate_max = m.facing_yaw_rate_max;
   t.yaw_sweep_amplitude = m.yaw_sweep_amplitude;
   t.yaw_sweep_period = m.yaw_sweep_period;
   return t;

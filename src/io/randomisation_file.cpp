@@ -50,7 +50,7 @@ std::vector<std::pair<std::string, Interval*>> intervalFields(Randomisation& r) 
 
 bool isAirframeKey(const std::string& key) { return key.rfind("airframes.", 0) == 0; }
 bool isHeadingKey(const std::string& key) {
-  return key == "manoeuvres.facing_velocity" || key.rfind("manoeuvres.yaw_sweep", 0) == 0;
+  return key.rfind("manoeuvres.facing_velocity", 0) == 0 || key.rfind("manoeuvres.yaw_sweep", 0) == 0;
 }
 
 std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
@@ -60,6 +60,7 @@ std::vector<std::pair<std::string, double*>> numberFields(Randomisation& r) {
           {"manoeuvres.figure_eight", &r.manoeuvres.figure_eight},
           {"manoeuvres.max_lateral_accel", &r.manoeuvres.max_lateral_accel},
           {"manoeuvres.facing_velocity", &r.manoeuvres.facing_velocity},
+          {"manoeuvres.facing_velocity_yaw_rate_max", &r.manoeuvres.facing_velocity_yaw_rate_max},
           {"manoeuvres.yaw_sweep", &r.manoeuvres.yaw_sweep},
           {"controllers.lqr", &r.controllers.lqr},
           {"controllers.pid", &r.controllers.pid},
@@ -199,10 +200,13 @@ std::string randomisationToText(const Randomisation& r) {
   for (std::size_t i = 0; i < r.vehicle_names.size(); ++i) out += (i ? ", \"" : "\"") + r.vehicle_names[i] + "\"";
   out += "]\n";
   char buf[160];
-  // Without synthetic airframes or heading motion their keys are left out: the text of every
-  // earlier model is unchanged.
+  // Without synthetic airframes or heading motion their keys are left out, and so is a yaw-rate
+  // limit of 0 (none): the text of every earlier model is unchanged.
   const bool airframes = r.airframes.enabled(), heading = r.manoeuvres.headingEnabled();
-  const auto leftOut = [&](const std::string& key) { return (isAirframeKey(key) && !airframes) || (isHeadingKey(key) && !heading); };
+  const auto leftOut = [&](const std::string& key) {
+    return (isAirframeKey(key) && !airframes) || (isHeadingKey(key) && !heading) ||
+           (key == "manoeuvres.facing_velocity_yaw_rate_max" && !(r.manoeuvres.facing_velocity_yaw_rate_max > 0.0));
+  };
   for (const auto& [key, field] : numberFields(copy)) {
     if (leftOut(key)) continue;
     std::snprintf(buf, sizeof buf, "%s = %.17g\n", key.c_str(), *field);

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_support.h"
+#include "core/frames.h"
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -54,7 +55,7 @@ TEST(SimulateCli, HelpDocumentsEveryOption) {
   for (const char* opt : {"--controller", "--controller-config", "--params", "--controller-params", "--lqr-weights", "--motor", "--theta",
                           "--fault-step", "--steps", "--seed", "--integrator", "--output", "--full-state", "--goal",
                           "--start", "--position-noise", "--attitude-noise", "--rate-noise", "--rates", "--cbf-min-altitude", "--cbf-max-tilt",
-                          "--quiet", "--trajectory", "--speed", "--radius", "--yaw-mode", "--yaw-sweep", "--rotor-drag", "--wind-speed",
+                          "--quiet", "--trajectory", "--speed", "--radius", "--yaw-mode", "--yaw-rate-max", "--yaw-sweep", "--rotor-drag", "--wind-speed",
                           "--wind-direction", "--turbulence", "--turbulence-tau", "--gust-rate", "--gust-peak", "--gust-duration"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
 }
@@ -157,6 +158,41 @@ TEST(SimulateCli, AYawSweepTurnsTheHover) {
   const CommandResult bad = run("simulate --yaw-sweep 0.5 0 --output /dev/null");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find("--yaw-sweep: needs an amplitude in [0, pi] rad and a period > 0 s"), std::string::npos) << bad.out;
+}
+
+// A circle of 2 rad/s flown nose first: the nose follows the path, or with --yaw-rate-max 1 turns at
+// 1 rad/s (an autopilot's mission yaw slew); the limit needs the nose-first mode and no figure-eight.
+TEST(SimulateCli, AYawRateLimitSlowsTheNoseOnACircle) {
+  const auto mean_yaw_rate = [](const std::string& csv) {  // [rad/s] from 2.5 s to the end, unwrapped
+    std::istringstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    double first_t = -1.0, t = 0.0, turned = 0.0, previous = 0.0;
+    while (std::getline(in, line)) {
+      std::vector<double> v;
+      std::istringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) v.push_back(std::stod(cell));
+      if (v.size() < 7 || v[0] < 2.5) continue;
+      if (first_t >= 0.0) turned += quadfdi::wrapAngle(v[6] - previous);
+      else first_t = v[0];
+      t = v[0];
+      previous = v[6];
+    }
+    return t > first_t ? turned / (t - first_t) : 0.0;
+  };
+  const std::string circle = "simulate --controller pid --trajectory circle --speed 1 --radius 0.5 --yaw-mode velocity "
+                             "--start 0 0 1 0 0 0 0 0 1.5708 0 0 0 --goal -0.5 0 1 --steps 5000 --output -";
+  const CommandResult free = run(circle, false), slewed = run(circle + " --yaw-rate-max 1", false);
+  ASSERT_EQ(free.exit_code, 0) << free.out;
+  ASSERT_EQ(slewed.exit_code, 0) << slewed.out;
+  EXPECT_NEAR(mean_yaw_rate(free.out), 2.0, 0.1);
+  EXPECT_NEAR(mean_yaw_rate(slewed.out), 1.0, 0.05);
+  const CommandResult fixed = run("simulate --trajectory circle --yaw-rate-max 1 --output /dev/null");
+  EXPECT_NE(fixed.exit_code, 0);
+  EXPECT_NE(fixed.out.find("--yaw-rate-max: limits the nose's turn along the path: give --yaw-mode velocity"), std::string::npos) << fixed.out;
+  const CommandResult eight = run("simulate --trajectory figure-eight --yaw-mode velocity --yaw-rate-max 1 --output /dev/null");
+  EXPECT_NE(eight.exit_code, 0);
+  EXPECT_NE(eight.out.find("a figure-eight's heading along the path is not slewed"), std::string::npos) << eight.out;
 }
 
 // A steady wind toward +x pushes a hovering LQR flight downwind and it leans into it (negative

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "control/lqr.h"
 #include "control/reference.h"
@@ -109,6 +110,47 @@ TEST(Reference, AYawSweepAddsItsSineToEveryManoeuvresYaw) {
   }
 }
 
+// An autopilot slews its mission yaw setpoint (PX4 MPC_YAWRAUTO_MAX, ArduPilot ATC_SLEW_YAW): on a
+// circle that turns faster than the limit the nose starts along the path and turns at the limit,
+// falling behind; a limit the path never reaches changes nothing, bit for bit; the path is the same.
+TEST(Reference, ASlewedNoseTurnsAtItsLimitAndFallsBehindTheCircle) {
+  const TrajectorySpec free = make(TrajectoryKind::kCircle, YawMode::kFacingVelocity);  // ω = 1.5 / 1.2 = 1.25 rad/s
+  TrajectorySpec slewed = free;
+  slewed.facing_yaw_rate_max = 0.5;
+  ASSERT_EQ(validate(slewed), "");
+  TrajectorySpec loose = free;
+  loose.facing_yaw_rate_max = 1.3;
+  const double h = 1e-5;
+  EXPECT_EQ(referenceAt(slewed, 0.3).yaw_rate, 0.0);  // at rest before the start, nose along the path
+  EXPECT_EQ(referenceAt(slewed, 0.3).yaw, referenceAt(free, 0.3).yaw);
+  for (double t = 0.6; t < 8.0; t += 0.137) {
+    const Reference r = referenceAt(slewed, t), f = referenceAt(free, t), l = referenceAt(loose, t);
+    const double tau = t - slewed.start_time;
+    EXPECT_EQ(r.yaw_rate, 0.5);
+    EXPECT_NEAR(wrapAngle(r.yaw - 0.5 * M_PI - 0.5 * tau), 0.0, 1e-12) << "t=" << t;
+    EXPECT_NEAR(wrapAngle(f.yaw - r.yaw), wrapAngle(0.75 * tau), 1e-12) << "t=" << t;  // the lag grows at ω − limit
+    const Reference a = referenceAt(slewed, t - h), b = referenceAt(slewed, t + h);
+    EXPECT_NEAR(wrapAngle(b.yaw - a.yaw) / (2 * h), r.yaw_rate, 1e-6);
+    EXPECT_EQ(r.position, f.position);
+    EXPECT_EQ(r.velocity, f.velocity);
+    EXPECT_EQ(r.acceleration, f.acceleration);
+    EXPECT_EQ(l.yaw, f.yaw);
+    EXPECT_EQ(l.yaw_rate, f.yaw_rate);
+  }
+  // Other kinds: a point-to-point path does not turn, a fixed yaw is not the path's.
+  for (const auto& [kind, mode] : {std::pair{TrajectoryKind::kPointToPoint, YawMode::kFacingVelocity},
+                                  std::pair{TrajectoryKind::kCircle, YawMode::kFixed},
+                                  std::pair{TrajectoryKind::kFigureEight, YawMode::kFixed}}) {
+    TrajectorySpec limited = make(kind, mode);
+    limited.facing_yaw_rate_max = 0.5;
+    ASSERT_EQ(validate(limited), "");
+    for (double t = 0.6; t < 6.0; t += 0.29) {
+      EXPECT_EQ(referenceAt(limited, t).yaw, referenceAt(make(kind, mode), t).yaw);
+      EXPECT_EQ(referenceAt(limited, t).yaw_rate, referenceAt(make(kind, mode), t).yaw_rate);
+    }
+  }
+}
+
 TEST(Reference, ValidateNamesTheProblem) {
   TrajectorySpec s = make(TrajectoryKind::kCircle, YawMode::kFixed);
   s.radius = 0.0;
@@ -126,6 +168,12 @@ TEST(Reference, ValidateNamesTheProblem) {
   s.yaw_sweep_amplitude = 0.5;
   s.yaw_sweep_period = 0.0;
   EXPECT_EQ(validate(s), "trajectory yaw sweep period must be finite and > 0");
+  s = make(TrajectoryKind::kCircle, YawMode::kFacingVelocity);
+  s.facing_yaw_rate_max = -0.1;
+  EXPECT_EQ(validate(s), "trajectory facing yaw-rate limit must be finite and >= 0");
+  s.kind = TrajectoryKind::kFigureEight;
+  s.facing_yaw_rate_max = 1.0;
+  EXPECT_EQ(validate(s), "trajectory facing yaw-rate limit is for circles: a figure-eight's heading along the path is not slewed");
   TrajectoryKind k;
   EXPECT_TRUE(parseTrajectoryKind("figure-eight", k));
   EXPECT_EQ(k, TrajectoryKind::kFigureEight);

@@ -228,8 +228,9 @@ TEST(Randomisation, HeadingIsDrawnLastSoEveryOtherDrawIsUnchanged) {
   turning.manoeuvres.yaw_sweep = 0.3;
   turning.manoeuvres.yaw_sweep_amplitude = {0.2, 1.2};
   turning.manoeuvres.yaw_sweep_period = {3.0, 10.0};
+  turning.manoeuvres.facing_velocity_yaw_rate_max = 1.0;
   ASSERT_EQ(validate(turning), "");
-  int moving = 0, facing = 0, swept = 0;
+  int moving = 0, facing = 0, swept = 0, slewed = 0;
   const int n = 2000;
   for (int i = 0; i < n; ++i) {
     Rng a(9, static_cast<std::uint64_t>(i)), b(9, static_cast<std::uint64_t>(i));
@@ -246,6 +247,11 @@ TEST(Randomisation, HeadingIsDrawnLastSoEveryOtherDrawIsUnchanged) {
     if (dt.manoeuvre.kind == ManoeuvreKind::kHover) EXPECT_FALSE(dt.manoeuvre.facing_velocity);
     else ++moving;
     facing += dt.manoeuvre.facing_velocity;
+    // The slew limit is no draw: it rides on nose-first circles alone.
+    const bool nose_first_circle = dt.manoeuvre.facing_velocity && dt.manoeuvre.kind == ManoeuvreKind::kCircle;
+    EXPECT_EQ(dt.manoeuvre.facing_yaw_rate_max, nose_first_circle ? 1.0 : 0.0);
+    EXPECT_EQ(df.manoeuvre.facing_yaw_rate_max, 0.0);
+    slewed += nose_first_circle && dt.manoeuvre.speed > dt.manoeuvre.size;
     if (dt.manoeuvre.yaw_sweep_amplitude > 0.0) {
       ++swept;
       EXPECT_GE(dt.manoeuvre.yaw_sweep_amplitude, 0.2);
@@ -257,6 +263,10 @@ TEST(Randomisation, HeadingIsDrawnLastSoEveryOtherDrawIsUnchanged) {
   // Binomial: 4σ bands around the shares.
   EXPECT_NEAR(facing, 0.5 * moving, 4.0 * std::sqrt(0.25 * moving));
   EXPECT_NEAR(swept, 0.3 * n, 4.0 * std::sqrt(0.21 * n));
+  EXPECT_GT(slewed, 0);  // some circles turn faster than the limit
+  turning.manoeuvres.facing_velocity_yaw_rate_max = -1.0;
+  EXPECT_NE(validate(turning).find("facing_velocity_yaw_rate_max"), std::string::npos);
+  turning.manoeuvres.facing_velocity_yaw_rate_max = 1.0;
   turning.manoeuvres.yaw_sweep = 1.5;
   EXPECT_NE(validate(turning).find("shares in [0, 1]"), std::string::npos);
   turning.manoeuvres.yaw_sweep = 0.3;

@@ -243,6 +243,8 @@ TEST(RandomisationFile, TheShippedRecipesDifferFromTheDefaultOnlyWhereTheySay) {
   heading.manoeuvres.facing_velocity = heading.manoeuvres.yaw_sweep = 0.0;
   heading.manoeuvres.yaw_sweep_amplitude = fallback.manoeuvres.yaw_sweep_amplitude;
   heading.manoeuvres.yaw_sweep_period = fallback.manoeuvres.yaw_sweep_period;
+  EXPECT_NEAR(heading.manoeuvres.facing_velocity_yaw_rate_max, 60.0 * M_PI / 180.0, 1e-15);  // ArduPilot ATC_SLEW_YAW's default
+  heading.manoeuvres.facing_velocity_yaw_rate_max = 0.0;
   EXPECT_EQ(randomisationToText(heading), randomisationToText(fallback));
 }
 
@@ -251,15 +253,20 @@ TEST(RandomisationFile, TheShippedRecipesDifferFromTheDefaultOnlyWhereTheySay) {
 TEST(RandomisationFile, HeadingKeysParseRoundTripAndAreLeftOutWhenNoFlightTurns) {
   const Randomisation r = randomisationFromText(
       "vehicles = [\"nominal\"]\n[manoeuvres]\nfacing_velocity = 0.25\nyaw_sweep = 0.5\nyaw_sweep_amplitude = [0.1, 0.9]\n"
-      "yaw_sweep_period = [2, 6]\n",
+      "yaw_sweep_period = [2, 6]\nfacing_velocity_yaw_rate_max = 0.785\n",
       "h.toml");
+  EXPECT_EQ(r.manoeuvres.facing_velocity_yaw_rate_max, 0.785);
   EXPECT_EQ(r.manoeuvres.facing_velocity, 0.25);
   EXPECT_EQ(r.manoeuvres.yaw_sweep, 0.5);
   EXPECT_EQ(r.manoeuvres.yaw_sweep_amplitude.hi, 0.9);
   EXPECT_EQ(r.manoeuvres.yaw_sweep_period.lo, 2.0);
   const std::string text = randomisationToText(r);
   EXPECT_NE(text.find("manoeuvres.yaw_sweep_period = [2, 6]"), std::string::npos);
+  EXPECT_NE(text.find("manoeuvres.facing_velocity_yaw_rate_max = 0.785"), std::string::npos);
   EXPECT_EQ(randomisationToText(randomisationFromText(text, "model")), text);
+  Randomisation unlimited = r;  // a limit of 0 (none) is left out: earlier heading models' text unchanged
+  unlimited.manoeuvres.facing_velocity_yaw_rate_max = 0.0;
+  EXPECT_EQ(randomisationToText(unlimited).find("yaw_rate_max"), std::string::npos);
   EXPECT_EQ(randomisationToText(loadRandomisation(kDefault)).find("yaw_sweep"), std::string::npos);
   EXPECT_EQ(randomisationToText(loadRandomisation(kDefault)).find("facing_velocity"), std::string::npos);
   EXPECT_EQ(refusalOf("vehicles = [\"nominal\"]\n[manoeuvres]\nfacing_velocity = 2\n"),
