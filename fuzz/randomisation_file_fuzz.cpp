@@ -34,6 +34,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   QUADFDI_FUZZ_CHECK(d.manoeuvre.yaw_sweep_amplitude >= 0.0 && d.manoeuvre.yaw_sweep_amplitude <= M_PI);
   QUADFDI_FUZZ_CHECK(std::isfinite(d.manoeuvre.yaw_sweep_period) && d.manoeuvre.yaw_sweep_period > 0.0);
   QUADFDI_FUZZ_CHECK(!d.manoeuvre.facing_velocity || d.manoeuvre.kind != ManoeuvreKind::kHover);
+  // Its nose's slew limit is finite and >= 0, and rides on a nose-first circle alone (a figure-eight's
+  // reference refuses one).
+  QUADFDI_FUZZ_CHECK(std::isfinite(d.manoeuvre.facing_yaw_rate_max) && d.manoeuvre.facing_yaw_rate_max >= 0.0);
+  QUADFDI_FUZZ_CHECK(d.manoeuvre.facing_yaw_rate_max == 0.0 ||
+                     (d.manoeuvre.facing_velocity && d.manoeuvre.kind == ManoeuvreKind::kCircle));
   // Its file form (vehicles by name, as recorded in model files) reads back to the same ranges.
   // The vehicles line names files by their stem, which resolve only where the files are (a base
   // or a working directory can bring vehicles from files): read it back with a named set instead.
