@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -260,13 +259,11 @@ int runSimulate(const SimulateOptions& o) {
         sum += e * e;
         worst = std::max(worst, e);
       }
-      char sweep[120] = "";
-      if (o.facing_yaw_rate_max > 0.0) std::snprintf(sweep, sizeof sweep, " turning at most %.2f rad/s", o.facing_yaw_rate_max);
-      if (!o.yaw_sweep.empty())
-        std::snprintf(sweep + std::strlen(sweep), sizeof sweep - std::strlen(sweep), ", sweep %.2f rad every %.2f s", o.yaw_sweep[0],
-                      o.yaw_sweep[1]);
-      std::fprintf(stderr, "  trajectory: %s at %.2f m/s (radius %.2f m, yaw %s%s); tracking error RMS %.4f m, max %.4f m\n",
-                   o.trajectory.c_str(), o.speed, o.radius, o.yaw_mode.c_str(), sweep,
+      char slew[48] = "", sweep[80] = "";
+      if (o.facing_yaw_rate_max > 0.0) std::snprintf(slew, sizeof slew, " turning at most %.2f rad/s", o.facing_yaw_rate_max);
+      if (!o.yaw_sweep.empty()) std::snprintf(sweep, sizeof sweep, ", sweep %.2f rad every %.2f s", o.yaw_sweep[0], o.yaw_sweep[1]);
+      std::fprintf(stderr, "  trajectory: %s at %.2f m/s (radius %.2f m, yaw %s%s%s); tracking error RMS %.4f m, max %.4f m\n",
+                   o.trajectory.c_str(), o.speed, o.radius, o.yaw_mode.c_str(), slew, sweep,
                    log.size() > 0 ? std::sqrt(sum / log.size()) : 0.0, worst);
     }
     if (o.motor != 0)

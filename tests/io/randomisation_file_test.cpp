@@ -273,6 +273,8 @@ TEST(RandomisationFile, HeadingKeysParseRoundTripAndAreLeftOutWhenNoFlightTurns)
             "r.toml: randomisation: manoeuvres.facing_velocity and manoeuvres.yaw_sweep are shares in [0, 1]");
   EXPECT_EQ(refusalOf("vehicles = [\"nominal\"]\n[manoeuvres]\nyaw_sweep = 0.5\nyaw_sweep_amplitude = [0, 4]\n"),
             "r.toml: randomisation: manoeuvres.yaw_sweep_amplitude must lie in [0, pi] rad");
+  EXPECT_EQ(refusalOf("vehicles = [\"nominal\"]\n[manoeuvres]\nfacing_velocity = 0.5\nfacing_velocity_yaw_rate_max = -1\n"),
+            "r.toml: randomisation: manoeuvres.facing_velocity_yaw_rate_max must be finite and >= 0 rad/s (0: no limit)");
 }
 
 TEST(RandomisationFile, WindKeysParseAndWindWithoutDragIsRefusedAtTheFile) {
